@@ -1,0 +1,169 @@
+//! The command line: every clap type in one place (the ripgrep layout).
+//!
+//! `raytracer SCENE OUT` is the course's form of `raytracer render SCENE OUT`;
+//! [`parse_args`] rewrites it before clap sees the arguments.
+
+use std::ffi::OsString;
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Render and check scenes of the raytracer scene language.
+#[derive(Debug, Parser)]
+#[command(name = "raytracer", version, about, long_about = None)]
+#[command(
+    after_help = "`raytracer SCENE OUT` is short for `raytracer render SCENE OUT`.\n\
+Exit codes: 0 success, 1 the scene has errors, 2 usage, I/O or internal error."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene to an image (.ppm or .png, by OUT's extension).
+    Render(RenderArgs),
+    /// Check scenes and report every problem (a linter).
+    Check(CheckArgs),
+    /// Convert a scene to JSON, canonical scene text, or POV-Ray.
+    Convert(ConvertArgs),
+}
+
+/// Floating-point precision of the tracer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Precision {
+    F32,
+    #[default]
+    F64,
+}
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file (`.json` is read as JSON; `-` reads stdin).
+    pub scene: PathBuf,
+    /// Output image; the extension picks the format.
+    pub out: PathBuf,
+    /// Floating-point precision of every ray computation.
+    #[arg(long, value_enum, default_value_t = Precision::F64)]
+    pub precision: Precision,
+    /// Samples per pixel, stratified on a √N×√N grid (1 = pixel centre).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub spp: u32,
+    /// Maximum number of reflections per primary ray.
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(0..=64))]
+    pub max_depth: u32,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Trace rays even where their contribution cannot change an 8-bit
+    /// value (for measuring what that skip saves).
+    #[arg(long)]
+    pub no_skip: bool,
+    /// Print ray counts and stage timings to stderr.
+    #[arg(long)]
+    pub stats: bool,
+    /// Write ray counts and stage timings as JSON to PATH.
+    #[arg(long, value_name = "PATH")]
+    pub stats_json: Option<PathBuf>,
+    /// No progress bar and no warnings on stderr.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// How `check` prints diagnostics.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// Annotated source snippets.
+    #[default]
+    Human,
+    /// One line each: `file:line:col: severity[code]: message`.
+    Short,
+    /// One JSON array of every diagnostic of every file.
+    Json,
+}
+
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// Scene files to check (`-` reads stdin).
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    pub format: Format,
+    /// Exit 1 when there are warnings.
+    #[arg(long)]
+    pub deny_warnings: bool,
+    /// Apply the safe fixes (project headup, normalise normal) in place.
+    #[arg(long)]
+    pub fix: bool,
+}
+
+/// What `convert` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Target {
+    /// The versioned JSON scene model.
+    Json,
+    /// Canonical scene text.
+    Scene,
+    /// A POV-Ray 3.7 scene.
+    Pov,
+}
+
+#[derive(Debug, Args)]
+pub struct ConvertArgs {
+    /// Scene file (`.json` is read as JSON; `-` reads stdin).
+    pub scene: PathBuf,
+    /// Output language.
+    #[arg(long, value_enum)]
+    pub to: Target,
+    /// Write here instead of stdout.
+    #[arg(short, long, value_name = "PATH")]
+    pub output: Option<PathBuf>,
+}
+
+/// Parse the process arguments, accepting `raytracer SCENE OUT` for
+/// `raytracer render SCENE OUT`.
+pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap::Error> {
+    let mut args: Vec<OsString> = args.into_iter().collect();
+    let is_subcommand = |a: &OsString| {
+        let a = a.to_string_lossy();
+        a.starts_with('-') && a != "-" || matches!(&*a, "render" | "check" | "convert" | "help")
+    };
+    if args.len() > 1 && !is_subcommand(&args[1]) {
+        args.insert(1, "render".into());
+    }
+    Cli::try_parse_from(args)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(args: &[&str]) -> Result<Cli, clap::Error> {
+        parse_args(args.iter().map(OsString::from))
+    }
+
+    #[test]
+    fn bare_form_is_render() {
+        let cli = parse(&["raytracer", "scene.txt", "out.ppm"]).unwrap();
+        let Command::Render(args) = cli.command else {
+            panic!("not render")
+        };
+        assert_eq!(args.out, PathBuf::from("out.ppm"));
+        assert_eq!(args.max_depth, 8);
+        assert_eq!(args.spp, 1);
+    }
+
+    #[test]
+    fn flags_are_still_flags() {
+        assert!(parse(&["raytracer", "--version"]).is_err_and(|e| e.exit_code() == 0));
+        assert!(parse(&["raytracer", "check"]).is_err_and(|e| e.exit_code() == 2));
+    }
+
+    #[test]
+    fn clap_definition_is_consistent() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+}

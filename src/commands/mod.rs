@@ -1,0 +1,99 @@
+//! The three commands and what they share: loading a scene through the
+//! front end, and mapping outcomes to the exit codes of SPEC.md §3.
+
+pub mod check;
+pub mod convert;
+pub mod render;
+
+use std::io::Read;
+use std::path::Path;
+use std::process::ExitCode;
+
+use miette::Diagnostic;
+
+use crate::check::Checked;
+use crate::cli::{Cli, Command};
+use crate::diagnostic::{BoxedDiagnostic, Report, SourceFile};
+use crate::{check as checker, syntax};
+
+/// How a command ended, when it ran to completion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    /// Exit 0: done (warnings allowed).
+    Success,
+    /// Exit 1: a scene has errors (or warnings, with `--deny-warnings`).
+    SceneErrors,
+}
+
+/// A failure that is not the scene's fault: usage, I/O or internal (exit 2).
+pub type Failure = Box<dyn Diagnostic + Send + Sync + 'static>;
+
+/// Run a parsed command line and return the process exit code.
+pub fn run(cli: Cli) -> ExitCode {
+    let result = match cli.command {
+        Command::Render(args) => render::run(args),
+        Command::Check(args) => check::run(args),
+        Command::Convert(args) => convert::run(args),
+    };
+    match result {
+        Ok(Outcome::Success) => ExitCode::SUCCESS,
+        Ok(Outcome::SceneErrors) => ExitCode::from(1),
+        Err(failure) => {
+            eprintln!("{:?}", miette::Report::new_boxed(failure));
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// The scene file could not be read.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error("cannot read scene `{path}`: {source}")]
+#[diagnostic(code(io::read_scene))]
+pub struct ReadSceneError {
+    pub path: String,
+    #[source]
+    pub source: std::io::Error,
+}
+
+/// A scene run through the front end: every diagnostic, and the checked
+/// scene when there were no errors.
+pub struct Loaded {
+    pub report: Report,
+    pub checked: Option<Checked>,
+}
+
+/// Read `path` (`-` is stdin), parse it as scene text (or JSON when it ends
+/// in `.json`) and check it.
+pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
+    let read_error = |source| ReadSceneError {
+        path: path.display().to_string(),
+        source,
+    };
+    let (name, dir, bytes) = if path == Path::new("-") {
+        let mut bytes = Vec::new();
+        std::io::stdin()
+            .read_to_end(&mut bytes)
+            .map_err(read_error)?;
+        let cwd = std::env::current_dir().map_err(read_error)?;
+        ("<stdin>".to_string(), cwd, bytes)
+    } else {
+        let bytes = std::fs::read(path).map_err(read_error)?;
+        let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+        (path.display().to_string(), dir, bytes)
+    };
+    let (source, utf8_error) = SourceFile::from_bytes(&name, &dir, &bytes);
+    let mut diagnostics: Vec<BoxedDiagnostic> = Vec::new();
+    diagnostics.extend(utf8_error.map(|e| Box::new(e) as BoxedDiagnostic));
+    let parsed = syntax::parse(&source.text);
+    diagnostics.extend(
+        parsed
+            .errors
+            .into_iter()
+            .map(|e| Box::new(e) as BoxedDiagnostic),
+    );
+    let (checked, check_diagnostics) = checker::check(&parsed.file, &source);
+    diagnostics.extend(check_diagnostics);
+    let report = Report::new(source, diagnostics);
+    let checked = checked.filter(|_| report.error_count() == 0);
+    Ok(Loaded { report, checked })
+}

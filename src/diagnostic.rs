@@ -1,0 +1,269 @@
+//! Source files and the diagnostics reported against them.
+//!
+//! Every stage reports problems as `miette::Diagnostic` values with spans
+//! into one [`SourceFile`]. A [`Report`] owns that source and the list of
+//! diagnostics (the kdl-rs shape: one owner, many related problems) and
+//! renders them in the three formats of `raytracer check`: human (miette's
+//! graphical handler), short (`file:line:col: severity[code]: message`) and
+//! JSON (SPEC.md §3).
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use miette::{
+    Diagnostic, GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource, Severity,
+    SourceCode,
+};
+use serde::Serialize;
+
+use crate::span::Span;
+use crate::syntax::SyntaxError;
+
+/// A diagnostic of any stage, boxed so syntax and check problems share a list.
+pub type BoxedDiagnostic = Box<dyn Diagnostic + Send + Sync + 'static>;
+
+/// Scene text with the name to show for it and the folder texture paths
+/// resolve against.
+#[derive(Clone, Debug)]
+pub struct SourceFile {
+    /// As given on the command line (`-` shows as `<stdin>`).
+    pub name: String,
+    pub text: Arc<str>,
+    /// The scene file's folder (the working directory for stdin).
+    pub dir: PathBuf,
+}
+
+impl SourceFile {
+    /// Decode `bytes` read from `name`. Invalid UTF-8 is replaced with
+    /// U+FFFD and reported at the first bad byte, so parsing can continue.
+    pub fn from_bytes(name: &str, dir: &Path, bytes: &[u8]) -> (SourceFile, Option<SyntaxError>) {
+        let error = std::str::from_utf8(bytes).err().map(|e| {
+            let len = e.error_len().unwrap_or(bytes.len() - e.valid_up_to());
+            SyntaxError::InvalidUtf8 {
+                span: Span::new(e.valid_up_to(), e.valid_up_to() + len).into(),
+            }
+        });
+        let file = SourceFile {
+            name: name.to_string(),
+            text: String::from_utf8_lossy(bytes).into(),
+            dir: dir.to_path_buf(),
+        };
+        (file, error)
+    }
+
+    /// 1-based line and column (in characters) of a byte offset. Lines end
+    /// at `\n`, as in the human renderer.
+    pub fn line_col(&self, offset: usize) -> (usize, usize) {
+        let offset = floor_char_boundary(&self.text, offset);
+        let before = &self.text[..offset];
+        let line = before.matches('\n').count() + 1;
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let column = before[line_start..].chars().count() + 1;
+        (line, column)
+    }
+
+    fn named(&self) -> NamedSource<Arc<str>> {
+        NamedSource::new(&self.name, self.text.clone())
+    }
+}
+
+fn floor_char_boundary(text: &str, mut offset: usize) -> usize {
+    offset = offset.min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    offset
+}
+
+/// One source file and every diagnostic reported against it, sorted by
+/// position (errors before warnings at the same position).
+pub struct Report {
+    pub source: SourceFile,
+    pub diagnostics: Vec<BoxedDiagnostic>,
+}
+
+impl Report {
+    /// Collect diagnostics for `source`, ordered by their first label.
+    pub fn new(source: SourceFile, mut diagnostics: Vec<BoxedDiagnostic>) -> Report {
+        diagnostics.sort_by_key(|d| (first_offset(d.as_ref()), severity_rank(d.as_ref())));
+        Report {
+            source,
+            diagnostics,
+        }
+    }
+
+    /// How many diagnostics are errors.
+    pub fn error_count(&self) -> usize {
+        self.count(Severity::Error)
+    }
+
+    /// How many diagnostics are warnings.
+    pub fn warning_count(&self) -> usize {
+        self.count(Severity::Warning)
+    }
+
+    fn count(&self, severity: Severity) -> usize {
+        self.diagnostics
+            .iter()
+            .filter(|d| severity_of(d.as_ref()) == severity)
+            .count()
+    }
+
+    /// miette's graphical rendering of every diagnostic, `width` columns
+    /// wide, with colour or with the plain Unicode theme.
+    pub fn render_human(&self, width: usize, color: bool) -> String {
+        let theme = if color {
+            GraphicalTheme::unicode()
+        } else {
+            GraphicalTheme::unicode_nocolor()
+        };
+        let handler = GraphicalReportHandler::new_themed(theme).with_width(width);
+        let source = self.source.named();
+        let mut out = String::new();
+        for diagnostic in &self.diagnostics {
+            let with_source = WithSource {
+                inner: diagnostic.as_ref(),
+                source: &source,
+            };
+            // Writing to a String cannot fail.
+            let _ = handler.render_report(&mut out, &with_source);
+            out.push('\n');
+        }
+        out
+    }
+
+    /// One line per diagnostic: `file:line:col: severity[code]: message`.
+    pub fn render_short(&self) -> String {
+        self.entries()
+            .map(|e| {
+                let (line, column) = e.labels.first().map_or((1, 1), |l| (l.line, l.column));
+                format!(
+                    "{}:{line}:{column}: {}[{}]: {}\n",
+                    e.file, e.severity, e.code, e.message
+                )
+            })
+            .collect()
+    }
+
+    /// The diagnostics in the JSON shape of SPEC.md §3.
+    pub fn entries(&self) -> impl Iterator<Item = JsonDiagnostic> + '_ {
+        self.diagnostics.iter().map(|d| {
+            let d = d.as_ref();
+            JsonDiagnostic {
+                code: d.code().map(|c| c.to_string()).unwrap_or_default(),
+                severity: severity_name(severity_of(d)),
+                message: d.to_string(),
+                help: d.help().map(|h| h.to_string()),
+                file: self.source.name.clone(),
+                labels: d
+                    .labels()
+                    .into_iter()
+                    .flatten()
+                    .map(|l| {
+                        let (line, column) = self.source.line_col(l.offset());
+                        JsonLabel {
+                            label: l.label().map(str::to_string),
+                            byte_offset: l.offset(),
+                            byte_length: l.len(),
+                            line,
+                            column,
+                        }
+                    })
+                    .collect(),
+            }
+        })
+    }
+}
+
+/// A diagnostic as `check --format json` prints it.
+#[derive(Clone, Debug, Serialize)]
+pub struct JsonDiagnostic {
+    pub code: String,
+    pub severity: &'static str,
+    pub message: String,
+    pub help: Option<String>,
+    pub file: String,
+    pub labels: Vec<JsonLabel>,
+}
+
+/// One labelled span of a [`JsonDiagnostic`]; line and column are 1-based.
+#[derive(Clone, Debug, Serialize)]
+pub struct JsonLabel {
+    pub label: Option<String>,
+    pub byte_offset: usize,
+    pub byte_length: usize,
+    pub line: usize,
+    pub column: usize,
+}
+
+/// A diagnostic's severity, defaulting to error as miette does.
+pub fn severity_of(d: &dyn Diagnostic) -> Severity {
+    d.severity().unwrap_or(Severity::Error)
+}
+
+fn severity_name(severity: Severity) -> &'static str {
+    match severity {
+        Severity::Error => "error",
+        Severity::Warning => "warning",
+        Severity::Advice => "advice",
+    }
+}
+
+fn severity_rank(d: &dyn Diagnostic) -> u8 {
+    match severity_of(d) {
+        Severity::Error => 0,
+        Severity::Warning => 1,
+        Severity::Advice => 2,
+    }
+}
+
+fn first_offset(d: &dyn Diagnostic) -> usize {
+    d.labels()
+        .and_then(|mut labels| labels.next())
+        .map_or(0, |l| l.offset())
+}
+
+/// A borrowed diagnostic that also supplies the source code to render.
+struct WithSource<'a> {
+    inner: &'a dyn Diagnostic,
+    source: &'a NamedSource<Arc<str>>,
+}
+
+impl fmt::Debug for WithSource<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(self.inner, f)
+    }
+}
+
+impl fmt::Display for WithSource<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(self.inner, f)
+    }
+}
+
+impl std::error::Error for WithSource<'_> {}
+
+impl Diagnostic for WithSource<'_> {
+    fn code<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
+        self.inner.code()
+    }
+    fn severity(&self) -> Option<Severity> {
+        self.inner.severity()
+    }
+    fn help<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
+        self.inner.help()
+    }
+    fn url<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
+        self.inner.url()
+    }
+    fn source_code(&self) -> Option<&dyn SourceCode> {
+        Some(self.source)
+    }
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        self.inner.labels()
+    }
+    fn related<'b>(&'b self) -> Option<Box<dyn Iterator<Item = &'b dyn Diagnostic> + 'b>> {
+        self.inner.related()
+    }
+}

@@ -1,0 +1,99 @@
+//! The scene as data: what a checked scene file says, with defaults filled
+//! in and nothing derived.
+//!
+//! This is the serde model that `convert --to json` writes and `.json` scenes
+//! are read into, and what `convert --to scene|pov` print. Values are kept as
+//! written (a non-unit normal stays non-unit, headup is not projected, the
+//! texture path is relative to the scene file); everything derived for
+//! rendering belongs to [`crate::ir`]. The top-level `format` field versions
+//! the layout.
+
+use serde::{Deserialize, Serialize};
+
+/// The value of [`Scene::format`] this version reads and writes.
+pub const FORMAT: &str = "raytracer-scene/1";
+
+/// A three-component vector or colour, `[x, y, z]` or `[r, g, b]`.
+pub type Vec3 = [f64; 3];
+
+/// A whole scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Layout version; always `"raytracer-scene/1"`.
+    pub format: String,
+    pub camera: Camera,
+    /// Spheres and planes, in source order.
+    pub objects: Vec<Object>,
+    /// Point lights, in source order.
+    pub lights: Vec<Light>,
+}
+
+/// The camera: fixed at the origin looking down −z; only the resolution varies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Camera {
+    /// Image width and height in pixels, 1 to 16384.
+    pub resolution: u32,
+}
+
+/// A sphere or a finite plane with its material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct Object {
+    #[serde(flatten)]
+    pub shape: Shape,
+    #[serde(flatten)]
+    pub material: Material,
+}
+
+/// The geometry of an object.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(tag = "type", rename_all = "lowercase")]
+pub enum Shape {
+    Sphere {
+        center: Vec3,
+        /// Radius, > 0 (the scene language's `dimension`).
+        radius: f64,
+    },
+    Plane {
+        center: Vec3,
+        /// Width along `right` and height along `up` (`dimension W H`).
+        width: f64,
+        height: f64,
+        /// Non-zero; as written, not normalised.
+        normal: Vec3,
+        /// Non-zero, not parallel to `normal`; as written, not projected.
+        headup: Vec3,
+    },
+}
+
+/// Surface properties shared by every object.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct Material {
+    /// Each channel in [0, 1]; default white. Ignored where a texture is given.
+    pub color: Vec3,
+    /// Mirror weight in [0, 1]; default 0.
+    pub reflectivity: f64,
+    /// Image path as written, relative to the scene file's folder.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<String>,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            color: [1.0, 1.0, 1.0],
+            reflectivity: 0.0,
+            texture: None,
+        }
+    }
+}
+
+/// A point light.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Light {
+    pub location: Vec3,
+    /// Each channel ≥ 0; above 1 over-exposes.
+    pub color: Vec3,
+}

@@ -1,0 +1,95 @@
+//! Syntax errors: problems found while reading tokens, before any meaning is
+//! attached to them. One variant per problem; each has a stable code under
+//! `syntax::` and a label on the offending bytes.
+
+use miette::{Diagnostic, SourceSpan};
+use thiserror::Error;
+
+/// A problem in the token stream of a scene file.
+#[derive(Clone, Debug, Error, Diagnostic, PartialEq, Eq)]
+pub enum SyntaxError {
+    /// Fires when the file's bytes are not UTF-8; the parser continues on a
+    /// lossy decoding so later problems are still reported.
+    #[error("the file is not valid UTF-8")]
+    #[diagnostic(
+        code(syntax::invalid_utf8),
+        help("save the file as UTF-8; the invalid bytes were read as `\u{FFFD}`")
+    )]
+    InvalidUtf8 {
+        #[label("invalid byte sequence")]
+        span: SourceSpan,
+    },
+
+    /// Fires when a token starts like a number (a digit, a sign or a `.`) but
+    /// is not one, such as `1.2.3`, `1,5` or `-x`.
+    #[error("expected a number, found `{found}`")]
+    #[diagnostic(
+        code(syntax::invalid_number),
+        help("numbers look like `1`, `-1`, `.5`, `1.`, `+2`, `1e3` or `1.5E-2`")
+    )]
+    InvalidNumber {
+        found: String,
+        #[label("not a number")]
+        span: SourceSpan,
+    },
+
+    /// Fires on `nan`, `inf`, `infinity` (any case, any sign) in value position.
+    #[error("expected a finite number, found `{found}`")]
+    #[diagnostic(
+        code(syntax::non_finite_number),
+        help("scene values must be finite numbers")
+    )]
+    NonFiniteNumber {
+        found: String,
+        #[label("not finite")]
+        span: SourceSpan,
+    },
+
+    /// Fires when a well-formed number is too large for a 64-bit float, such
+    /// as `1e400`.
+    #[error("number `{found}` is out of range")]
+    #[diagnostic(
+        code(syntax::number_out_of_range),
+        help("the largest finite value is about `1.7976931348623157e308`")
+    )]
+    NumberOutOfRange {
+        found: String,
+        #[label("overflows a 64-bit float")]
+        span: SourceSpan,
+    },
+
+    /// Fires when a `"` opens a string that no `"` closes on the same line.
+    #[error("unterminated string")]
+    #[diagnostic(
+        code(syntax::unterminated_string),
+        help("close the string with `\"` before the end of the line")
+    )]
+    UnterminatedString {
+        #[label("string starts here")]
+        span: SourceSpan,
+    },
+
+    /// Fires when values appear before the first section keyword.
+    #[error("expected a section keyword, found `{found}`")]
+    #[diagnostic(
+        code(syntax::value_outside_section),
+        help("start a section first: `camera`, `sphere`, `plane` or `light`")
+    )]
+    ValueOutsideSection {
+        found: String,
+        #[label("not inside any section")]
+        span: SourceSpan,
+    },
+}
+
+impl SyntaxError {
+    /// Every code this enum can produce, for the fixture-coverage test.
+    pub const CODES: [&'static str; 6] = [
+        "syntax::invalid_utf8",
+        "syntax::invalid_number",
+        "syntax::non_finite_number",
+        "syntax::number_out_of_range",
+        "syntax::unterminated_string",
+        "syntax::value_outside_section",
+    ];
+}
