@@ -152,6 +152,10 @@ pub enum Value {
     /// A bare word (a texture path such as `wood_tex.ppm`) or the contents of
     /// a double-quoted string.
     Text(String),
+    /// A token the parser already reported as a syntax error (a malformed
+    /// number or an unterminated string). It keeps its place so value counts
+    /// stay right, and the check pass reports nothing more about it.
+    Invalid,
 }
 
 impl Value {
@@ -159,7 +163,7 @@ impl Value {
     pub fn as_number(&self) -> Option<f64> {
         match self {
             Value::Number(n) => Some(*n),
-            Value::Text(_) => None,
+            Value::Text(_) | Value::Invalid => None,
         }
     }
 }

@@ -1,12 +1,31 @@
 //! The check pass: validates the AST against every rule of SPEC.md §1 and
-//! builds the scene model. (Skeleton; see issue 2.)
+//! builds the scene model.
+//!
+//! Every problem in the file is reported in one run. The shared attribute
+//! checks live in [`attributes`] (driven by the [`schema`] table), each
+//! section kind's own rules in [`sections`], vector geometry and the headup
+//! thresholds in [`geometry`], texture loading in [`textures`], and the
+//! diagnostics themselves in [`errors`]. [`fix`] computes the safe fixes of
+//! `raytracer check --fix`.
+
+mod attributes;
+pub mod errors;
+pub mod format;
+pub mod geometry;
+mod schema;
+mod sections;
+mod textures;
 
 use std::collections::BTreeMap;
 
-use crate::ast;
+use crate::ast::{self, SectionKind};
 use crate::diagnostic::{BoxedDiagnostic, SourceFile};
-use crate::ir::Texture;
+use crate::ir::{Effects, Texture};
 use crate::model;
+use crate::span::Span;
+use crate::suggest;
+
+pub use errors::CheckError;
 
 /// A scene that passed the check pass: its model and its decoded textures,
 /// keyed by the path as written in the scene.
@@ -16,8 +35,188 @@ pub struct Checked {
     pub textures: BTreeMap<String, Texture>,
 }
 
+impl Checked {
+    /// The effects the scene calls for: shadows when it has lights,
+    /// reflection when an object reflects, textures when one is textured.
+    pub fn effects(&self) -> Effects {
+        let objects = &self.scene.objects;
+        Effects {
+            shadows: !self.scene.lights.is_empty(),
+            reflection: objects.iter().any(|o| o.material.reflectivity > 0.0),
+            textures: objects.iter().any(|o| o.material.texture.is_some()),
+        }
+    }
+}
+
 /// Check a parsed file. Returns the checked scene when it has no errors,
 /// and every diagnostic (errors and warnings) either way.
-pub fn check(_file: &ast::File, _source: &SourceFile) -> (Option<Checked>, Vec<BoxedDiagnostic>) {
-    (None, Vec::new())
+pub fn check(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Vec<BoxedDiagnostic>) {
+    let (checked, problems) = check_file(file, source);
+    let boxed = problems
+        .into_iter()
+        .map(|p| Box::new(p) as BoxedDiagnostic)
+        .collect();
+    (checked, boxed)
+}
+
+/// [`check`] with the diagnostics unboxed, in the order found.
+pub fn check_file(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Vec<CheckError>) {
+    let mut cx = Checker {
+        source,
+        problems: Problems::default(),
+        textures: textures::Textures::new(&source.dir),
+        spheres: Vec::new(),
+        lights: Vec::new(),
+    };
+    let mut camera: Option<(Span, Option<u32>)> = None;
+    let mut objects = Vec::new();
+    let mut lights = Vec::new();
+    for section in &file.sections {
+        match &*section.kind {
+            SectionKind::Camera => {
+                let resolution = sections::camera(section, &mut cx);
+                match camera {
+                    None => camera = Some((section.kind.span, resolution)),
+                    Some((first, _)) => cx.problems.push(CheckError::RepeatedCamera {
+                        first: first.into(),
+                        second: section.kind.span.into(),
+                    }),
+                }
+            }
+            SectionKind::Sphere => objects.push(sections::sphere(section, &mut cx)),
+            SectionKind::Plane => objects.push(sections::plane(section, &mut cx)),
+            SectionKind::Light => lights.push(sections::light(section, &mut cx)),
+            SectionKind::Unknown(word) => {
+                cx.problems.push(unknown_section(word, section.kind.span))
+            }
+        }
+    }
+    if camera.is_none() {
+        cx.problems.push(CheckError::MissingCamera {
+            span: Span::point(0).into(),
+        });
+    }
+    cx.lights_inside_spheres();
+    let Checker {
+        problems, textures, ..
+    } = cx;
+    let resolution = camera.and_then(|(_, resolution)| resolution);
+    let checked = match (problems.clean(), resolution) {
+        (true, Some(resolution)) => objects
+            .into_iter()
+            .collect::<Option<Vec<_>>>()
+            .zip(lights.into_iter().collect::<Option<Vec<_>>>())
+            .map(|(objects, lights)| Checked {
+                scene: model::Scene {
+                    format: model::FORMAT.to_string(),
+                    camera: model::Camera { resolution },
+                    objects,
+                    lights,
+                },
+                textures: textures.into_loaded(),
+            }),
+        _ => None,
+    };
+    (checked, problems.list)
+}
+
+fn unknown_section(word: &str, span: Span) -> CheckError {
+    let help = match suggest::nearest(word, &SectionKind::KEYWORDS) {
+        Some((near, _)) => format!("did you mean `{near}`?"),
+        None => format!(
+            "a section starts with {}",
+            schema::list_or(&SectionKind::KEYWORDS)
+        ),
+    };
+    CheckError::UnknownSection {
+        found: word.to_string(),
+        span: span.into(),
+        help,
+    }
+}
+
+/// The diagnostics found so far.
+#[derive(Debug, Default)]
+struct Problems {
+    list: Vec<CheckError>,
+    /// Set when a value the parser already reported keeps a section from
+    /// being built; there is no scene, but nothing more to say.
+    incomplete: bool,
+}
+
+impl Problems {
+    fn push(&mut self, problem: CheckError) {
+        self.list.push(problem);
+    }
+
+    fn mark_incomplete(&mut self) {
+        self.incomplete = true;
+    }
+
+    /// No errors (warnings allowed) and nothing incomplete.
+    fn clean(&self) -> bool {
+        use miette::Diagnostic;
+        !self.incomplete
+            && self
+                .list
+                .iter()
+                .all(|p| p.severity() == Some(miette::Severity::Warning))
+    }
+}
+
+/// A valid sphere, for the light-inside-sphere check.
+#[derive(Debug)]
+struct SphereAt {
+    center: [f64; 3],
+    radius: f64,
+    span: Span,
+}
+
+/// A valid light location, for the light-inside-sphere check.
+#[derive(Debug)]
+struct LightAt {
+    location: [f64; 3],
+    span: Span,
+}
+
+/// The state of one check run.
+struct Checker<'a> {
+    source: &'a SourceFile,
+    problems: Problems,
+    textures: textures::Textures,
+    spheres: Vec<SphereAt>,
+    lights: Vec<LightAt>,
+}
+
+impl Checker<'_> {
+    /// The source text of `span`, as written.
+    fn text(&self, span: Span) -> String {
+        self.source
+            .text
+            .get(span.start..span.end)
+            .unwrap_or_default()
+            .to_string()
+    }
+
+    /// Warn about every light strictly inside a sphere.
+    fn lights_inside_spheres(&mut self) {
+        for light in &self.lights {
+            let location = glam::DVec3::from_array(light.location);
+            let inside = self
+                .spheres
+                .iter()
+                .find(|s| location.distance(glam::DVec3::from_array(s.center)) < s.radius);
+            if let Some(sphere) = inside {
+                self.problems.push(CheckError::LightInsideSphere {
+                    light: light.span.into(),
+                    sphere: sphere.span.into(),
+                    help: format!(
+                        "it lights only the inside of the sphere (radius {} around `{}`): move it out",
+                        format::number(sphere.radius),
+                        format::vector(sphere.center)
+                    ),
+                });
+            }
+        }
+    }
 }

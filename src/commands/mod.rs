@@ -23,6 +23,9 @@ pub enum Outcome {
     Success,
     /// Exit 1: a scene has errors (or warnings, with `--deny-warnings`).
     SceneErrors,
+    /// Exit 2: an input could not be read; the command already said why
+    /// and still processed the other inputs.
+    InputErrors,
 }
 
 /// A failure that is not the scene's fault: usage, I/O or internal (exit 2).
@@ -38,6 +41,7 @@ pub fn run(cli: Cli) -> ExitCode {
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
         Ok(Outcome::SceneErrors) => ExitCode::from(1),
+        Ok(Outcome::InputErrors) => ExitCode::from(2),
         Err(failure) => {
             eprintln!("{:?}", miette::Report::new_boxed(failure));
             ExitCode::from(2)

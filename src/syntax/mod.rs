@@ -227,7 +227,9 @@ impl<'a> Cursor<'a> {
                 // A number or string: `values` consumes at least this token.
                 _ => {
                     let stray = self.values(false);
-                    if let Some(last) = stray.last() {
+                    // A run of only malformed values was reported already.
+                    let reported = stray.iter().all(|v| v.value == Value::Invalid);
+                    if let Some(last) = stray.last().filter(|_| !reported) {
                         let run = span.join(last.span);
                         self.errors.push(SyntaxError::ValueOutsideSection {
                             found: self.src[run.start..run.end].to_string(),
@@ -282,17 +284,19 @@ impl<'a> Cursor<'a> {
     /// `value = number | string | path ;`
     /// `path = word ;` (only as the first value of `texture`)
     ///
-    /// Bad numbers and unterminated strings are reported and skipped; the
-    /// run of values ends at the first word that is neither a number nor a
+    /// Bad numbers and unterminated strings are reported and kept as
+    /// [`Value::Invalid`]; the run of values ends at the first word that is neither a number nor a
     /// path.
     fn values(&mut self, path_allowed: bool) -> Vec<Spanned<Value>> {
         let mut values = Vec::new();
         while let Some((token, span, rest)) = self.peek() {
             match token {
                 Token::Str(text) => values.push(Spanned::new(span, Value::Text(text))),
-                Token::UnterminatedStr => self
-                    .errors
-                    .push(SyntaxError::UnterminatedString { span: span.into() }),
+                Token::UnterminatedStr => {
+                    self.errors
+                        .push(SyntaxError::UnterminatedString { span: span.into() });
+                    values.push(Spanned::new(span, Value::Invalid));
+                }
                 Token::Word(w)
                     if path_allowed
                         && values.is_empty()
@@ -302,9 +306,10 @@ impl<'a> Cursor<'a> {
                     values.push(Spanned::new(span, Value::Text(w.to_string())));
                 }
                 Token::Word(w) if looks_numeric(w) || is_non_finite_word(w) => {
-                    if let Some(n) = self.number_value(w, span) {
-                        values.push(Spanned::new(span, Value::Number(n)));
-                    }
+                    let value = self
+                        .number_value(w, span)
+                        .map_or(Value::Invalid, Value::Number);
+                    values.push(Spanned::new(span, value));
                 }
                 Token::Word(_) => break,
             }

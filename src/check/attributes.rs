@@ -1,0 +1,273 @@
+//! The checks every section shares: each attribute line is looked up in the
+//! [`schema`](super::schema) table and its values read, reporting unknown and
+//! misplaced names, duplicates, wrong value counts, strings where numbers
+//! belong and missing required attributes. What survives is an
+//! [`Attributes`] the per-section builders query by name.
+
+use crate::ast::{AttrName, Attribute, Section, SectionKind, Value};
+use crate::span::{Span, Spanned};
+use crate::suggest;
+
+use super::errors::CheckError;
+use super::schema::{self, Arity, AttrSpec};
+use super::Problems;
+
+/// The values of one attribute line that passed the generic checks.
+#[derive(Debug)]
+pub enum Read<'a> {
+    Numbers(Vec<Spanned<f64>>),
+    Path(Spanned<&'a str>),
+}
+
+/// One attribute line the section takes, with its values when they read.
+#[derive(Debug)]
+pub struct Given<'a> {
+    pub attribute: &'a Attribute,
+    /// `None` when the values had a problem (already reported).
+    pub read: Option<Read<'a>>,
+}
+
+/// The attributes of one section, first occurrence of each name.
+#[derive(Debug)]
+pub struct Attributes<'a> {
+    given: Vec<Given<'a>>,
+}
+
+impl<'a> Attributes<'a> {
+    /// The attribute line for `name`, whether or not its values read.
+    pub fn line(&self, name: &AttrName) -> Option<&'a Attribute> {
+        self.find(name).map(|g| g.attribute)
+    }
+
+    fn find(&self, name: &AttrName) -> Option<&Given<'a>> {
+        self.given.iter().find(|g| *g.attribute.name == *name)
+    }
+
+    /// The numbers of `name`, when given and valid.
+    pub fn numbers(&self, name: &AttrName) -> Option<&[Spanned<f64>]> {
+        match self.find(name)?.read.as_ref()? {
+            Read::Numbers(numbers) => Some(numbers),
+            Read::Path(_) => None,
+        }
+    }
+
+    /// The three numbers of `name` as a vector, with the span of all three.
+    pub fn vector(&self, name: &AttrName) -> Option<Spanned<[f64; 3]>> {
+        match self.numbers(name)? {
+            [x, y, z] => Some(Spanned::new(x.span.join(z.span), [**x, **y, **z])),
+            _ => None,
+        }
+    }
+
+    /// The path of `name`, when given and valid.
+    pub fn path(&self, name: &AttrName) -> Option<Spanned<&'a str>> {
+        match self.find(name)?.read.as_ref()? {
+            Read::Path(path) => Some(*path),
+            Read::Numbers(_) => None,
+        }
+    }
+}
+
+/// Read the attributes of `section` (a known section kind), reporting every
+/// generic problem into `problems`.
+pub fn collect<'a>(section: &'a Section, problems: &mut Problems) -> Attributes<'a> {
+    let kind = &*section.kind;
+    let mut given: Vec<Given<'a>> = Vec::new();
+    for attribute in &section.attributes {
+        let Some(spec) = schema::find(kind, &attribute.name) else {
+            problems.push(not_taken(kind, attribute));
+            continue;
+        };
+        if let Some(first) = given.iter().find(|g| *g.attribute.name == *attribute.name) {
+            problems.push(CheckError::DuplicateAttribute {
+                name: attribute.name.as_str().to_string(),
+                section: kind.as_str().to_string(),
+                first: first.attribute.name.span.into(),
+                second: attribute.name.span.into(),
+            });
+            continue;
+        }
+        let read = read_values(spec, attribute, problems);
+        given.push(Given { attribute, read });
+    }
+    report_missing(section, &given, problems);
+    Attributes { given }
+}
+
+/// The diagnostic for an attribute `kind` does not take.
+fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
+    let section = kind.as_str().to_string();
+    let takes = schema::attributes_of(kind)
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect::<Vec<_>>();
+    let takes_line = if takes.is_empty() {
+        "the camera takes no attributes, only its resolution: `camera 400`".to_string()
+    } else {
+        format!("`{section}` takes {}", schema::list(&takes))
+    };
+    let span = attribute.name.span.into();
+    match &*attribute.name {
+        AttrName::Unknown(found) => {
+            let help = match suggest::nearest(found, &takes) {
+                Some((near, _)) => format!("did you mean `{near}`?"),
+                None => match suggest::nearest(found, &AttrName::KEYWORDS) {
+                    Some((near, _)) => format!(
+                        "`{near}` is an attribute of {}; {takes_line}",
+                        schema::list_or(&schema::sections_taking(&AttrName::from_word(near)))
+                    ),
+                    None => takes_line,
+                },
+            };
+            CheckError::UnknownAttribute {
+                found: found.clone(),
+                section,
+                span,
+                help,
+            }
+        }
+        name => {
+            let owners = schema::sections_taking(name);
+            CheckError::MisplacedAttribute {
+                name: name.as_str().to_string(),
+                belongs: format!(
+                    "only {} take{} `{}`",
+                    plural_list(&owners),
+                    if owners.len() == 1 { "s" } else { "" },
+                    name.as_str()
+                ),
+                section,
+                span,
+                help: format!("remove this line; {takes_line}"),
+            }
+        }
+    }
+}
+
+/// "`plane`s", "`sphere`s and `plane`s" for "only … take `x`".
+fn plural_list(sections: &[&str]) -> String {
+    let plural: Vec<String> = sections.iter().map(|s| format!("{s}s")).collect();
+    schema::list(&plural)
+}
+
+/// Read an attribute's values per its arity, reporting strings where
+/// numbers belong and wrong counts. `None` when they do not read (also,
+/// silently, when the parser already reported a malformed value).
+fn read_values<'a>(
+    spec: &AttrSpec,
+    attribute: &'a Attribute,
+    problems: &mut Problems,
+) -> Option<Read<'a>> {
+    let name = attribute.name.as_str();
+    let (expected_count, expected) = match spec.arity {
+        Arity::Numbers(1) => (1, "1 value".to_string()),
+        Arity::Numbers(n) => (n, format!("{n} values")),
+        Arity::Path => (1, "1 path".to_string()),
+    };
+    let mut ok = true;
+    if let Some(problem) = count_problem(
+        name,
+        &expected,
+        expected_count,
+        attribute.name.span,
+        &attribute.values,
+        &format!("write `{name} {}`", spec.placeholder),
+    ) {
+        problems.push(problem);
+        ok = false;
+    }
+    if attribute.values.iter().any(|v| v.value == Value::Invalid) {
+        problems.mark_incomplete();
+        ok = false;
+    }
+    match spec.arity {
+        Arity::Numbers(_) => {
+            let mut numbers = Vec::new();
+            for value in &attribute.values {
+                match &value.value {
+                    Value::Number(n) => numbers.push(Spanned::new(value.span, *n)),
+                    Value::Text(text) => {
+                        problems.push(CheckError::NotANumber {
+                            name: name.to_string(),
+                            found: text.clone(),
+                            span: value.span.into(),
+                        });
+                        ok = false;
+                    }
+                    Value::Invalid => {}
+                }
+            }
+            ok.then_some(Read::Numbers(numbers))
+        }
+        Arity::Path => match attribute.values.first().map(|v| (&v.value, v.span)) {
+            Some((Value::Text(text), span)) if ok => {
+                Some(Read::Path(Spanned::new(span, text.as_str())))
+            }
+            _ => None,
+        },
+    }
+}
+
+/// The wrong-count diagnostic for `values` after `name_span`, if the count
+/// is not `expected_count`. Shared with the camera line.
+pub fn count_problem(
+    name: &str,
+    expected: &str,
+    expected_count: usize,
+    name_span: Span,
+    values: &[Spanned<Value>],
+    help: &str,
+) -> Option<CheckError> {
+    let found = values.len();
+    if found == expected_count {
+        return None;
+    }
+    let (span, label) = if found > expected_count {
+        let extra = &values[expected_count..];
+        let span = extra[0].span.join(extra[extra.len() - 1].span);
+        let n = extra.len();
+        (
+            span,
+            format!("{n} extra value{}", if n == 1 { "" } else { "s" }),
+        )
+    } else {
+        let span = values.last().map_or(name_span, |v| name_span.join(v.span));
+        (span, format!("{found} of {expected_count}"))
+    };
+    Some(CheckError::WrongValueCount {
+        name: name.to_string(),
+        expected: expected.to_string(),
+        found,
+        span: span.into(),
+        label,
+        help: help.to_string(),
+    })
+}
+
+/// One diagnostic listing every required attribute `section` lacks.
+fn report_missing(section: &Section, given: &[Given<'_>], problems: &mut Problems) {
+    let missing: Vec<&AttrSpec> = schema::attributes_of(&section.kind)
+        .iter()
+        .filter(|s| s.required && !given.iter().any(|g| *g.attribute.name == s.name))
+        .collect();
+    if missing.is_empty() {
+        return;
+    }
+    let kind = section.kind.as_str().to_string();
+    let names: Vec<&str> = missing.iter().map(|s| s.name.as_str()).collect();
+    let lines: Vec<String> = missing
+        .iter()
+        .map(|s| format!("  {} {}", s.name.as_str(), s.placeholder))
+        .collect();
+    let help = if lines.len() == 1 {
+        format!("add a line `{}` to this {kind}", lines[0].trim())
+    } else {
+        format!("add these lines to this {kind}:\n{}", lines.join("\n"))
+    };
+    problems.push(CheckError::MissingAttribute {
+        section: kind,
+        names: schema::list(&names),
+        span: section.kind.span.into(),
+        help,
+    });
+}

@@ -1,0 +1,375 @@
+//! The check pass's diagnostics: one variant per problem, each with a stable
+//! code under `scene::`, a doc line saying when it fires, labelled spans and,
+//! where a fix exists, a help line that shows it. Errors stop a render;
+//! warnings (marked `severity(Warning)`) do not.
+//!
+//! docs/diagnostics.md has a What / Why / Example / Fix section per code, and
+//! tests/ui has one fixture per code; `tests/ui.rs` fails when a code listed
+//! in [`CheckError::CODES`] or written in a `code(...)` below lacks either.
+
+use miette::{Diagnostic, SourceSpan};
+use thiserror::Error;
+
+/// A problem in the meaning of a scene file.
+#[derive(Clone, Debug, Error, Diagnostic, PartialEq, Eq)]
+pub enum CheckError {
+    /// Fires on a word in section position that is no section keyword.
+    #[error("unknown section `{found}`")]
+    #[diagnostic(code(scene::unknown_section))]
+    UnknownSection {
+        found: String,
+        #[label("not a section keyword")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires on an attribute name that no section takes.
+    #[error("unknown attribute `{found}` in `{section}`")]
+    #[diagnostic(code(scene::unknown_attribute))]
+    UnknownAttribute {
+        found: String,
+        section: String,
+        #[label("not an attribute")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires on an attribute of another section type, such as `normal` on a
+    /// sphere, or any attribute on the camera.
+    #[error("`{section}` has no attribute `{name}`")]
+    #[diagnostic(code(scene::misplaced_attribute))]
+    MisplacedAttribute {
+        name: String,
+        section: String,
+        #[label("{belongs}")]
+        span: SourceSpan,
+        belongs: String,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when an attribute (or the camera line) has more or fewer values
+    /// than it takes.
+    #[error("expected {expected} for `{name}`, found {found}")]
+    #[diagnostic(code(scene::wrong_value_count))]
+    WrongValueCount {
+        name: String,
+        /// "3 values", "1 path".
+        expected: String,
+        found: usize,
+        #[label("{label}")]
+        span: SourceSpan,
+        label: String,
+        #[help]
+        help: String,
+    },
+
+    /// Fires on a quoted string where a number is expected.
+    #[error("expected a number for `{name}`, found `\"{found}\"`")]
+    #[diagnostic(
+        code(scene::not_a_number),
+        help("numbers are written without quotes, such as `1`, `-.5` or `1e3`")
+    )]
+    NotANumber {
+        name: String,
+        found: String,
+        #[label("not a number")]
+        span: SourceSpan,
+    },
+
+    /// Fires when a section gives the same attribute twice.
+    #[error("`{name}` is given twice in this `{section}`")]
+    #[diagnostic(
+        code(scene::duplicate_attribute),
+        help("remove one of the two `{name}` lines")
+    )]
+    DuplicateAttribute {
+        name: String,
+        section: String,
+        #[label("first given here")]
+        first: SourceSpan,
+        #[label("given again here")]
+        second: SourceSpan,
+    },
+
+    /// Fires when a section lacks one or more required attributes; one
+    /// diagnostic per section lists them all.
+    #[error("`{section}` is missing {names}")]
+    #[diagnostic(code(scene::missing_attribute))]
+    MissingAttribute {
+        section: String,
+        /// "`center`", "`normal` and `headup`".
+        names: String,
+        #[label("this {section} needs {names}")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when the file has no `camera` line.
+    #[error("the scene has no camera")]
+    #[diagnostic(
+        code(scene::missing_camera),
+        help("add a first line `camera 400` (the image is 400 × 400 pixels)")
+    )]
+    MissingCamera {
+        #[label("expected `camera N` in this file")]
+        span: SourceSpan,
+    },
+
+    /// Fires on every `camera` after the first.
+    #[error("the scene has more than one camera")]
+    #[diagnostic(code(scene::repeated_camera), help("remove this `camera` line"))]
+    RepeatedCamera {
+        #[label("first camera")]
+        first: SourceSpan,
+        #[label("another camera")]
+        second: SourceSpan,
+    },
+
+    /// Fires when the camera resolution has a fractional part.
+    #[error("the camera resolution must be a whole number, found `{found}`")]
+    #[diagnostic(code(scene::resolution_not_integer))]
+    ResolutionNotInteger {
+        found: String,
+        #[label("not a whole number")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when the camera resolution is below 1 or above 16384.
+    #[error("the camera resolution must be from 1 to 16384, found `{found}`")]
+    #[diagnostic(code(scene::resolution_out_of_range))]
+    ResolutionOutOfRange {
+        found: String,
+        #[label("out of range")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires on values directly after a `sphere`, `plane` or `light` keyword.
+    #[error("`{section}` takes no values after its keyword")]
+    #[diagnostic(code(scene::section_values))]
+    SectionValues {
+        section: String,
+        #[label("unexpected values")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when a sphere radius or a plane width or height is not > 0.
+    #[error("the {what} must be greater than 0, found `{found}`")]
+    #[diagnostic(code(scene::dimension_not_positive))]
+    DimensionNotPositive {
+        /// "radius", "width", "height".
+        what: String,
+        found: String,
+        #[label("not greater than 0")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when an object colour channel is outside [0, 1].
+    #[error("colour channels must be from 0 to 1, found `{found}`")]
+    #[diagnostic(code(scene::color_out_of_range))]
+    ColorOutOfRange {
+        found: String,
+        #[label("out of range")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when a reflectivity is outside [0, 1].
+    #[error("reflectivity must be from 0 to 1, found `{found}`")]
+    #[diagnostic(code(scene::reflectivity_out_of_range))]
+    ReflectivityOutOfRange {
+        found: String,
+        #[label("out of range")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when a light colour channel is negative.
+    #[error("light colour channels must be 0 or more, found `{found}`")]
+    #[diagnostic(code(scene::negative_light_color))]
+    NegativeLightColor {
+        found: String,
+        #[label("negative")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when a plane's normal is `0 0 0`.
+    #[error("the plane normal must not be zero")]
+    #[diagnostic(
+        code(scene::zero_normal),
+        help("give the direction the plane faces, such as `normal 0 1 0`")
+    )]
+    ZeroNormal {
+        #[label("zero vector")]
+        span: SourceSpan,
+    },
+
+    /// Fires when a plane's headup is `0 0 0`.
+    #[error("the plane headup must not be zero")]
+    #[diagnostic(code(scene::zero_headup))]
+    ZeroHeadup {
+        #[label("zero vector")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when headup points along the normal (|n̂ × ĥ| ≤ 1e-9), so the
+    /// plane has no up direction.
+    #[error("the plane headup is parallel to its normal")]
+    #[diagnostic(code(scene::headup_parallel_to_normal))]
+    HeadupParallelToNormal {
+        #[label("normal")]
+        normal: SourceSpan,
+        #[label("parallel to the normal")]
+        headup: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when a texture file does not exist (or cannot be read).
+    #[error("cannot read texture `{path}`")]
+    #[diagnostic(code(scene::texture_not_found))]
+    TextureNotFound {
+        path: String,
+        reason: String,
+        #[label("{reason}")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when a texture path names a folder or another non-file.
+    #[error("texture `{path}` is not a file")]
+    #[diagnostic(code(scene::texture_not_a_file))]
+    TextureNotAFile {
+        path: String,
+        #[label("not a regular file")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when a texture file exists but does not decode as an image.
+    #[error("texture `{path}` is not a readable image: {reason}")]
+    #[diagnostic(code(scene::texture_not_an_image))]
+    TextureNotAnImage {
+        path: String,
+        reason: String,
+        #[label("does not decode")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when headup is not perpendicular to the normal (|n̂ · ĥ| > 1e-6);
+    /// the renderer uses its projection onto the plane.
+    #[error("the plane headup is not perpendicular to its normal")]
+    #[diagnostic(code(scene::headup_not_perpendicular), severity(Warning))]
+    HeadupNotPerpendicular {
+        #[label("normal")]
+        normal: SourceSpan,
+        #[label("not perpendicular to the normal")]
+        headup: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when every point of an object has z ≥ 0, behind the camera at
+    /// the origin that looks down −z.
+    #[error("this {shape} is entirely behind the camera")]
+    #[diagnostic(code(scene::object_behind_camera), severity(Warning))]
+    ObjectBehindCamera {
+        shape: String,
+        #[label("every point has z ≥ 0")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when a light is strictly inside a sphere: it lights only the
+    /// sphere's inside.
+    #[error("this light is inside a sphere")]
+    #[diagnostic(code(scene::light_inside_sphere), severity(Warning))]
+    LightInsideSphere {
+        #[label("light")]
+        light: SourceSpan,
+        #[label("sphere")]
+        sphere: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires when an object gives both `color` and `texture`.
+    #[error("`color` is ignored because this {shape} has a texture")]
+    #[diagnostic(
+        code(scene::color_with_texture),
+        severity(Warning),
+        help("remove the `color` line; the texture sets the surface colour")
+    )]
+    ColorWithTexture {
+        shape: String,
+        #[label("ignored")]
+        color: SourceSpan,
+        #[label("the texture wins")]
+        texture: SourceSpan,
+    },
+
+    /// Fires when a light colour channel is above 1 (it over-exposes).
+    #[error("light colour above 1 over-exposes")]
+    #[diagnostic(code(scene::light_color_above_one), severity(Warning))]
+    LightColorAboveOne {
+        #[label("a channel is above 1")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+}
+
+impl CheckError {
+    /// Every code this enum can produce, for the fixture-coverage test.
+    pub const CODES: [&'static str; 27] = [
+        "scene::unknown_section",
+        "scene::unknown_attribute",
+        "scene::misplaced_attribute",
+        "scene::wrong_value_count",
+        "scene::not_a_number",
+        "scene::duplicate_attribute",
+        "scene::missing_attribute",
+        "scene::missing_camera",
+        "scene::repeated_camera",
+        "scene::resolution_not_integer",
+        "scene::resolution_out_of_range",
+        "scene::section_values",
+        "scene::dimension_not_positive",
+        "scene::color_out_of_range",
+        "scene::reflectivity_out_of_range",
+        "scene::negative_light_color",
+        "scene::zero_normal",
+        "scene::zero_headup",
+        "scene::headup_parallel_to_normal",
+        "scene::texture_not_found",
+        "scene::texture_not_a_file",
+        "scene::texture_not_an_image",
+        "scene::headup_not_perpendicular",
+        "scene::object_behind_camera",
+        "scene::light_inside_sphere",
+        "scene::color_with_texture",
+        "scene::light_color_above_one",
+    ];
+}

@@ -1,0 +1,341 @@
+//! One builder per section kind: each runs the shared attribute checks,
+//! then the range rules and warnings of its own attributes (SPEC.md §1), and
+//! returns the model value when everything it needs is valid.
+
+use glam::DVec3;
+
+use crate::ast::{AttrName, Section, Value};
+use crate::model;
+use crate::span::Spanned;
+
+use super::attributes::{self, Attributes};
+use super::errors::CheckError;
+use super::format;
+use super::geometry::{self, Headup};
+use super::Checker;
+
+/// The camera line: its resolution, when valid.
+pub fn camera(section: &Section, cx: &mut Checker<'_>) -> Option<u32> {
+    attributes::collect(section, &mut cx.problems);
+    if let Some(problem) = attributes::count_problem(
+        "camera",
+        "1 value",
+        1,
+        section.kind.span,
+        &section.args,
+        "write `camera N` for an N × N image, such as `camera 400`",
+    ) {
+        cx.problems.push(problem);
+        return None;
+    }
+    let arg = &section.args[0];
+    let n = match &arg.value {
+        Value::Number(n) => *n,
+        Value::Text(text) => {
+            cx.problems.push(CheckError::NotANumber {
+                name: "camera".to_string(),
+                found: text.clone(),
+                span: arg.span.into(),
+            });
+            return None;
+        }
+        Value::Invalid => {
+            cx.problems.mark_incomplete();
+            return None;
+        }
+    };
+    let found = cx.text(arg.span);
+    let nearest = n.round().clamp(1.0, 16384.0);
+    if n.fract() != 0.0 {
+        cx.problems.push(CheckError::ResolutionNotInteger {
+            found,
+            span: arg.span.into(),
+            help: format!("write `camera {}`", format::number(nearest)),
+        });
+        return None;
+    }
+    if !(1.0..=16384.0).contains(&n) {
+        cx.problems.push(CheckError::ResolutionOutOfRange {
+            found,
+            span: arg.span.into(),
+            help: format!(
+                "the image is N × N pixels with N from 1 to 16384: write `camera {}`",
+                format::number(nearest)
+            ),
+        });
+        return None;
+    }
+    // In 1..=16384 and whole, so the cast is exact.
+    Some(n as u32)
+}
+
+/// A sphere, when valid.
+pub fn sphere(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> {
+    no_positional_values(section, "dimension 1", cx);
+    let attrs = attributes::collect(section, &mut cx.problems);
+    let radius = dimensions(&attrs, &["radius"], cx).map(|d| d[0]);
+    let center = attrs.vector(&AttrName::Center);
+    let material = material(&attrs, "sphere", cx);
+    let (center, radius) = (center?, radius?);
+    if center[2] - radius >= 0.0 {
+        cx.problems.push(behind_camera("sphere", center));
+    }
+    cx.spheres.push(super::SphereAt {
+        center: *center,
+        radius,
+        span: section.kind.span,
+    });
+    Some(model::Object {
+        shape: model::Shape::Sphere {
+            center: *center,
+            radius,
+        },
+        material: material?,
+    })
+}
+
+/// A plane, when valid.
+pub fn plane(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> {
+    no_positional_values(section, "dimension 4 4", cx);
+    let attrs = attributes::collect(section, &mut cx.problems);
+    let size = dimensions(&attrs, &["width", "height"], cx);
+    let center = attrs.vector(&AttrName::Center);
+    let orientation = orientation(&attrs, cx);
+    let material = material(&attrs, "plane", cx);
+    let (size, center, (normal, headup)) = (size?, center?, orientation?);
+    let (width, height) = (size[0], size[1]);
+    if let Some(basis) = geometry::plane_basis(normal, headup) {
+        let corners = geometry::corners(*center, &basis, width, height);
+        if corners.iter().all(|c| c.z >= 0.0) {
+            cx.problems.push(behind_camera("plane", center));
+        }
+    }
+    Some(model::Object {
+        shape: model::Shape::Plane {
+            center: *center,
+            width,
+            height,
+            normal,
+            headup,
+        },
+        material: material?,
+    })
+}
+
+/// A light, when valid.
+pub fn light(section: &Section, cx: &mut Checker<'_>) -> Option<model::Light> {
+    no_positional_values(section, "location 0 0 0", cx);
+    let attrs = attributes::collect(section, &mut cx.problems);
+    let location = attrs.vector(&AttrName::Location);
+    let color = attrs.vector(&AttrName::Color).and_then(|color| {
+        let spans = attrs.numbers(&AttrName::Color)?;
+        let mut ok = true;
+        for channel in spans.iter().filter(|c| ***c < 0.0) {
+            ok = false;
+            cx.problems.push(CheckError::NegativeLightColor {
+                found: cx.text(channel.span),
+                span: channel.span.into(),
+                help: format!("write `color {}`", format::vector(color.value.map(|c| c.max(0.0)))),
+            });
+        }
+        let brightest = color.iter().copied().fold(0.0, f64::max);
+        if ok && brightest > 1.0 {
+            cx.problems.push(CheckError::LightColorAboveOne {
+                span: color.span.into(),
+                help: format!(
+                    "lit surfaces will clip to white; to keep the hue at full strength, write `color {}`",
+                    format::vector(color.value.map(|c| c / brightest))
+                ),
+            });
+        }
+        ok.then_some(*color)
+    });
+    let location = location?;
+    cx.lights.push(super::LightAt {
+        location: *location,
+        span: location.span,
+    });
+    Some(model::Light {
+        location: *location,
+        color: color?,
+    })
+}
+
+/// Report values written directly after a `sphere`, `plane` or `light`
+/// keyword; `example` is an attribute line to suggest instead.
+fn no_positional_values(section: &Section, example: &str, cx: &mut Checker<'_>) {
+    let (Some(first), Some(last)) = (section.args.first(), section.args.last()) else {
+        return;
+    };
+    cx.problems.push(CheckError::SectionValues {
+        section: section.kind.as_str().to_string(),
+        span: first.span.join(last.span).into(),
+        help: format!(
+            "write values after an attribute name, each on its own line, such as `{example}`"
+        ),
+    });
+}
+
+/// The `dimension` values, each checked > 0; `names` says what each is.
+fn dimensions(attrs: &Attributes<'_>, names: &[&str], cx: &mut Checker<'_>) -> Option<Vec<f64>> {
+    let values = attrs.numbers(&AttrName::Dimension)?;
+    let fixed: Vec<String> = values
+        .iter()
+        .map(|v| format::number(if **v == 0.0 { 1.0 } else { v.abs() }))
+        .collect();
+    let mut ok = true;
+    for (value, what) in values.iter().zip(names) {
+        if **value > 0.0 {
+            continue;
+        }
+        ok = false;
+        cx.problems.push(CheckError::DimensionNotPositive {
+            what: what.to_string(),
+            found: cx.text(value.span),
+            span: value.span.into(),
+            help: format!("write `dimension {}`", fixed.join(" ")),
+        });
+    }
+    ok.then(|| values.iter().map(|v| **v).collect())
+}
+
+/// A plane's `normal` and `headup`, when both are valid: non-zero and not
+/// parallel. Warns when headup is not perpendicular.
+fn orientation(attrs: &Attributes<'_>, cx: &mut Checker<'_>) -> Option<([f64; 3], [f64; 3])> {
+    let normal = attrs.vector(&AttrName::Normal);
+    let headup = attrs.vector(&AttrName::Headup);
+    let normal_unit = normal.and_then(|n| geometry::unit(*n));
+    if let (Some(n), None) = (normal, normal_unit) {
+        cx.problems.push(CheckError::ZeroNormal {
+            span: n.span.into(),
+        });
+    }
+    if let Some(h) = headup.filter(|h| geometry::unit(**h).is_none()) {
+        cx.problems.push(CheckError::ZeroHeadup {
+            span: h.span.into(),
+            help: match normal_unit {
+                Some(_) => format!(
+                    "write `headup {}`, perpendicular to the normal",
+                    perpendicular_to(normal.map_or([0.0; 3], |n| *n))
+                ),
+                None => "give the plane's up direction, such as `headup 0 1 0`".to_string(),
+            },
+        });
+    }
+    let (normal, headup) = (normal?, headup?);
+    match geometry::classify_headup(*normal, *headup)? {
+        Headup::Perpendicular => {}
+        Headup::Projected(projected) => cx.problems.push(CheckError::HeadupNotPerpendicular {
+            normal: normal.span.into(),
+            headup: headup.span.into(),
+            help: format!(
+                "the renderer uses headup projected onto the plane: write `headup {}`",
+                format::vector(projected)
+            ),
+        }),
+        Headup::Parallel => {
+            cx.problems.push(CheckError::HeadupParallelToNormal {
+                normal: normal.span.into(),
+                headup: headup.span.into(),
+                help: format!(
+                    "headup must not point along the normal: write `headup {}`",
+                    perpendicular_to(*normal)
+                ),
+            });
+            return None;
+        }
+    }
+    Some((*normal, *headup))
+}
+
+/// A vector perpendicular to `normal` for help lines: the axis least
+/// aligned with it (y first), projected onto the plane.
+fn perpendicular_to(normal: [f64; 3]) -> String {
+    let Some(n) = geometry::unit(normal) else {
+        return "0 1 0".to_string();
+    };
+    let axis = [DVec3::Y, DVec3::Z, DVec3::X]
+        .into_iter()
+        .min_by(|a, b| a.dot(n).abs().total_cmp(&b.dot(n).abs()))
+        .unwrap_or(DVec3::Y);
+    format::vector((axis - axis.dot(n) * n).to_array())
+}
+
+/// An object's material: colour and reflectivity in [0, 1], a texture that
+/// loads, and a warning when colour and texture are both given.
+fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option<model::Material> {
+    let mut material = model::Material::default();
+    let mut ok = true;
+    if let Some(color) = attrs.numbers(&AttrName::Color) {
+        let clamped: Vec<String> = color
+            .iter()
+            .map(|c| format::number(c.clamp(0.0, 1.0)))
+            .collect();
+        for channel in color.iter().filter(|c| !(0.0..=1.0).contains(&***c)) {
+            ok = false;
+            cx.problems.push(CheckError::ColorOutOfRange {
+                found: cx.text(channel.span),
+                span: channel.span.into(),
+                help: format!("write `color {}`", clamped.join(" ")),
+            });
+        }
+        if let [r, g, b] = color {
+            material.color = [**r, **g, **b];
+        }
+    } else if attrs.line(&AttrName::Color).is_some() {
+        ok = false;
+    }
+    if let Some(k) = attrs
+        .numbers(&AttrName::Reflectivity)
+        .and_then(|k| k.first())
+    {
+        if !(0.0..=1.0).contains(&**k) {
+            ok = false;
+            cx.problems.push(CheckError::ReflectivityOutOfRange {
+                found: cx.text(k.span),
+                span: k.span.into(),
+                help: format!("write `reflectivity {}`", format::number(k.clamp(0.0, 1.0))),
+            });
+        }
+        material.reflectivity = **k;
+    } else if attrs.line(&AttrName::Reflectivity).is_some() {
+        ok = false;
+    }
+    if let Some(path) = attrs.path(&AttrName::Texture) {
+        if let Err(problem) = cx.textures.load(path) {
+            ok = false;
+            cx.problems.push(problem);
+        }
+        material.texture = Some(path.value.to_string());
+    } else if attrs.line(&AttrName::Texture).is_some() {
+        ok = false;
+    }
+    if let (Some(color), Some(texture)) =
+        (attrs.line(&AttrName::Color), attrs.line(&AttrName::Texture))
+    {
+        cx.problems.push(CheckError::ColorWithTexture {
+            shape: shape.to_string(),
+            color: color.span.into(),
+            texture: texture.span.into(),
+        });
+    }
+    ok.then_some(material)
+}
+
+/// The warning for an object with every point at z ≥ 0.
+fn behind_camera(shape: &str, center: Spanned<[f64; 3]>) -> CheckError {
+    let [x, y, z] = *center;
+    let help = if z > 0.0 {
+        format!(
+            "the camera looks down −z from the origin; did you mean `center {}`?",
+            format::vector([x, y, -z])
+        )
+    } else {
+        format!("the camera looks down −z from the origin; move the {shape} to negative z")
+    };
+    CheckError::ObjectBehindCamera {
+        shape: shape.to_string(),
+        span: center.span.into(),
+        help,
+    }
+}

@@ -1,0 +1,117 @@
+//! Texture files: each distinct path is resolved against the scene file's
+//! folder and loaded once with [`crate::texture::load`]; a failure becomes a
+//! diagnostic at every line that names the file.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use crate::ir::Texture;
+use crate::span::Spanned;
+use crate::texture::{self, TextureError};
+
+use super::errors::CheckError;
+
+/// Why a texture did not load, kept so later lines naming the same file get
+/// the same diagnostic without reading it again.
+#[derive(Clone, Debug)]
+enum Failure {
+    Unreadable(String),
+    NoFile,
+    Undecodable(String),
+}
+
+/// The textures loaded so far, and the paths that failed.
+#[derive(Debug)]
+pub struct Textures {
+    dir: PathBuf,
+    loaded: BTreeMap<String, Texture>,
+    failed: BTreeMap<String, Failure>,
+}
+
+impl Textures {
+    /// An empty set resolving paths against `dir`.
+    pub fn new(dir: &Path) -> Textures {
+        Textures {
+            dir: dir.to_path_buf(),
+            loaded: BTreeMap::new(),
+            failed: BTreeMap::new(),
+        }
+    }
+
+    /// Load `path` (as written) unless already done; the diagnostic when it
+    /// does not load.
+    pub fn load(&mut self, path: Spanned<&str>) -> Result<(), CheckError> {
+        let written = path.value;
+        if self.loaded.contains_key(written) {
+            return Ok(());
+        }
+        let resolved = self.dir.join(written);
+        let failure = match self.failed.get(written) {
+            Some(failure) => failure.clone(),
+            None => match texture::load(&resolved) {
+                Ok(texture) => {
+                    self.loaded.insert(written.to_string(), texture);
+                    return Ok(());
+                }
+                Err(error) => {
+                    let failure = match error {
+                        TextureError::Io { source, .. } => Failure::Unreadable(io_reason(&source)),
+                        TextureError::NotAFile { .. } => Failure::NoFile,
+                        TextureError::Decode { source, .. } => {
+                            Failure::Undecodable(source.to_string())
+                        }
+                    };
+                    self.failed.insert(written.to_string(), failure.clone());
+                    failure
+                }
+            },
+        };
+        let shown = resolved.display();
+        let span = path.span.into();
+        let path = written.to_string();
+        Err(match failure {
+            Failure::Unreadable(reason) => CheckError::TextureNotFound {
+                path,
+                reason,
+                span,
+                help: format!(
+                    "looked for `{shown}`; paths are relative to the scene file's folder"
+                ),
+            },
+            Failure::NoFile => CheckError::TextureNotAFile {
+                path,
+                span,
+                help: format!("`{shown}` is a folder or a special file; name an image file"),
+            },
+            Failure::Undecodable(reason) => CheckError::TextureNotAnImage {
+                path,
+                reason: lowercase_first(&reason),
+                span,
+                help: format!("`{shown}` must be a PPM (P3 or P6), PNG or JPEG image"),
+            },
+        })
+    }
+
+    /// Every texture that loaded, keyed by its path as written.
+    pub fn into_loaded(self) -> BTreeMap<String, Texture> {
+        self.loaded
+    }
+}
+
+/// A short, OS-independent reason for an I/O error.
+fn io_reason(error: &std::io::Error) -> String {
+    match error.kind() {
+        std::io::ErrorKind::NotFound => "no such file".to_string(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
+        _ => lowercase_first(&error.to_string()),
+    }
+}
+
+/// OS and decoder messages start with a capital; diagnostics do not.
+fn lowercase_first(message: &str) -> String {
+    let mut chars = message.chars();
+    match chars.next() {
+        Some(first) => first.to_lowercase().chain(chars).collect(),
+        None => String::new(),
+    }
+}
