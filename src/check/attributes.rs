@@ -130,12 +130,7 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
             let owners = schema::sections_taking(name);
             CheckError::MisplacedAttribute {
                 name: name.as_str().to_string(),
-                belongs: format!(
-                    "only {} take{} `{}`",
-                    plural_list(&owners),
-                    if owners.len() == 1 { "s" } else { "" },
-                    name.as_str()
-                ),
+                belongs: format!("only {} take `{}`", plural_list(&owners), name.as_str()),
                 section,
                 span,
                 help: format!("remove this line; {takes_line}"),
@@ -144,10 +139,13 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
     }
 }
 
-/// "`plane`s", "`sphere`s and `plane`s" for "only … take `x`".
+/// "planes", "spheres and planes" for "only … take `x`".
 fn plural_list(sections: &[&str]) -> String {
     let plural: Vec<String> = sections.iter().map(|s| format!("{s}s")).collect();
-    schema::list(&plural)
+    match plural.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => plural.concat(),
+    }
 }
 
 /// Read an attribute's values per its arity, reporting strings where

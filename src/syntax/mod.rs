@@ -12,8 +12,8 @@
 pub mod errors;
 
 use nom::branch::alt;
-use nom::bytes::complete::{take_till, take_till1, take_while1};
-use nom::character::complete::{char, digit0, digit1, one_of};
+use nom::bytes::complete::{take_till1, take_while1};
+use nom::character::complete::{char, digit1, one_of};
 use nom::combinator::{opt, recognize};
 use nom::multi::many0_count;
 use nom::sequence::preceded;
@@ -68,9 +68,20 @@ fn whitespace(i: &str) -> Res<'_, &str> {
     take_while1(is_space_char).parse(i)
 }
 
+/// The rest of the line, up to (not including) a `line_end` or the end of
+/// input.
+///
+/// Hand-written because nom 8.0.0's `take_till`/`digit0` on `&str` return a
+/// remainder that points at the *start* of the input when they reach its
+/// end, which breaks `recognize` and every offset computed from it.
+fn rest_of_line(i: &str) -> Res<'_, &str> {
+    let end = i.find(is_line_end).unwrap_or(i.len());
+    Ok((&i[end..], &i[..end]))
+}
+
 /// `comment = "#" , { ? any character ? - line_end } ;`
 fn comment(i: &str) -> Res<'_, &str> {
-    recognize(preceded(char('#'), take_till(is_line_end))).parse(i)
+    recognize(preceded(char('#'), rest_of_line)).parse(i)
 }
 
 /// `trivia = { whitespace | comment } ;`
@@ -112,7 +123,7 @@ fn string(i: &str) -> Res<'_, String> {
 /// `mantissa = digits , [ "." , [ digits ] ] | "." , digits ;`
 fn mantissa(i: &str) -> Res<'_, &str> {
     alt((
-        recognize((digit1, opt((char('.'), digit0)))),
+        recognize((digit1, opt((char('.'), opt(digit1))))),
         recognize((char('.'), digit1)),
     ))
     .parse(i)
@@ -195,9 +206,7 @@ impl<'a> Cursor<'a> {
         let (rest, token) = match string(self.rest) {
             Ok((rest, text)) => (rest, Token::Str(text)),
             Err(nom::Err::Failure(_)) => {
-                let line = take_till::<_, _, nom::error::Error<&str>>(is_line_end)
-                    .parse(self.rest)
-                    .map_or("", |(rest, _)| rest);
+                let line = rest_of_line(self.rest).map_or("", |(rest, _)| rest);
                 (line, Token::UnterminatedStr)
             }
             Err(_) => match word(self.rest) {

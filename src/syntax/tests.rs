@@ -125,3 +125,23 @@ fn comment_ends_a_word() {
     assert!(parsed.errors.is_empty());
     assert_eq!(parsed.file.sections.len(), 2);
 }
+
+#[test]
+fn numbers_and_comments_at_the_end_of_input() {
+    // nom 8.0.0's `digit0`/`take_till` mis-report their remainder at the end
+    // of input; these would read as `1.` and give a wrong span.
+    for (text, value) in [("1.5", 1.5), ("400.5", 400.5), ("-2.25", -2.25)] {
+        let parsed = parse(&format!("camera {text}"));
+        assert_eq!(parsed.file.sections[0].args, vec![num(value)], "{text}");
+    }
+    let parsed = parse("light texture \"open");
+    assert_eq!(
+        parsed.errors[0],
+        SyntaxError::UnterminatedString {
+            span: (14, 5).into()
+        }
+    );
+    let parsed = parse("camera 1 # end");
+    assert!(parsed.errors.is_empty());
+    assert_eq!(parsed.file.sections[0].span, Span::new(0, 8));
+}
