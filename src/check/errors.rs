@@ -175,7 +175,7 @@ pub enum CheckError {
         help: String,
     },
 
-    /// Fires when an object colour channel is outside [0, 1].
+    /// Fires when an object colour has a channel outside [0, 1].
     #[error("colour channels must be from 0 to 1, found `{found}`")]
     #[diagnostic(code(scene::color_out_of_range))]
     ColorOutOfRange {
@@ -197,7 +197,7 @@ pub enum CheckError {
         help: String,
     },
 
-    /// Fires when a light colour channel is negative.
+    /// Fires when a light colour has a negative channel.
     #[error("light colour channels must be 0 or more, found `{found}`")]
     #[diagnostic(code(scene::negative_light_color))]
     NegativeLightColor {
@@ -266,12 +266,12 @@ pub enum CheckError {
     },
 
     /// Fires when a texture file exists but does not decode as an image.
-    #[error("texture `{path}` is not a readable image: {reason}")]
+    #[error("texture `{path}` is not an image")]
     #[diagnostic(code(scene::texture_not_an_image))]
     TextureNotAnImage {
         path: String,
         reason: String,
-        #[label("does not decode")]
+        #[label("{reason}")]
         span: SourceSpan,
         #[help]
         help: String,
@@ -309,8 +309,10 @@ pub enum CheckError {
     LightInsideSphere {
         #[label("light")]
         light: SourceSpan,
-        #[label("sphere")]
+        #[label("{contains}")]
         sphere: SourceSpan,
+        /// "radius 0.5 around `0.52 0 -4`".
+        contains: String,
         #[help]
         help: String,
     },

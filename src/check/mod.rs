@@ -10,6 +10,7 @@
 
 mod attributes;
 pub mod errors;
+pub mod fix;
 pub mod format;
 pub mod geometry;
 mod schema;
@@ -210,11 +211,12 @@ impl Checker<'_> {
                 self.problems.push(CheckError::LightInsideSphere {
                     light: light.span.into(),
                     sphere: sphere.span.into(),
-                    help: format!(
-                        "it lights only the inside of the sphere (radius {} around `{}`): move it out",
+                    contains: format!(
+                        "contains the light: radius {} around `{}`",
                         format::number(sphere.radius),
                         format::vector(sphere.center)
                     ),
+                    help: "it lights only the inside of the sphere: move it out".to_string(),
                 });
             }
         }

@@ -128,14 +128,17 @@ pub fn light(section: &Section, cx: &mut Checker<'_>) -> Option<model::Light> {
     let attrs = attributes::collect(section, &mut cx.problems);
     let location = attrs.vector(&AttrName::Location);
     let color = attrs.vector(&AttrName::Color).and_then(|color| {
-        let spans = attrs.numbers(&AttrName::Color)?;
-        let mut ok = true;
-        for channel in spans.iter().filter(|c| ***c < 0.0) {
-            ok = false;
+        let channels = attrs.numbers(&AttrName::Color)?;
+        let negative: Vec<_> = channels.iter().filter(|c| ***c < 0.0).collect();
+        let ok = negative.is_empty();
+        if let (Some(first), Some(last)) = (negative.first(), negative.last()) {
             cx.problems.push(CheckError::NegativeLightColor {
-                found: cx.text(channel.span),
-                span: channel.span.into(),
-                help: format!("write `color {}`", format::vector(color.value.map(|c| c.max(0.0)))),
+                found: cx.text(color.span),
+                span: first.span.join(last.span).into(),
+                help: format!(
+                    "write `color {}`",
+                    format::vector(color.value.map(|c| c.max(0.0)))
+                ),
             });
         }
         let brightest = color.iter().copied().fold(0.0, f64::max);
@@ -143,7 +146,7 @@ pub fn light(section: &Section, cx: &mut Checker<'_>) -> Option<model::Light> {
             cx.problems.push(CheckError::LightColorAboveOne {
                 span: color.span.into(),
                 help: format!(
-                    "lit surfaces will clip to white; to keep the hue at full strength, write `color {}`",
+                    "to keep the hue without clipping, write `color {}`",
                     format::vector(color.value.map(|c| c / brightest))
                 ),
             });
@@ -170,9 +173,7 @@ fn no_positional_values(section: &Section, example: &str, cx: &mut Checker<'_>) 
     cx.problems.push(CheckError::SectionValues {
         section: section.kind.as_str().to_string(),
         span: first.span.join(last.span).into(),
-        help: format!(
-            "write values after an attribute name, each on its own line, such as `{example}`"
-        ),
+        help: format!("write values after an attribute name, such as `{example}`"),
     });
 }
 
@@ -229,7 +230,7 @@ fn orientation(attrs: &Attributes<'_>, cx: &mut Checker<'_>) -> Option<([f64; 3]
             normal: normal.span.into(),
             headup: headup.span.into(),
             help: format!(
-                "the renderer uses headup projected onto the plane: write `headup {}`",
+                "the renderer projects it onto the plane: write `headup {}`",
                 format::vector(projected)
             ),
         }),
@@ -266,22 +267,37 @@ fn perpendicular_to(normal: [f64; 3]) -> String {
 fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option<model::Material> {
     let mut material = model::Material::default();
     let mut ok = true;
-    if let Some(color) = attrs.numbers(&AttrName::Color) {
-        let clamped: Vec<String> = color
-            .iter()
-            .map(|c| format::number(c.clamp(0.0, 1.0)))
-            .collect();
-        for channel in color.iter().filter(|c| !(0.0..=1.0).contains(&***c)) {
+    if let Some(color) = attrs.vector(&AttrName::Color) {
+        let bad = attrs.numbers(&AttrName::Color).and_then(|channels| {
+            let out: Vec<_> = channels
+                .iter()
+                .filter(|c| !(0.0..=1.0).contains(&***c))
+                .collect();
+            Some(out.first()?.span.join(out.last()?.span))
+        });
+        if let Some(span) = bad {
             ok = false;
+            let on_255_scale = color.iter().all(|c| (0.0..=255.0).contains(c));
+            let fixed = if on_255_scale {
+                color.value.map(|c| (c / 255.0 * 1000.0).round() / 1000.0)
+            } else {
+                color.value.map(|c| c.clamp(0.0, 1.0))
+            };
+            let help = if on_255_scale {
+                format!(
+                    "if these are 0–255 values, write `color {}`",
+                    format::vector(fixed)
+                )
+            } else {
+                format!("write `color {}`", format::vector(fixed))
+            };
             cx.problems.push(CheckError::ColorOutOfRange {
-                found: cx.text(channel.span),
-                span: channel.span.into(),
-                help: format!("write `color {}`", clamped.join(" ")),
+                found: cx.text(color.span),
+                span: span.into(),
+                help,
             });
         }
-        if let [r, g, b] = color {
-            material.color = [**r, **g, **b];
-        }
+        material.color = *color;
     } else if attrs.line(&AttrName::Color).is_some() {
         ok = false;
     }
@@ -327,7 +343,7 @@ fn behind_camera(shape: &str, center: Spanned<[f64; 3]>) -> CheckError {
     let [x, y, z] = *center;
     let help = if z > 0.0 {
         format!(
-            "the camera looks down −z from the origin; did you mean `center {}`?",
+            "the camera looks down −z; did you mean `center {}`?",
             format::vector([x, y, -z])
         )
     } else {

@@ -58,7 +58,7 @@ impl Textures {
                         TextureError::Io { source, .. } => Failure::Unreadable(io_reason(&source)),
                         TextureError::NotAFile { .. } => Failure::NoFile,
                         TextureError::Decode { source, .. } => {
-                            Failure::Undecodable(source.to_string())
+                            Failure::Undecodable(decode_reason(&source))
                         }
                     };
                     self.failed.insert(written.to_string(), failure.clone());
@@ -87,7 +87,9 @@ impl Textures {
                 path,
                 reason: lowercase_first(&reason),
                 span,
-                help: format!("`{shown}` must be a PPM (P3 or P6), PNG or JPEG image"),
+                help: format!(
+                    "looked at `{shown}`; textures are PPM (P3 or P6), PNG or JPEG images"
+                ),
             },
         })
     }
@@ -95,6 +97,14 @@ impl Textures {
     /// Every texture that loaded, keyed by its path as written.
     pub fn into_loaded(self) -> BTreeMap<String, Texture> {
         self.loaded
+    }
+}
+
+/// Why an image did not decode, without the decoder's internals.
+fn decode_reason(error: &image::ImageError) -> String {
+    match error {
+        image::ImageError::Unsupported(_) => "not a PPM, PNG or JPEG file".to_string(),
+        other => lowercase_first(&other.to_string()),
     }
 }
 

@@ -5,13 +5,21 @@
 //!
 //! Diagnostics are the command's output, so they go to stdout (as for other
 //! linters); only failures that are not the scene's fault go to stderr.
+//!
+//! With `--fix`, each file first gets the safe fixes of [`crate::check::fix`],
+//! written atomically (a temporary file beside it, then a rename), and is
+//! then checked, so the report shows what remains.
 
 use std::io::{IsTerminal, Write};
 use std::path::Path;
 
+use miette::Diagnostic;
+
 use super::{load, Failure, Loaded, Outcome, ReadSceneError};
+use crate::check::fix;
 use crate::cli::{CheckArgs, Format};
-use crate::diagnostic::JsonDiagnostic;
+use crate::diagnostic::{JsonDiagnostic, SourceFile};
+use crate::syntax;
 
 /// Run `raytracer check`.
 pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
@@ -19,6 +27,15 @@ pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
     let mut unreadable = false;
     let mut failed = false;
     for path in &args.scenes {
+        if args.fix {
+            match fix_in_place(path) {
+                Ok(fixed) => out.fixed(&fixed),
+                Err(error) => {
+                    unreadable = true;
+                    eprintln!("error: {error}");
+                }
+            }
+        }
         match load(path) {
             Ok(loaded) => {
                 let report = &loaded.report;
@@ -82,6 +99,18 @@ impl Output {
         }
     }
 
+    /// Say what `--fix` changed: on stdout with the diagnostics, or on
+    /// stderr when stdout is JSON.
+    fn fixed(&self, fixed: &[String]) {
+        for line in fixed {
+            if self.format == Format::Json {
+                eprintln!("{line}");
+            } else {
+                println!("{line}");
+            }
+        }
+    }
+
     fn unreadable(&mut self, path: &Path, error: ReadSceneError) {
         if self.format == Format::Json {
             self.json.push(JsonDiagnostic {
@@ -93,7 +122,7 @@ impl Output {
                 labels: Vec::new(),
             });
         }
-        eprintln!("{:?}", miette::Report::new(error));
+        eprintln!("error: {error}");
     }
 
     fn finish(self) -> Result<(), Failure> {
@@ -109,6 +138,70 @@ impl Output {
             .and_then(|()| stdout.flush())
             .map_err(|e| miette::miette!("cannot write to stdout: {e}").into())
     }
+}
+
+/// `--fix` could not rewrite a scene file.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error("cannot write fixes to `{path}` (it is unchanged): {reason}")]
+#[diagnostic(code(io::write_fix))]
+pub struct WriteFixError {
+    pub path: String,
+    pub reason: std::io::Error,
+}
+
+/// Apply the safe fixes to the scene at `path` in place, returning one
+/// `file:line:column: fixed: …` line per fix. Stdin, unreadable files (the
+/// check reports them) and files that are not UTF-8 (rewriting would replace
+/// their bad bytes) are left alone.
+fn fix_in_place(path: &Path) -> Result<Vec<String>, WriteFixError> {
+    if path == Path::new("-") {
+        return Ok(vec![
+            "<stdin>: not fixed: `--fix` rewrites files, not stdin".to_string(),
+        ]);
+    }
+    let Ok(bytes) = std::fs::read(path) else {
+        return Ok(Vec::new());
+    };
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let name = path.display().to_string();
+    let (source, utf8_error) = SourceFile::from_bytes(&name, dir, &bytes);
+    if utf8_error.is_some() {
+        return Ok(vec![format!(
+            "{name}: not fixed: the file is not valid UTF-8"
+        )]);
+    }
+    let fixes = fix::fixes(&syntax::parse(&source.text).file);
+    if fixes.is_empty() {
+        return Ok(Vec::new());
+    }
+    let fixed = fix::apply(&source.text, &fixes);
+    write_atomically(path, fixed.as_bytes()).map_err(|reason| WriteFixError {
+        path: name.clone(),
+        reason,
+    })?;
+    Ok(fixes
+        .iter()
+        .map(|f| {
+            let (line, column) = source.line_col(f.at.start);
+            format!("{name}:{line}:{column}: fixed: {}", f.description)
+        })
+        .collect())
+}
+
+/// Replace `path` with `contents` through a temporary file in the same
+/// folder and a rename, keeping the file's permissions.
+fn write_atomically(path: &Path, contents: &[u8]) -> std::io::Result<()> {
+    let dir = match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    let permissions = std::fs::metadata(path)?.permissions();
+    let mut temp = tempfile::NamedTempFile::new_in(dir)?;
+    temp.write_all(contents)?;
+    temp.as_file().sync_all()?;
+    temp.as_file().set_permissions(permissions)?;
+    temp.persist(path).map_err(|e| e.error)?;
+    Ok(())
 }
 
 /// `scene.txt: 2 errors, 1 warning`, or for a scene without errors

@@ -1,0 +1,129 @@
+//! UI tests: one fixture per diagnostic code in `tests/ui/<namespace>/<name>.txt`
+//! with an insta snapshot of its human rendering (plain Unicode, 80 columns)
+//! in `tests/ui/snapshots/`.
+//!
+//! Coverage cannot drift: every `code(...)` written in the diagnostic enums
+//! must be listed in their `CODES` and have a fixture that produces it, and
+//! every fixture must be named after a listed code.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use raytracer::check::CheckError;
+use raytracer::commands::load;
+use raytracer::syntax::SyntaxError;
+
+const ENUMS: [&str; 2] = ["src/check/errors.rs", "src/syntax/errors.rs"];
+
+/// Every fixture, as a path relative to the crate root (so rendered file
+/// names and texture paths do not depend on where the repository is).
+fn fixtures() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::env::set_current_dir(root).expect("cd to the crate root");
+    let mut fixtures = Vec::new();
+    for namespace in ["syntax", "scene"] {
+        let dir = Path::new("tests/ui").join(namespace);
+        for entry in std::fs::read_dir(&dir).expect("fixture dir") {
+            let path = entry.expect("fixture").path();
+            if path.extension().is_some_and(|e| e == "txt") {
+                fixtures.push(path);
+            }
+        }
+    }
+    fixtures.sort();
+    fixtures
+}
+
+/// `syntax::invalid_number` for `tests/ui/syntax/invalid_number.txt`.
+fn code_of(fixture: &Path) -> String {
+    let namespace = fixture
+        .parent()
+        .and_then(Path::file_name)
+        .expect("namespace");
+    let name = fixture.file_stem().expect("name");
+    format!(
+        "{}::{}",
+        namespace.to_string_lossy(),
+        name.to_string_lossy()
+    )
+}
+
+fn listed_codes() -> BTreeSet<&'static str> {
+    CheckError::CODES
+        .into_iter()
+        .chain(SyntaxError::CODES)
+        .collect()
+}
+
+#[test]
+fn every_fixture_renders_as_its_snapshot() {
+    let fixtures = fixtures();
+    assert!(!fixtures.is_empty());
+    for fixture in fixtures {
+        let code = code_of(&fixture);
+        let loaded = load(&fixture).expect("fixture readable");
+        let codes: Vec<String> = loaded.report.entries().map(|e| e.code).collect();
+        assert!(
+            codes.contains(&code),
+            "{} should report `{code}`, reported {codes:?}",
+            fixture.display()
+        );
+        let rendered = loaded.report.render_human(80, false);
+        insta::with_settings!({
+            snapshot_path => "ui/snapshots",
+            prepend_module_to_snapshot => false,
+            omit_expression => true,
+        }, {
+            insta::assert_snapshot!(code.replace("::", "-"), rendered);
+        });
+    }
+}
+
+#[test]
+fn every_code_is_listed_and_has_a_fixture() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut written = BTreeSet::new();
+    for file in ENUMS {
+        let text = std::fs::read_to_string(root.join(file)).expect("read enum source");
+        // Struct-like variants open with `    Name {` at one indent.
+        let variants = text
+            .lines()
+            .filter(|l| {
+                l.strip_prefix("    ")
+                    .is_some_and(|v| v.starts_with(char::is_uppercase) && v.ends_with(" {"))
+            })
+            .count();
+        let mut codes = 0;
+        for (i, _) in text.match_indices("code(") {
+            let rest = &text[i + "code(".len()..];
+            let code = &rest[..rest.find(')').expect("closing parenthesis")];
+            // Skip prose such as "`code(...)`" in comments.
+            if code.split("::").count() == 2
+                && code
+                    .chars()
+                    .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_' || c == ':')
+            {
+                written.insert(code.to_string());
+                codes += 1;
+            }
+        }
+        assert_eq!(
+            variants, codes,
+            "{file}: every variant needs one `code(...)`"
+        );
+    }
+    let listed: BTreeSet<String> = listed_codes().into_iter().map(str::to_string).collect();
+    assert_eq!(
+        written, listed,
+        "the `CODES` lists differ from the `code(...)`s written"
+    );
+
+    let with_fixture: BTreeSet<String> = fixtures().iter().map(|f| code_of(f)).collect();
+    let missing: Vec<_> = listed.difference(&with_fixture).collect();
+    assert!(
+        missing.is_empty(),
+        "codes without a fixture in tests/ui: {missing:?}"
+    );
+    let stale: Vec<_> = with_fixture.difference(&listed).collect();
+    assert!(stale.is_empty(), "fixtures named after no code: {stale:?}");
+}
