@@ -73,9 +73,15 @@ impl<'a> Attributes<'a> {
 pub fn collect<'a>(section: &'a Section, problems: &mut Problems) -> Attributes<'a> {
     let kind = &*section.kind;
     let mut given: Vec<Given<'a>> = Vec::new();
+    // Names that "did you mean" already offered: not reported missing too.
+    let mut suggested: Vec<&'static str> = Vec::new();
     for attribute in &section.attributes {
         let Some(spec) = schema::find(kind, &attribute.name) else {
-            problems.push(not_taken(kind, attribute));
+            let problem = not_taken(kind, attribute);
+            if let CheckError::UnknownAttribute { found, .. } = &problem {
+                suggested.extend(nearest_taken(kind, found));
+            }
+            problems.push(problem);
             continue;
         };
         if let Some(first) = given.iter().find(|g| *g.attribute.name == *attribute.name) {
@@ -90,17 +96,14 @@ pub fn collect<'a>(section: &'a Section, problems: &mut Problems) -> Attributes<
         let read = read_values(spec, attribute, problems);
         given.push(Given { attribute, read });
     }
-    report_missing(section, &given, problems);
+    report_missing(section, &given, &suggested, problems);
     Attributes { given }
 }
 
 /// The diagnostic for an attribute `kind` does not take.
 fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
     let section = kind.as_str().to_string();
-    let takes = schema::attributes_of(kind)
-        .iter()
-        .map(|s| s.name.as_str())
-        .collect::<Vec<_>>();
+    let takes = names_taken(kind);
     let takes_line = if takes.is_empty() {
         "the camera takes no attributes, only its resolution: `camera 400`".to_string()
     } else {
@@ -109,8 +112,8 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
     let span = attribute.name.span.into();
     match &*attribute.name {
         AttrName::Unknown(found) => {
-            let help = match suggest::nearest(found, &takes) {
-                Some((near, _)) => format!("did you mean `{near}`?"),
+            let help = match nearest_taken(kind, found) {
+                Some(near) => format!("did you mean `{near}`?"),
                 None => match suggest::nearest(found, &AttrName::KEYWORDS) {
                     Some((near, _)) => format!(
                         "`{near}` is an attribute of {}; {takes_line}",
@@ -137,6 +140,19 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
             }
         }
     }
+}
+
+/// The attribute names `kind` takes.
+fn names_taken(kind: &SectionKind) -> Vec<&'static str> {
+    schema::attributes_of(kind)
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect()
+}
+
+/// The attribute of `kind` nearest to the unknown word `found`, if close.
+fn nearest_taken(kind: &SectionKind, found: &str) -> Option<&'static str> {
+    suggest::nearest(found, &names_taken(kind)).map(|(near, _)| near)
 }
 
 /// "planes", "spheres and planes" for "only … take `x`".
@@ -243,10 +259,17 @@ pub fn count_problem(
 }
 
 /// One diagnostic listing every required attribute `section` lacks.
-fn report_missing(section: &Section, given: &[Given<'_>], problems: &mut Problems) {
+/// `suggested` are names a misspelling was already matched to.
+fn report_missing(
+    section: &Section,
+    given: &[Given<'_>],
+    suggested: &[&str],
+    problems: &mut Problems,
+) {
     let missing: Vec<&AttrSpec> = schema::attributes_of(&section.kind)
         .iter()
         .filter(|s| s.required && !given.iter().any(|g| *g.attribute.name == s.name))
+        .filter(|s| !suggested.contains(&s.name.as_str()))
         .collect();
     if missing.is_empty() {
         return;

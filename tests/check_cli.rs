@@ -1,0 +1,144 @@
+//! `raytracer check` end to end: exit codes, the three formats, several
+//! files in one run, `--deny-warnings` and `--fix`.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+const CLEAN: &str = "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\n  reflectivity .5\nlight location 0 5 0 color 1 1 1\n";
+const WARNS: &str = "camera 4\nplane\n\tdimension 4 4\n\tcenter 0 -1 -5\n\tnormal 0 -1 -1   # tilted\n\theadup 0 1 0\n";
+const ERRORS: &str = "camera 4\nsphere\n  dimension -1\n  center 0 -5\n";
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.display().to_string()
+}
+
+fn check(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raytracer"))
+        .arg("check")
+        .args(args)
+        .env_remove("COLUMNS")
+        .output()
+        .expect("run raytracer")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8(output.stdout.clone()).unwrap()
+}
+
+#[test]
+fn exit_codes_follow_the_spec() {
+    let dir = tempfile::tempdir().unwrap();
+    let clean = write(dir.path(), "clean.txt", CLEAN);
+    let warns = write(dir.path(), "warns.txt", WARNS);
+    let errors = write(dir.path(), "errors.txt", ERRORS);
+    let missing = dir.path().join("missing.txt").display().to_string();
+
+    assert_eq!(check(&[&clean]).status.code(), Some(0));
+    assert_eq!(check(&[&warns]).status.code(), Some(0));
+    assert_eq!(check(&[&warns, "--deny-warnings"]).status.code(), Some(1));
+    assert_eq!(check(&[&errors, &clean]).status.code(), Some(1));
+    // An unreadable file is exit 2, and the others are still checked.
+    let output = check(&[&missing, &errors]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stdout(&output).contains("errors.txt: 2 errors, 0 warnings"));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("cannot read scene"));
+    assert_eq!(check(&["--format", "yaml", &clean]).status.code(), Some(2));
+}
+
+#[test]
+fn human_output_ends_with_a_summary_and_the_effects_used() {
+    let dir = tempfile::tempdir().unwrap();
+    let clean = write(dir.path(), "clean.txt", CLEAN);
+    let warns = write(dir.path(), "warns.txt", WARNS);
+    let out = stdout(&check(&[&clean, &warns]));
+    assert!(
+        out.contains("clean.txt: ok; effects: shadows, reflection\n"),
+        "{out}"
+    );
+    assert!(out.contains("scene::headup_not_perpendicular"), "{out}");
+    assert!(
+        out.contains("warns.txt: 0 errors, 1 warning; effects: none\n"),
+        "{out}"
+    );
+    // Not a terminal: no colour codes.
+    assert!(!out.contains('\u{1b}'), "{out}");
+}
+
+#[test]
+fn short_output_is_one_line_per_diagnostic() {
+    let dir = tempfile::tempdir().unwrap();
+    let errors = write(dir.path(), "errors.txt", ERRORS);
+    let out = stdout(&check(&["--format", "short", &errors]));
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 3, "{out}");
+    assert!(lines[0].ends_with("errors.txt:3:13: error[scene::dimension_not_positive]: the radius must be greater than 0, found `-1`"), "{out}");
+    assert!(
+        lines[1].contains(":4:3: error[scene::wrong_value_count]"),
+        "{out}"
+    );
+}
+
+#[test]
+fn json_is_one_array_for_every_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let warns = write(dir.path(), "warns.txt", WARNS);
+    let errors = write(dir.path(), "errors.txt", ERRORS);
+    let output = check(&["--format", "json", &warns, &errors]);
+    assert_eq!(output.status.code(), Some(1));
+    let json: serde_json::Value =
+        serde_json::from_slice(&output.stdout).expect("one JSON document");
+    let entries = json.as_array().expect("an array");
+    assert_eq!(entries.len(), 3);
+    let first = &entries[0];
+    assert_eq!(first["code"], "scene::headup_not_perpendicular");
+    assert_eq!(first["severity"], "warning");
+    assert_eq!(first["file"], warns.as_str());
+    assert_eq!(
+        first["help"],
+        "the renderer projects it onto the plane: write `headup 0 0.5 -0.5`"
+    );
+    let label = &first["labels"][0];
+    assert_eq!(label["line"], 5);
+    assert_eq!(label["column"], 9);
+    assert_eq!(label["byte_offset"], 54);
+    assert_eq!(label["byte_length"], 7);
+    assert_eq!(entries[1]["severity"], "error");
+    assert_eq!(entries[2]["file"], errors.as_str());
+}
+
+#[test]
+fn fix_rewrites_only_the_fixed_values_and_rechecks() {
+    let dir = tempfile::tempdir().unwrap();
+    let warns = write(dir.path(), "warns.txt", WARNS);
+    let output = check(&["--fix", &warns]);
+    assert_eq!(output.status.code(), Some(0));
+    let out = stdout(&output);
+    assert!(
+        out.contains("warns.txt:5:2: fixed: normalised `normal`"),
+        "{out}"
+    );
+    assert!(
+        out.contains("warns.txt:6:2: fixed: projected `headup` onto the plane"),
+        "{out}"
+    );
+    assert!(out.contains("warns.txt: ok; effects: none"), "{out}");
+    assert_eq!(
+        std::fs::read_to_string(&warns).unwrap(),
+        "camera 4\nplane\n\tdimension 4 4\n\tcenter 0 -1 -5\n\tnormal 0 -0.707106781187 -0.707106781187   # tilted\n\theadup 0 0.5 -0.5\n"
+    );
+    // Nothing is left to fix, and no temporary file is left behind.
+    let again = stdout(&check(&["--fix", &warns]));
+    assert!(!again.contains("fixed"), "{again}");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+#[test]
+fn fix_leaves_files_without_safe_fixes_untouched() {
+    let dir = tempfile::tempdir().unwrap();
+    let errors = write(dir.path(), "errors.txt", ERRORS);
+    let output = check(&["--fix", &errors]);
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(std::fs::read_to_string(&errors).unwrap(), ERRORS);
+}

@@ -1,0 +1,261 @@
+//! The check pass on whole scenes: every problem in one run, the model it
+//! builds, and the rules whose edges the UI fixtures do not pin down.
+
+use std::path::Path;
+
+use raytracer::check::{check_file, CheckError, Checked};
+use raytracer::diagnostic::SourceFile;
+use raytracer::model::Shape;
+use raytracer::syntax::parse;
+
+/// Parse and check `text` as if it were a file in `dir`.
+fn check_in(dir: &Path, text: &str) -> (Option<Checked>, Vec<String>) {
+    let (source, _) = SourceFile::from_bytes("scene.txt", dir, text.as_bytes());
+    let parsed = parse(&source.text);
+    assert!(parsed.errors.is_empty(), "{:?}", parsed.errors);
+    let (checked, problems) = check_file(&parsed.file, &source);
+    let codes = problems
+        .iter()
+        .map(|p| miette::Diagnostic::code(p).unwrap().to_string())
+        .collect();
+    (checked, codes)
+}
+
+fn check(text: &str) -> (Option<Checked>, Vec<String>) {
+    check_in(Path::new("."), text)
+}
+
+fn codes(text: &str) -> Vec<String> {
+    check(text).1
+}
+
+#[test]
+fn five_mistakes_give_five_diagnostics_in_one_run() {
+    let text = "camera 400
+sphere
+  dimension 0
+  centre 0 0 -5
+  color 1 1
+plane
+  dimension 4 4
+  center 0 -1 -5
+  normal 0 1 0
+  reflectivity 2
+light
+  location 0 5 0
+  color 1 1 1
+";
+    let (checked, mut codes) = check(text);
+    codes.sort();
+    assert_eq!(
+        codes,
+        [
+            "scene::dimension_not_positive",
+            "scene::missing_attribute",
+            "scene::reflectivity_out_of_range",
+            "scene::unknown_attribute",
+            "scene::wrong_value_count",
+        ]
+    );
+    assert!(checked.is_none());
+}
+
+#[test]
+fn builds_the_model_with_defaults_and_values_as_written() {
+    let text = "light color 1 1 1 location 0 5 0
+plane
+  dimension 4 2
+  center 0 -1 -5
+  normal 0 2 0      # not unit: kept as written
+  headup 0 0 -1
+  reflectivity .25
+sphere dimension 1.5 center 0 0 -5
+camera 64";
+    let (checked, codes) = check(text);
+    assert_eq!(codes, Vec::<String>::new());
+    let scene = checked.expect("a scene").scene;
+    assert_eq!(scene.camera.resolution, 64);
+    assert_eq!(scene.objects.len(), 2);
+    assert_eq!(
+        scene.objects[0].shape,
+        Shape::Plane {
+            center: [0.0, -1.0, -5.0],
+            width: 4.0,
+            height: 2.0,
+            normal: [0.0, 2.0, 0.0],
+            headup: [0.0, 0.0, -1.0],
+        }
+    );
+    assert_eq!(scene.objects[0].material.reflectivity, 0.25);
+    assert_eq!(
+        scene.objects[1].shape,
+        Shape::Sphere {
+            center: [0.0, 0.0, -5.0],
+            radius: 1.5
+        }
+    );
+    assert_eq!(scene.objects[1].material, Default::default());
+    assert_eq!(scene.lights[0].location, [0.0, 5.0, 0.0]);
+}
+
+#[test]
+fn empty_file_needs_only_a_camera() {
+    assert_eq!(codes(""), ["scene::missing_camera"]);
+    assert_eq!(codes("camera 1"), Vec::<String>::new());
+    assert_eq!(codes("camera 16384"), Vec::<String>::new());
+    assert_eq!(codes("camera 1e3"), Vec::<String>::new());
+    assert_eq!(codes("camera"), ["scene::wrong_value_count"]);
+    assert_eq!(codes("camera 4 4"), ["scene::wrong_value_count"]);
+    assert_eq!(codes("camera -3"), ["scene::resolution_out_of_range"]);
+    assert_eq!(codes("camera 0.5"), ["scene::resolution_not_integer"]);
+    assert_eq!(
+        codes("camera 4 dimension 1"),
+        ["scene::misplaced_attribute"]
+    );
+}
+
+#[test]
+fn range_edges_are_inclusive_where_the_spec_says_so() {
+    let sphere = |attrs: &str| {
+        codes(&format!(
+            "camera 4 sphere dimension 1 center 0 0 -5 {attrs}"
+        ))
+    };
+    assert_eq!(sphere("color 0 1 0.5 reflectivity 0"), Vec::<String>::new());
+    assert_eq!(sphere("reflectivity 1"), Vec::<String>::new());
+    assert_eq!(
+        sphere("reflectivity -0.01"),
+        ["scene::reflectivity_out_of_range"]
+    );
+    assert_eq!(sphere("color 1.01 0 0"), ["scene::color_out_of_range"]);
+    assert_eq!(sphere("color -1 0 0"), ["scene::color_out_of_range"]);
+    let light = |color: &str| codes(&format!("camera 4 light location 0 5 0 color {color}"));
+    assert_eq!(light("0 0 0"), Vec::<String>::new());
+    assert_eq!(light("1 1 1"), Vec::<String>::new());
+    assert_eq!(light("1.5 0 0"), ["scene::light_color_above_one"]);
+    assert_eq!(light("-1 -2 0"), ["scene::negative_light_color"]);
+}
+
+#[test]
+fn misplaced_and_unknown_attributes_name_the_right_section() {
+    let problems = |text: &str| {
+        let (source, _) = SourceFile::from_bytes("s", Path::new("."), text.as_bytes());
+        check_file(&parse(text).file, &source).1
+    };
+    let p = problems("camera 4 sphere dimension 1 center 0 0 -5 headup 0 1 0");
+    assert!(
+        matches!(&p[0], CheckError::MisplacedAttribute { name, section, .. } if name == "headup" && section == "sphere"),
+        "{p:?}"
+    );
+    let p = problems("camera 4 light location 0 0 0 color 1 1 1 locaton 1 1 1");
+    assert!(
+        matches!(&p[0], CheckError::UnknownAttribute { help, .. } if help == "did you mean `location`?"),
+        "{p:?}"
+    );
+    // `reflectvity` is nearest `reflectivity`, which lights do not take.
+    let p = problems("camera 4 light location 0 0 0 color 1 1 1 reflectvity 1");
+    assert!(
+        matches!(&p[0], CheckError::UnknownAttribute { help, .. } if help.starts_with("`reflectivity` is an attribute of `sphere` or `plane`")),
+        "{p:?}"
+    );
+}
+
+#[test]
+fn duplicates_are_reported_once_and_missing_ones_are_listed_together() {
+    assert_eq!(
+        codes("camera 4 sphere dimension 1 dimension 2 center 0 0 -5"),
+        ["scene::duplicate_attribute"]
+    );
+    assert_eq!(codes("camera 4 plane"), ["scene::missing_attribute"]);
+    assert_eq!(codes("camera 4 light"), ["scene::missing_attribute"]);
+}
+
+#[test]
+fn headup_thresholds() {
+    let plane = |headup: &str| {
+        codes(&format!(
+            "camera 4 plane dimension 1 1 center 0 0 -5 normal 0 0 1 headup {headup}"
+        ))
+    };
+    assert_eq!(plane("0 1 0"), Vec::<String>::new());
+    assert_eq!(plane("0 1 1e-7"), Vec::<String>::new());
+    assert_eq!(plane("0 1 1e-5"), ["scene::headup_not_perpendicular"]);
+    assert_eq!(plane("0 1e-8 1"), ["scene::headup_not_perpendicular"]);
+    assert_eq!(plane("0 1e-10 1"), ["scene::headup_parallel_to_normal"]);
+    assert_eq!(plane("0 0 -3"), ["scene::headup_parallel_to_normal"]);
+    assert_eq!(plane("0 0 0"), ["scene::zero_headup"]);
+}
+
+#[test]
+fn behind_the_camera_means_every_point_at_z_at_least_0() {
+    let sphere = |center: &str| codes(&format!("camera 4 sphere dimension 1 center {center}"));
+    assert_eq!(sphere("0 0 0.999"), Vec::<String>::new());
+    assert_eq!(sphere("0 0 1"), ["scene::object_behind_camera"]);
+    assert_eq!(sphere("0 0 -5"), Vec::<String>::new());
+    let plane = |center: &str, normal: &str| {
+        codes(&format!(
+            "camera 4 plane dimension 2 2 center {center} normal {normal} headup 0 1 0"
+        ))
+    };
+    // Facing the camera at z = 0: every point has z = 0.
+    assert_eq!(plane("0 0 0", "0 0 1"), ["scene::object_behind_camera"]);
+    // Tilted about x: corners at z = 1 ± 1·sin 45°, all positive.
+    assert_eq!(
+        plane("0 0 1", "0 1 1"),
+        [
+            "scene::object_behind_camera",
+            "scene::headup_not_perpendicular"
+        ]
+        .iter()
+        .rev()
+        .map(|s| s.to_string())
+        .collect::<Vec<_>>()
+    );
+    // A floor reaching from behind the camera to in front of it.
+    assert_eq!(
+        plane("0 -1 0", "0 1 0"),
+        ["scene::headup_parallel_to_normal"]
+    );
+    assert_eq!(
+        codes("camera 4 plane dimension 2 4 center 0 -1 0 normal 0 1 0 headup 0 0 -1"),
+        Vec::<String>::new()
+    );
+}
+
+#[test]
+fn light_inside_a_sphere_is_strictly_inside() {
+    let scene = |location: &str| {
+        codes(&format!(
+            "camera 4 sphere dimension 1 center 0 0 -5 light location {location} color 1 1 1"
+        ))
+    };
+    assert_eq!(scene("0 0 -5"), ["scene::light_inside_sphere"]);
+    assert_eq!(scene("0 0.99 -5"), ["scene::light_inside_sphere"]);
+    assert_eq!(scene("0 1 -5"), Vec::<String>::new());
+    assert_eq!(scene("0 5 -5"), Vec::<String>::new());
+}
+
+#[test]
+fn textures_load_relative_to_the_scene_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("t.ppm"), "P3 1 1 255 10 20 30").unwrap();
+    std::fs::write(dir.path().join("bad.ppm"), "P3 1 1 255 10 20").unwrap();
+    let scene = |texture: &str| {
+        check_in(
+            dir.path(),
+            &format!("camera 4 sphere dimension 1 center 0 0 -5 texture {texture}"),
+        )
+    };
+    let (checked, codes) = scene("t.ppm");
+    assert_eq!(codes, Vec::<String>::new());
+    let checked = checked.unwrap();
+    assert_eq!(checked.textures["t.ppm"].width, 1);
+    assert_eq!(
+        checked.scene.objects[0].material.texture.as_deref(),
+        Some("t.ppm")
+    );
+    assert!(checked.effects().textures);
+    assert_eq!(scene("\"missing one.ppm\"").1, ["scene::texture_not_found"]);
+    assert_eq!(scene("bad.ppm").1, ["scene::texture_not_an_image"]);
+    assert_eq!(scene(".").1, ["scene::texture_not_a_file"]);
+}
