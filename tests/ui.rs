@@ -3,8 +3,9 @@
 //! in `tests/ui/snapshots/`.
 //!
 //! Coverage cannot drift: every `code(...)` written in the diagnostic enums
-//! must be listed in their `CODES` and have a fixture that produces it, and
-//! every fixture must be named after a listed code.
+//! must be listed in their `CODES` and have a fixture that produces it,
+//! every fixture must be named after a listed code, and docs/diagnostics.md
+//! must have a section per code showing the fixture's current output.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -126,4 +127,40 @@ fn every_code_is_listed_and_has_a_fixture() {
     );
     let stale: Vec<_> = with_fixture.difference(&listed).collect();
     assert!(stale.is_empty(), "fixtures named after no code: {stale:?}");
+}
+
+/// Lines without trailing whitespace, without leading or trailing blank lines.
+fn normalized(text: &str) -> String {
+    let lines: Vec<&str> = text.lines().map(str::trim_end).collect();
+    lines.join("\n").trim_matches('\n').to_string()
+}
+
+#[test]
+fn docs_show_every_code_as_rendered() {
+    let docs =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostics.md"))
+            .expect("read docs/diagnostics.md");
+    for fixture in fixtures() {
+        let code = code_of(&fixture);
+        let heading = format!("\n## `{code}`\n");
+        let start = docs
+            .find(&heading)
+            .unwrap_or_else(|| panic!("docs/diagnostics.md has no section `## `{code}``"));
+        let section = &docs[start + heading.len()..];
+        let section = &section[..section.find("\n## ").unwrap_or(section.len())];
+        for part in ["**What.**", "**Why.**", "**Example.**", "**Fix.**"] {
+            assert!(
+                section.contains(part),
+                "`{code}` in docs/diagnostics.md lacks {part}"
+            );
+        }
+        let rendered = load(&fixture)
+            .expect("fixture")
+            .report
+            .render_human(80, false);
+        assert!(
+            normalized(section).contains(&normalized(&rendered)),
+            "the example for `{code}` in docs/diagnostics.md is out of date; it should show:\n{rendered}"
+        );
+    }
 }
