@@ -152,6 +152,11 @@ fn misplaced_and_unknown_attributes_name_the_right_section() {
         matches!(&p[0], CheckError::UnknownAttribute { help, .. } if help == "did you mean `location`?"),
         "{p:?}"
     );
+    let p = problems("camera 4\n  dimension 1\nsphere dimension 1 center 0 0 -5");
+    assert!(
+        matches!(&p[0], CheckError::MisplacedAttribute { help, .. } if help.ends_with("is a `sphere` or `plane` line missing?")),
+        "{p:?}"
+    );
     // `reflectvity` is nearest `reflectivity`, which lights do not take.
     let p = problems("camera 4 light location 0 0 0 color 1 1 1 reflectvity 1");
     assert!(

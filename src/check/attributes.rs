@@ -136,7 +136,14 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
                 belongs: format!("only {} take `{}`", plural_list(&owners), name.as_str()),
                 section,
                 span,
-                help: format!("remove this line; {takes_line}"),
+                help: if takes.is_empty() {
+                    format!(
+                        "the camera takes only its resolution; is a {} line missing?",
+                        schema::list_or(&owners)
+                    )
+                } else {
+                    format!("remove this line; {takes_line}")
+                },
             }
         }
     }

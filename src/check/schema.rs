@@ -95,17 +95,21 @@ pub fn sections_taking(name: &AttrName) -> Vec<&'static str> {
 
 /// "`a`", "`a` and `b`", "`a`, `b` and `c`".
 pub fn list<S: AsRef<str>>(items: &[S]) -> String {
-    let quoted: Vec<String> = items.iter().map(|s| format!("`{}`", s.as_ref())).collect();
-    match quoted.split_last() {
-        None => String::new(),
-        Some((last, [])) => last.clone(),
-        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
-    }
+    joined(items, "and")
 }
 
 /// "`a`, `b` or `c`".
 pub fn list_or<S: AsRef<str>>(items: &[S]) -> String {
-    list(items).replacen(" and ", " or ", 1)
+    joined(items, "or")
+}
+
+fn joined<S: AsRef<str>>(items: &[S], conjunction: &str) -> String {
+    let quoted: Vec<String> = items.iter().map(|s| format!("`{}`", s.as_ref())).collect();
+    match quoted.split_last() {
+        None => String::new(),
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} {conjunction} {last}", rest.join(", ")),
+    }
 }
 
 #[cfg(test)]
