@@ -197,6 +197,21 @@ pub struct JsonLabel {
     pub column: usize,
 }
 
+/// The width to render diagnostics at: `$COLUMNS` when it is at least 40,
+/// else 100.
+pub fn terminal_width() -> usize {
+    std::env::var("COLUMNS")
+        .ok()
+        .and_then(|c| c.parse().ok())
+        .filter(|&w: &usize| w >= 40)
+        .unwrap_or(100)
+}
+
+/// Colour on `stream` when it is a terminal and `NO_COLOR` is unset.
+pub fn use_color(stream: &impl std::io::IsTerminal) -> bool {
+    stream.is_terminal() && std::env::var_os("NO_COLOR").is_none()
+}
+
 /// A diagnostic's severity, defaulting to error as miette does.
 pub fn severity_of(d: &dyn Diagnostic) -> Severity {
     d.severity().unwrap_or(Severity::Error)

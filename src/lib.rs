@@ -5,7 +5,7 @@
 //! [`syntax`] (text → [`ast`], with every syntax error) →
 //! [`check`] (AST → validated [`model`] scene, with every diagnostic) →
 //! [`ir`] (model → render IR; lowering cannot fail) →
-//! render (IR → image and statistics).
+//! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`commands`] runs them for the command line defined in [`cli`].
 
 pub mod ast;
@@ -15,6 +15,8 @@ pub mod commands;
 pub mod diagnostic;
 pub mod ir;
 pub mod model;
+pub mod output;
+pub mod render;
 pub mod span;
 pub mod suggest;
 pub mod syntax;

@@ -10,7 +10,7 @@
 //! written atomically (a temporary file beside it, then a rename), and is
 //! then checked, so the report shows what remains.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::Path;
 
 use miette::Diagnostic;
@@ -18,8 +18,8 @@ use miette::Diagnostic;
 use super::{load, Failure, Loaded, Outcome, ReadSceneError};
 use crate::check::fix;
 use crate::cli::{CheckArgs, Format};
-use crate::diagnostic::{JsonDiagnostic, SourceFile};
-use crate::syntax;
+use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic, SourceFile};
+use crate::{output, syntax};
 
 /// Run `raytracer check`.
 pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
@@ -71,15 +71,10 @@ struct Output {
 
 impl Output {
     fn new(format: Format) -> Output {
-        let width = std::env::var("COLUMNS")
-            .ok()
-            .and_then(|c| c.parse().ok())
-            .filter(|&w: &usize| w >= 40)
-            .unwrap_or(100);
         Output {
             format,
-            color: std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none(),
-            width,
+            color: use_color(&std::io::stdout()),
+            width: terminal_width(),
             json: Vec::new(),
         }
     }
@@ -175,9 +170,11 @@ fn fix_in_place(path: &Path) -> Result<Vec<String>, WriteFixError> {
         return Ok(Vec::new());
     }
     let fixed = fix::apply(&source.text, &fixes);
-    write_atomically(path, fixed.as_bytes()).map_err(|reason| WriteFixError {
-        path: name.clone(),
-        reason,
+    output::write_atomically(path, |out| out.write_all(fixed.as_bytes())).map_err(|reason| {
+        WriteFixError {
+            path: name.clone(),
+            reason,
+        }
     })?;
     Ok(fixes
         .iter()
@@ -186,22 +183,6 @@ fn fix_in_place(path: &Path) -> Result<Vec<String>, WriteFixError> {
             format!("{name}:{line}:{column}: fixed: {}", f.description)
         })
         .collect())
-}
-
-/// Replace `path` with `contents` through a temporary file in the same
-/// folder and a rename, keeping the file's permissions.
-fn write_atomically(path: &Path, contents: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
-    };
-    let permissions = std::fs::metadata(path)?.permissions();
-    let mut temp = tempfile::NamedTempFile::new_in(dir)?;
-    temp.write_all(contents)?;
-    temp.as_file().sync_all()?;
-    temp.as_file().set_permissions(permissions)?;
-    temp.persist(path).map_err(|e| e.error)?;
-    Ok(())
 }
 
 /// `scene.txt: 2 errors, 1 warning`, or for a scene without errors
@@ -220,20 +201,7 @@ fn summary(loaded: &Loaded) -> String {
     };
     match &loaded.checked {
         Some(checked) => {
-            let effects = checked.effects();
-            let used: Vec<&str> = [
-                (effects.shadows, "shadows"),
-                (effects.reflection, "reflection"),
-                (effects.textures, "textures"),
-            ]
-            .into_iter()
-            .filter_map(|(on, name)| on.then_some(name))
-            .collect();
-            let used = if used.is_empty() {
-                "none".to_string()
-            } else {
-                used.join(", ")
-            };
+            let used = checked.effects().summary();
             format!("{name}: {counts}; effects: {used}")
         }
         None => format!("{name}: {counts}"),

@@ -8,6 +8,7 @@ pub mod render;
 use std::io::Read;
 use std::path::Path;
 use std::process::ExitCode;
+use std::time::Instant;
 
 use miette::Diagnostic;
 
@@ -64,11 +65,16 @@ pub struct ReadSceneError {
 pub struct Loaded {
     pub report: Report,
     pub checked: Option<Checked>,
+    /// Seconds spent reading and parsing the file.
+    pub parse_seconds: f64,
+    /// Seconds spent in the check pass (including texture decoding).
+    pub check_seconds: f64,
 }
 
 /// Read `path` (`-` is stdin), parse it as scene text (or JSON when it ends
 /// in `.json`) and check it.
 pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
+    let start = Instant::now();
     let read_error = |source| ReadSceneError {
         path: path.display().to_string(),
         source,
@@ -95,9 +101,16 @@ pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
             .into_iter()
             .map(|e| Box::new(e) as BoxedDiagnostic),
     );
+    let parse_seconds = start.elapsed().as_secs_f64();
+    let start = Instant::now();
     let (checked, check_diagnostics) = checker::check(&parsed.file, &source);
     diagnostics.extend(check_diagnostics);
     let report = Report::new(source, diagnostics);
     let checked = checked.filter(|_| report.error_count() == 0);
-    Ok(Loaded { report, checked })
+    Ok(Loaded {
+        report,
+        checked,
+        parse_seconds,
+        check_seconds: start.elapsed().as_secs_f64(),
+    })
 }

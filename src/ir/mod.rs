@@ -7,8 +7,12 @@
 //! [`crate::model::Scene`]; lowering cannot fail. The IR round-trips through
 //! serde JSON.
 
+mod lower;
+
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
+
+pub use lower::lower;
 
 /// A scene ready to render.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -90,4 +94,28 @@ pub struct Effects {
     pub reflection: bool,
     /// At least one textured object: texture lookups happen.
     pub textures: bool,
+}
+
+impl Effects {
+    /// The names of the effects in use, `["shadows", "reflection"]`.
+    pub fn names(&self) -> Vec<&'static str> {
+        [
+            (self.shadows, "shadows"),
+            (self.reflection, "reflection"),
+            (self.textures, "textures"),
+        ]
+        .into_iter()
+        .filter_map(|(on, name)| on.then_some(name))
+        .collect()
+    }
+
+    /// [`Effects::names`] joined with commas, or `none`.
+    pub fn summary(&self) -> String {
+        let names = self.names();
+        if names.is_empty() {
+            "none".to_string()
+        } else {
+            names.join(", ")
+        }
+    }
 }

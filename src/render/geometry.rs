@@ -1,0 +1,243 @@
+//! Rays and the two primitives in the tracer's precision, with the
+//! intersection routines and robust ray spawning.
+//!
+//! - Spheres use the stable quadratic of Ray Tracing Gems ch. 7: with unit
+//!   `d`, `f = o − c`, `b = f·d`, `l = f − b·d`, the discriminant is
+//!   `Δ = r² − l·l` (no `b² − c` cancellation) and the roots are `c/q` and
+//!   `q` with `q = −b − sign(b)·√Δ`, `c = f·f − r²`.
+//! - Rectangles intersect their plane, then set the hit point's plane
+//!   coordinate exactly: `p = c + x·right + y·up`.
+//! - A spawned ray starts on the face-forward side of its surface, moved by
+//!   Wächter & Binder's offset (Ray Tracing Gems ch. 6), and remembers the
+//!   primitive it left. A ray cannot hit the rectangle it left again; from
+//!   the sphere it left it can only hit the far root, and only when it heads
+//!   inside. Both rules are exact, so no fixed epsilon is needed.
+
+use super::real::{Real, Vector};
+
+/// A ray `origin + t·dir`, `dir` of unit length.
+#[derive(Clone, Copy, Debug)]
+pub struct Ray<R: Real> {
+    pub origin: R::Vec,
+    pub dir: R::Vec,
+    /// The primitive the ray was spawned from, if any.
+    pub from: Option<u32>,
+}
+
+/// A sphere.
+#[derive(Clone, Copy, Debug)]
+pub struct Sphere<R: Real> {
+    pub center: R::Vec,
+    pub radius: R,
+}
+
+/// A finite two-sided rectangle.
+#[derive(Clone, Copy, Debug)]
+pub struct Rect<R: Real> {
+    pub center: R::Vec,
+    pub normal: R::Vec,
+    pub right: R::Vec,
+    pub up: R::Vec,
+    pub half_width: R,
+    pub half_height: R,
+}
+
+/// The geometry of a primitive.
+#[derive(Clone, Copy, Debug)]
+pub enum Shape<R: Real> {
+    Sphere(Sphere<R>),
+    Rect(Rect<R>),
+}
+
+impl<R: Real> Shape<R> {
+    /// The smallest `t` in `(0, t_max)` where `ray` meets the surface;
+    /// `from_here` says the ray was spawned from this very primitive.
+    pub fn hit(&self, ray: &Ray<R>, t_max: R, from_here: bool) -> Option<R> {
+        match self {
+            Shape::Sphere(s) => s.hit(ray, t_max, from_here),
+            Shape::Rect(r) if !from_here => r.hit(ray, t_max),
+            Shape::Rect(_) => None,
+        }
+    }
+
+    /// Corners of the axis-aligned box around the primitive.
+    pub fn bounds(&self) -> (R::Vec, R::Vec) {
+        match self {
+            Shape::Sphere(s) => {
+                let r = R::Vec::new(s.radius, s.radius, s.radius);
+                (s.center - r, s.center + r)
+            }
+            Shape::Rect(r) => {
+                let half = |axis: R::Vec| {
+                    let e = |a: R::Vec| a.dot(axis).abs();
+                    e(r.right) * r.half_width + e(r.up) * r.half_height
+                };
+                let extent = R::Vec::new(
+                    half(R::Vec::new(R::one(), R::zero(), R::zero())),
+                    half(R::Vec::new(R::zero(), R::one(), R::zero())),
+                    half(R::Vec::new(R::zero(), R::zero(), R::one())),
+                );
+                (r.center - extent, r.center + extent)
+            }
+        }
+    }
+}
+
+impl<R: Real> Sphere<R> {
+    fn hit(&self, ray: &Ray<R>, t_max: R, from_here: bool) -> Option<R> {
+        let f = ray.origin - self.center;
+        let b = f.dot(ray.dir);
+        let l = f - ray.dir * b;
+        let r2 = self.radius * self.radius;
+        let delta = r2 - l.dot(l);
+        if delta < R::zero() {
+            return None;
+        }
+        let q = -b - b.signum() * delta.sqrt();
+        let c = f.dot(f) - r2;
+        let (near, far) = if q.is_zero() {
+            // b = 0 and Δ = 0: the origin touches the sphere tangentially.
+            return None;
+        } else {
+            let (t0, t1) = (c / q, q);
+            (t0.min(t1), t0.max(t1))
+        };
+        let t = if from_here {
+            // Leaving its own surface: the near root is the origin itself;
+            // the far one counts only when the ray heads inside.
+            if b >= R::zero() {
+                return None;
+            }
+            far
+        } else if near > R::zero() {
+            near
+        } else {
+            far
+        };
+        (t > R::zero() && t < t_max).then_some(t)
+    }
+
+    /// The outward unit normal at a point on the surface.
+    pub fn normal_at(&self, p: R::Vec) -> R::Vec {
+        (p - self.center) * self.radius.recip()
+    }
+}
+
+impl<R: Real> Rect<R> {
+    fn hit(&self, ray: &Ray<R>, t_max: R) -> Option<R> {
+        let denom = ray.dir.dot(self.normal);
+        if denom.is_zero() {
+            return None;
+        }
+        let t = (self.center - ray.origin).dot(self.normal) / denom;
+        if !(t > R::zero() && t < t_max) {
+            return None;
+        }
+        let (x, y) = self.plane_coordinates(ray.origin + ray.dir * t);
+        (x.abs() <= self.half_width && y.abs() <= self.half_height).then_some(t)
+    }
+
+    /// Coordinates of `p` along `right` and `up`, from the centre.
+    pub fn plane_coordinates(&self, p: R::Vec) -> (R, R) {
+        let local = p - self.center;
+        (local.dot(self.right), local.dot(self.up))
+    }
+
+    /// The point of the rectangle's plane at these coordinates.
+    pub fn point(&self, x: R, y: R) -> R::Vec {
+        self.center + self.right * x + self.up * y
+    }
+}
+
+/// `p` moved off its surface along `n` (unit, on the side the new ray
+/// leaves by), by Wächter & Binder's rule: a fixed number of representable
+/// values per component, or a small absolute step near the origin where
+/// floats are dense.
+pub fn offset_origin<R: Real>(p: R::Vec, n: R::Vec) -> R::Vec {
+    let component = |p: R, n: R| {
+        if p.abs() < R::ORIGIN {
+            return p + R::FLOAT_SCALE * n;
+        }
+        let ulps = (R::INT_SCALE * n).to_i32().unwrap_or(0);
+        // Stepping away from zero moves a positive value up and a negative
+        // value down: flip the step for negative components.
+        p.step_ulps(if p < R::zero() { -ulps } else { ulps })
+    };
+    R::Vec::new(
+        component(p.x(), n.x()),
+        component(p.y(), n.y()),
+        component(p.z(), n.z()),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+
+    fn ray(origin: DVec3, dir: DVec3) -> Ray<f64> {
+        Ray {
+            origin,
+            dir: dir.normalize(),
+            from: None,
+        }
+    }
+
+    #[test]
+    fn sphere_roots_in_front_and_inside() {
+        let s = Sphere {
+            center: DVec3::new(0.0, 0.0, -5.0),
+            radius: 1.0,
+        };
+        let front = ray(DVec3::ZERO, -DVec3::Z);
+        assert_eq!(s.hit(&front, f64::INFINITY, false), Some(4.0));
+        let inside = ray(DVec3::new(0.0, 0.0, -5.0), DVec3::X);
+        assert_eq!(s.hit(&inside, f64::INFINITY, false), Some(1.0));
+        let behind = ray(DVec3::ZERO, DVec3::Z);
+        assert_eq!(s.hit(&behind, f64::INFINITY, false), None);
+        assert_eq!(s.hit(&front, 3.0, false), None);
+    }
+
+    #[test]
+    fn leaving_a_sphere_hits_only_its_far_side_when_heading_in() {
+        let s = Sphere {
+            center: DVec3::ZERO,
+            radius: 2.0,
+        };
+        let inward = ray(DVec3::new(0.0, 0.0, 2.0), -DVec3::Z);
+        assert_eq!(s.hit(&inward, f64::INFINITY, true), Some(4.0));
+        let outward = ray(DVec3::new(0.0, 0.0, 2.0), DVec3::new(0.0, 1.0, 1.0));
+        assert_eq!(s.hit(&outward, f64::INFINITY, true), None);
+    }
+
+    #[test]
+    fn rect_is_finite_and_two_sided() {
+        let r = Rect {
+            center: DVec3::new(0.0, 0.0, -5.0),
+            normal: DVec3::Z,
+            right: DVec3::X,
+            up: DVec3::Y,
+            half_width: 1.0,
+            half_height: 0.5,
+        };
+        assert_eq!(r.hit(&ray(DVec3::ZERO, -DVec3::Z), 10.0), Some(5.0));
+        let back = ray(DVec3::new(0.0, 0.0, -10.0), DVec3::Z);
+        assert_eq!(r.hit(&back, 10.0), Some(5.0));
+        let past_edge = ray(DVec3::ZERO, DVec3::new(0.0, 0.11, -1.0));
+        assert_eq!(r.hit(&past_edge, 10.0), None);
+        let grazing = ray(DVec3::new(0.0, 0.0, -5.0), DVec3::X);
+        assert_eq!(r.hit(&grazing, 10.0), None);
+    }
+
+    #[test]
+    fn offset_moves_to_the_normal_side_at_any_scale() {
+        for scale in [1e-3, 1.0, 1e6] {
+            let p = DVec3::new(0.3, -0.7, 0.2) * scale;
+            let n = DVec3::new(1.0, 1.0, -1.0).normalize();
+            let moved = offset_origin::<f64>(p, n);
+            assert!((moved - p).dot(n) > 0.0, "scale {scale}");
+            assert!((moved - p).length() < 1e-9 * scale.max(1.0));
+        }
+    }
+}

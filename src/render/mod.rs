@@ -1,0 +1,164 @@
+//! The tracer: renders a [`crate::ir::Scene`] to 8-bit RGB.
+//!
+//! One camera ray per pixel through its centre (SPEC.md §2), or `spp`
+//! stratified samples on a jittered √spp×√spp grid; each sample's colour is
+//! clamped to [0, 1] before the samples are averaged and rounded to 8 bits.
+//! Rows are rendered in parallel on the current rayon pool; every pixel
+//! depends only on the scene and its own position (the jitter is a hash
+//! of the pixel and sample), so the image is identical for any number of
+//! threads. Everything is generic over the precision [`Real`].
+//!
+//! [`real`] has the two precisions, [`geometry`] the rays, primitives and
+//! their intersection, [`world`] the primitives of a scene, and [`trace`]
+//! the integrator.
+
+pub mod geometry;
+pub mod real;
+pub mod trace;
+pub mod world;
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::ir;
+use geometry::Ray;
+pub use real::Real;
+use real::Vector;
+pub use trace::Counters;
+use trace::Tracer;
+
+/// How to render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Options {
+    /// Samples per pixel; a square number (1, 4, 9, …).
+    pub spp: u32,
+    /// Maximum reflections per camera ray.
+    pub max_depth: u32,
+    /// Skip work that cannot change an 8-bit value.
+    pub skip: bool,
+}
+
+impl Default for Options {
+    /// SPEC.md §2's reference model.
+    fn default() -> Self {
+        Options {
+            spp: 1,
+            max_depth: 8,
+            skip: true,
+        }
+    }
+}
+
+/// A rendered image: `size × size` pixels, 3 bytes each, row 0 at the top.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Image {
+    pub size: u32,
+    pub rgb: Vec<u8>,
+}
+
+/// Render `scene` in precision `R`, calling `row_done` once per finished
+/// row (from any thread).
+pub fn render<R: Real>(
+    scene: &ir::Scene,
+    options: &Options,
+    row_done: &(dyn Fn() + Sync),
+) -> (Image, Counters) {
+    let size = scene.resolution;
+    let tracer = Tracer::<R>::new(scene, options.max_depth, options.skip);
+    let grid = options.spp.isqrt().max(1);
+    let mut rgb = vec![0u8; size as usize * size as usize * 3];
+    let counters = rgb
+        .par_chunks_mut(size as usize * 3)
+        .enumerate()
+        .map(|(j, row)| {
+            let mut counters = Counters::default();
+            for (i, pixel) in row.chunks_exact_mut(3).enumerate() {
+                let mut sum = DVec3::ZERO;
+                for sample in 0..grid * grid {
+                    let (u, v) = sample_offset(i as u32, j as u32, sample, grid);
+                    let ray = camera_ray::<R>(size, i as f64 + u, j as f64 + v);
+                    let color = tracer.radiance(ray, &mut counters);
+                    sum += color.clamp(DVec3::ZERO, DVec3::ONE);
+                }
+                pixel.copy_from_slice(&quantize(sum / f64::from(grid * grid)));
+            }
+            row_done();
+            counters
+        })
+        .reduce(Counters::default, |mut a, b| {
+            a += b;
+            a
+        });
+    (Image { size, rgb }, counters)
+}
+
+/// The ray through image-plane position (x, y), in pixels from the top
+/// left: towards `(−0.5 + x/N, 0.5 − y/N, −1)` from the origin.
+pub fn camera_ray<R: Real>(size: u32, x: f64, y: f64) -> Ray<R> {
+    let n = f64::from(size);
+    let target = R::Vec::new(R::of(-0.5 + x / n), R::of(0.5 - y / n), -R::one());
+    Ray {
+        origin: R::Vec::new(R::zero(), R::zero(), R::zero()),
+        dir: target.normalize(),
+        from: None,
+    }
+}
+
+/// Where in pixel (i, j) sample `s` of a `grid × grid` stratification
+/// lies: the centre for one sample, else a jittered point in its cell.
+fn sample_offset(i: u32, j: u32, s: u32, grid: u32) -> (f64, f64) {
+    if grid == 1 {
+        return (0.5, 0.5);
+    }
+    let key = (u64::from(i) << 40) ^ (u64::from(j) << 20) ^ u64::from(s);
+    let (a, b) = (unit_hash(key), unit_hash(key ^ 0x9E37_79B9_7F4A_7C15));
+    let cell = f64::from(grid);
+    (
+        (f64::from(s % grid) + a) / cell,
+        (f64::from(s / grid) + b) / cell,
+    )
+}
+
+/// A uniform value in [0, 1) from `key` (the SplitMix64 finaliser).
+fn unit_hash(key: u64) -> f64 {
+    let mut z = key.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// SPEC.md §2's output: clamp to [0, 1], then `round(c·255)`.
+fn quantize(color: DVec3) -> [u8; 3] {
+    let byte = |c: f64| (c.clamp(0.0, 1.0) * 255.0).round() as u8;
+    [byte(color.x), byte(color.y), byte(color.z)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pixel_centres_follow_the_spec() {
+        let ray = camera_ray::<f64>(4, 0.5, 0.5);
+        let expected = DVec3::new(-0.375, 0.375, -1.0).normalize();
+        assert!((ray.dir - expected).length() < 1e-15);
+    }
+
+    #[test]
+    fn samples_stay_in_their_cells() {
+        for s in 0..9 {
+            let (u, v) = sample_offset(7, 3, s, 3);
+            let (cu, cv) = (f64::from(s % 3), f64::from(s / 3));
+            assert!((cu / 3.0..(cu + 1.0) / 3.0).contains(&u), "{s}: {u}");
+            assert!((cv / 3.0..(cv + 1.0) / 3.0).contains(&v), "{s}: {v}");
+        }
+        assert_eq!(sample_offset(7, 3, 0, 1), (0.5, 0.5));
+    }
+
+    #[test]
+    fn quantize_clamps_and_rounds() {
+        assert_eq!(quantize(DVec3::new(-0.2, 0.5, 2.0)), [0, 128, 255]);
+        assert_eq!(quantize(DVec3::splat(1.0 / 255.0 * 0.49)), [0, 0, 0]);
+    }
+}

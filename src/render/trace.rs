@@ -1,0 +1,270 @@
+//! The Whitted integrator: what colour a camera ray sees (SPEC.md §2).
+//!
+//! Local light is `0.1·C + Σ C ⊙ I·max(0, N·L̂)` over the lights a shadow
+//! ray reaches; a reflective surface adds `k ·` the colour along the mirror
+//! direction, up to `max_depth` reflections. The recursion is a loop that
+//! carries the product of reflectivities, so depth costs no stack.
+//!
+//! Only the work a scene calls for is done: no reflection ray leaves a
+//! surface with `k = 0`, no shadow ray is cast without lights, no texel is
+//! read without a texture. With `skip` on (the default), work that cannot
+//! change the 8-bit result is skipped too: a shadow ray towards a light
+//! behind the surface or one whose contribution is black, and everything
+//! after a path's colour has reached 1 in every channel (contributions are
+//! never negative, so the clamp keeps it at 255). [`Counters`] records
+//! every ray cast and every skip.
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use super::geometry::{offset_origin, Ray, Shape};
+use super::real::{Real, Vector};
+use super::world::{Hit, World};
+use crate::ir;
+
+/// The share of a surface's colour that is lit without any light.
+pub const AMBIENT: f64 = 0.1;
+
+/// What a render did, summed over every pixel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Counters {
+    pub primary_rays: u64,
+    pub shadow_rays: u64,
+    pub reflection_rays: u64,
+    pub texture_lookups: u64,
+    /// Shadow rays not cast: light behind the surface, black contribution,
+    /// or colour already saturated.
+    pub shadow_rays_skipped: u64,
+    /// Paths ended early because every channel had reached 1.
+    pub paths_saturated: u64,
+}
+
+impl std::ops::AddAssign for Counters {
+    fn add_assign(&mut self, other: Counters) {
+        self.primary_rays += other.primary_rays;
+        self.shadow_rays += other.shadow_rays;
+        self.reflection_rays += other.reflection_rays;
+        self.texture_lookups += other.texture_lookups;
+        self.shadow_rays_skipped += other.shadow_rays_skipped;
+        self.paths_saturated += other.paths_saturated;
+    }
+}
+
+/// A light in the tracer's precision.
+struct Light<R: Real> {
+    position: R::Vec,
+    color: DVec3,
+}
+
+/// Where a ray met a surface.
+struct Surface<R: Real> {
+    point: R::Vec,
+    /// Unit normal facing the incoming ray.
+    normal: R::Vec,
+    /// Texture coordinates, computed only for textured objects.
+    uv: Option<(f64, f64)>,
+}
+
+/// Traces rays through one scene in precision `R`.
+pub struct Tracer<'a, R: Real> {
+    scene: &'a ir::Scene,
+    world: World<R>,
+    lights: Vec<Light<R>>,
+    max_depth: u32,
+    skip: bool,
+}
+
+impl<'a, R: Real> Tracer<'a, R> {
+    /// A tracer for `scene` reflecting up to `max_depth` times.
+    pub fn new(scene: &'a ir::Scene, max_depth: u32, skip: bool) -> Self {
+        let lights = scene
+            .lights
+            .iter()
+            .map(|l| Light {
+                position: R::Vec::of(l.position),
+                color: l.color,
+            })
+            .collect();
+        Tracer {
+            scene,
+            world: World::new(scene),
+            lights,
+            max_depth,
+            skip,
+        }
+    }
+
+    /// The colour seen along a camera ray, before clamping.
+    pub fn radiance(&self, mut ray: Ray<R>, counters: &mut Counters) -> DVec3 {
+        counters.primary_rays += 1;
+        let mut color = DVec3::ZERO;
+        let mut weight = 1.0;
+        for depth in 0..=self.max_depth {
+            let Some(hit) = self.world.closest(&ray, R::infinity()) else {
+                break;
+            };
+            let object = &self.scene.objects[hit.prim as usize];
+            let surface = self.surface(&ray, hit, object);
+            let albedo = self.albedo(object, &surface, counters);
+            color += self.local(&surface, hit.prim, albedo, color, weight, counters);
+            let k = object.material.reflectivity;
+            if k == 0.0 || depth == self.max_depth {
+                break;
+            }
+            if self.skip && saturated(color) {
+                counters.paths_saturated += 1;
+                break;
+            }
+            weight *= k;
+            let d = ray.dir;
+            let n = surface.normal;
+            ray = Ray {
+                origin: offset_origin::<R>(surface.point, n),
+                dir: (d - n * (R::of(2.0) * d.dot(n))).normalize(),
+                from: Some(hit.prim),
+            };
+            counters.reflection_rays += 1;
+        }
+        debug_assert!(color.is_finite(), "non-finite colour {color}");
+        color
+    }
+
+    /// The hit point (on the surface to rounding), the face-forward normal
+    /// and, for textured objects, the texture coordinates.
+    fn surface(&self, ray: &Ray<R>, hit: Hit<R>, object: &ir::Object) -> Surface<R> {
+        let along = ray.origin + ray.dir * hit.t;
+        let textured = object.material.texture.is_some();
+        let (point, normal, uv) = match &self.world.shapes[hit.prim as usize] {
+            Shape::Sphere(s) => {
+                let outward = (along - s.center).normalize();
+                let point = s.center + outward * s.radius;
+                let uv = textured.then(|| sphere_uv(outward.wide()));
+                (point, outward, uv)
+            }
+            Shape::Rect(r) => {
+                let (x, y) = r.plane_coordinates(along);
+                let uv = textured.then(|| {
+                    let width = (r.half_width + r.half_width).wide();
+                    let height = (r.half_height + r.half_height).wide();
+                    (x.wide() / width + 0.5, y.wide() / height + 0.5)
+                });
+                (r.point(x, y), r.normal, uv)
+            }
+        };
+        let normal = if normal.dot(ray.dir) > R::zero() {
+            -normal
+        } else {
+            normal
+        };
+        Surface { point, normal, uv }
+    }
+
+    /// The surface colour: the texel under the hit, or the material colour.
+    fn albedo(&self, object: &ir::Object, surface: &Surface<R>, counters: &mut Counters) -> DVec3 {
+        match (object.material.texture, surface.uv) {
+            (Some(texture), Some((u, v))) => {
+                counters.texture_lookups += 1;
+                texel(&self.scene.textures[texture], u, v)
+            }
+            _ => object.material.color,
+        }
+    }
+
+    /// Ambient plus every light a shadow ray reaches, times the albedo.
+    /// `color` and `weight` are the path so far, for the saturation skip.
+    fn local(
+        &self,
+        surface: &Surface<R>,
+        prim: u32,
+        albedo: DVec3,
+        color: DVec3,
+        weight: f64,
+        counters: &mut Counters,
+    ) -> DVec3 {
+        let mut local = albedo * AMBIENT;
+        for light in &self.lights {
+            let contribution = albedo * light.color;
+            let to_light = light.position - surface.point;
+            let cos = surface.normal.dot(to_light.normalize()).wide();
+            if self.skip
+                && (cos <= 0.0 || contribution == DVec3::ZERO || saturated(color + local * weight))
+            {
+                counters.shadow_rays_skipped += 1;
+                continue;
+            }
+            let origin = offset_origin::<R>(surface.point, surface.normal);
+            let to_light = light.position - origin;
+            let distance = to_light.length();
+            if distance.is_zero() {
+                // The light sits on the surface: nothing lies between.
+                continue;
+            }
+            let ray = Ray {
+                origin,
+                dir: to_light * distance.recip(),
+                from: Some(prim),
+            };
+            counters.shadow_rays += 1;
+            if !self.world.occluded(&ray, distance * R::SHADOW_REACH) {
+                local += contribution * cos.max(0.0);
+            }
+        }
+        local
+    }
+}
+
+/// Every channel at 1 or above: more light cannot change the clamped value.
+fn saturated(color: DVec3) -> bool {
+    color.min_element() >= 1.0
+}
+
+/// SPEC.md §2's sphere mapping, from the outward unit normal.
+fn sphere_uv(m: DVec3) -> (f64, f64) {
+    let u = 0.5 + m.z.atan2(m.x) / std::f64::consts::TAU;
+    let v = 0.5 + m.y.clamp(-1.0, 1.0).asin() / std::f64::consts::PI;
+    (u, v)
+}
+
+/// The nearest texel, row 0 at the top: `x = min(⌊u·w⌋, w−1)`,
+/// `y = min(⌊(1−v)·h⌋, h−1)`. Coordinates a rounding step outside [0, 1]
+/// land on the edge texel.
+pub fn texel(texture: &ir::Texture, u: f64, v: f64) -> DVec3 {
+    debug_assert!(
+        u.is_finite() && v.is_finite(),
+        "texture lookup at ({u}, {v})"
+    );
+    let (w, h) = (texture.width as usize, texture.height as usize);
+    // `as usize` saturates: negative values (and NaN) become 0.
+    let x = ((u * w as f64).floor() as usize).min(w - 1);
+    let y = (((1.0 - v) * h as f64).floor() as usize).min(h - 1);
+    let [r, g, b] = texture.texels[y * w + x];
+    DVec3::new(f64::from(r), f64::from(g), f64::from(b))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn texel_lookup_follows_the_spec_and_clamps_edges() {
+        let texture = ir::Texture {
+            path: "t.ppm".into(),
+            width: 2,
+            height: 2,
+            texels: vec![[0.0; 3], [0.25; 3], [0.5; 3], [1.0; 3]],
+        };
+        // Row 0 is the top: v near 1 reads row 0.
+        assert_eq!(texel(&texture, 0.1, 0.9), DVec3::splat(0.0));
+        assert_eq!(texel(&texture, 0.9, 0.9), DVec3::splat(0.25));
+        assert_eq!(texel(&texture, 0.1, 0.1), DVec3::splat(0.5));
+        assert_eq!(texel(&texture, 1.0, 0.0), DVec3::splat(1.0));
+        assert_eq!(texel(&texture, -1e-17, 1.0 + 1e-17), DVec3::splat(0.0));
+    }
+
+    #[test]
+    fn sphere_uv_matches_the_spec_at_the_axes() {
+        assert_eq!(sphere_uv(DVec3::X), (0.5, 0.5));
+        assert_eq!(sphere_uv(DVec3::Y).1, 1.0);
+        assert_eq!(sphere_uv(DVec3::Z), (0.75, 0.5));
+    }
+}

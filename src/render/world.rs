@@ -1,0 +1,80 @@
+//! The scene as the tracer holds it: the IR's primitives converted to the
+//! chosen precision, with the structure that finds what a ray hits.
+//!
+//! [`World::closest`] answers "what does this ray hit first" (camera and
+//! reflection rays) and [`World::occluded`] "does anything lie on this
+//! segment" (shadow rays, which stop at the first hit found).
+
+use super::geometry::{Ray, Rect, Shape, Sphere};
+use super::real::{Real, Vector};
+use crate::ir;
+
+/// The nearest hit of a ray.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit<R: Real> {
+    pub t: R,
+    /// Index of the primitive (and of its object in the IR).
+    pub prim: u32,
+}
+
+/// The primitives of a scene in precision `R`.
+pub struct World<R: Real> {
+    /// One shape per IR object, in the IR's order.
+    pub shapes: Vec<Shape<R>>,
+}
+
+impl<R: Real> World<R> {
+    /// Convert the IR's objects, keeping their order (a primitive's index
+    /// is its object's index).
+    pub fn new(scene: &ir::Scene) -> World<R> {
+        let shapes = scene.objects.iter().map(|o| convert(&o.shape)).collect();
+        World { shapes }
+    }
+
+    /// The nearest hit in `(0, t_max)`.
+    pub fn closest(&self, ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {
+        let mut best: Option<Hit<R>> = None;
+        let mut t_max = t_max;
+        for (index, shape) in self.shapes.iter().enumerate() {
+            let index = index as u32;
+            if let Some(t) = shape.hit(ray, t_max, ray.from == Some(index)) {
+                t_max = t;
+                best = Some(Hit { t, prim: index });
+            }
+        }
+        best
+    }
+
+    /// Whether anything lies on the ray in `(0, t_max)`.
+    pub fn occluded(&self, ray: &Ray<R>, t_max: R) -> bool {
+        self.shapes.iter().enumerate().any(|(index, shape)| {
+            shape
+                .hit(ray, t_max, ray.from == Some(index as u32))
+                .is_some()
+        })
+    }
+}
+
+fn convert<R: Real>(shape: &ir::Shape) -> Shape<R> {
+    match *shape {
+        ir::Shape::Sphere { center, radius } => Shape::Sphere(Sphere {
+            center: R::Vec::of(center),
+            radius: R::of(radius),
+        }),
+        ir::Shape::Rect {
+            center,
+            normal,
+            right,
+            up,
+            width,
+            height,
+        } => Shape::Rect(Rect {
+            center: R::Vec::of(center),
+            normal: R::Vec::of(normal),
+            right: R::Vec::of(right),
+            up: R::Vec::of(up),
+            half_width: R::of(width / 2.0),
+            half_height: R::of(height / 2.0),
+        }),
+    }
+}
