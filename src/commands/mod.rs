@@ -91,7 +91,13 @@ pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
         let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
         (path.display().to_string(), dir, bytes)
     };
-    let (source, utf8_error) = SourceFile::from_bytes(&name, &dir, &bytes);
+    Ok(load_bytes(&name, &dir, &bytes, start))
+}
+
+/// Parse and check scene bytes named `name`, whose texture paths resolve
+/// against `dir`; `start` is when reading began, for the parse timing.
+pub fn load_bytes(name: &str, dir: &Path, bytes: &[u8], start: Instant) -> Loaded {
+    let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
     let mut diagnostics: Vec<BoxedDiagnostic> = Vec::new();
     diagnostics.extend(utf8_error.map(|e| Box::new(e) as BoxedDiagnostic));
     let parsed = syntax::parse(&source.text);
@@ -107,10 +113,10 @@ pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
     diagnostics.extend(check_diagnostics);
     let report = Report::new(source, diagnostics);
     let checked = checked.filter(|_| report.error_count() == 0);
-    Ok(Loaded {
+    Loaded {
         report,
         checked,
         parse_seconds,
         check_seconds: start.elapsed().as_secs_f64(),
-    })
+    }
 }
