@@ -14,6 +14,7 @@ pub mod cli;
 pub mod commands;
 pub mod diagnostic;
 pub mod ir;
+pub mod limits;
 pub mod model;
 pub mod output;
 pub mod render;

@@ -1,18 +1,28 @@
 //! Loading texture images into [`crate::ir::Texture`].
 //!
+//! Only a regular file is opened: the path's type is checked before opening
+//! (a folder, a FIFO or a device is refused without touching it, so a FIFO
+//! cannot block the check), and again on the opened file, which is opened
+//! non-blocking so a path swapped for a FIFO in between cannot block either.
+//!
 //! Decoding goes through the `image` crate (PPM P3/P6 at any maxval, PNG,
-//! JPEG) with limits set before any pixel is allocated, so a hostile header
-//! cannot exhaust memory. The check pass calls [`load`] so a texture that is
-//! missing or does not decode is a diagnostic, never a render failure.
+//! JPEG). Only the header is read before the size is judged against
+//! [`crate::limits`], so a hostile header (a 100000 × 100000 PPM) is refused
+//! before any pixel is allocated; the decoders' own allocations are capped
+//! by the crate's [`Limits`] as well.
 
+use std::fs::File;
+use std::io::{BufRead, BufReader, Seek};
 use std::path::Path;
 
-use image::{ImageReader, Limits};
+use image::{DynamicImage, ImageDecoder, ImageReader, Limits};
 
 use crate::ir::Texture;
+use crate::limits::{MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
 
-/// The largest texture width or height accepted.
-pub const MAX_TEXTURE_SIDE: u32 = 16384;
+/// The most bytes a decoder may allocate for one texture: the largest
+/// accepted texture at 16-bit RGBA, with room for the decoder's own buffers.
+const MAX_DECODER_BYTES: u64 = MAX_TEXTURE_TEXELS * 8 * 2;
 
 /// Why a texture could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -29,37 +39,135 @@ pub enum TextureError {
         path: String,
         source: image::ImageError,
     },
+    #[error("`{path}` is {width} × {height} texels, more than a texture may have")]
+    TooLarge {
+        path: String,
+        width: u32,
+        height: u32,
+    },
 }
 
-/// Load and decode the image at `path`.
-pub fn load(path: &Path) -> Result<Texture, TextureError> {
+/// Why image bytes did not decode ([`decode`]).
+#[derive(Debug, thiserror::Error)]
+pub enum DecodeError {
+    #[error(transparent)]
+    Image(#[from] image::ImageError),
+    #[error("{width} × {height} texels is too large")]
+    TooLarge { width: u32, height: u32 },
+}
+
+/// Load and decode the image at `path`, refusing more than `max_texels`
+/// (at most [`MAX_TEXTURE_TEXELS`]) before decoding its pixels.
+pub fn load(path: &Path, max_texels: u64) -> Result<Texture, TextureError> {
     let shown = path.display().to_string();
-    let metadata = std::fs::metadata(path).map_err(|source| TextureError::Io {
+    let io = |source| TextureError::Io {
         path: shown.clone(),
         source,
-    })?;
-    if !metadata.is_file() {
+    };
+    if !std::fs::metadata(path).map_err(io)?.is_file() {
         return Err(TextureError::NotAFile { path: shown });
     }
-    let mut reader = ImageReader::open(path)
-        .and_then(|r| r.with_guessed_format())
-        .map_err(|source| TextureError::Io {
-            path: shown.clone(),
-            source,
+    let file = open_nonblocking(path).map_err(io)?;
+    if !file.metadata().map_err(io)?.is_file() {
+        return Err(TextureError::NotAFile { path: shown });
+    }
+    let (width, height, texels) =
+        decode(BufReader::new(file), max_texels).map_err(|error| match error {
+            DecodeError::Image(image::ImageError::IoError(source)) => io(source),
+            DecodeError::Image(source) => TextureError::Decode {
+                path: shown.clone(),
+                source,
+            },
+            DecodeError::TooLarge { width, height } => TextureError::TooLarge {
+                path: shown.clone(),
+                width,
+                height,
+            },
         })?;
-    let mut limits = Limits::default();
-    limits.max_image_width = Some(MAX_TEXTURE_SIDE);
-    limits.max_image_height = Some(MAX_TEXTURE_SIDE);
-    reader.limits(limits);
-    let image = reader.decode().map_err(|source| TextureError::Decode {
-        path: shown.clone(),
-        source,
-    })?;
-    let rgb = image.to_rgb32f();
     Ok(Texture {
         path: shown,
-        width: rgb.width(),
-        height: rgb.height(),
-        texels: rgb.pixels().map(|p| p.0).collect(),
+        width,
+        height,
+        texels,
     })
+}
+
+/// Decode image bytes to RGB texels in [0, 1], row 0 at the top:
+/// `(width, height, texels)`. The size is judged from the header against
+/// the side limit and `max_texels` (at most [`MAX_TEXTURE_TEXELS`]), before
+/// any pixel is allocated.
+pub fn decode(
+    reader: impl BufRead + Seek,
+    max_texels: u64,
+) -> Result<(u32, u32, Vec<[f32; 3]>), DecodeError> {
+    let mut reader = ImageReader::new(reader)
+        .with_guessed_format()
+        .map_err(image::ImageError::IoError)?;
+    let mut limits = Limits::default();
+    limits.max_alloc = Some(MAX_DECODER_BYTES);
+    reader.limits(limits);
+    let decoder = reader.into_decoder()?;
+    let (width, height) = decoder.dimensions();
+    if !fits(width, height, max_texels) {
+        return Err(DecodeError::TooLarge { width, height });
+    }
+    let rgb = DynamicImage::from_decoder(decoder)?.into_rgb32f();
+    Ok((width, height, rgb.pixels().map(|p| p.0).collect()))
+}
+
+/// True when a `width × height` texture is within the side limit and has
+/// at most `max_texels` (and [`MAX_TEXTURE_TEXELS`]) texels.
+pub fn fits(width: u32, height: u32, max_texels: u64) -> bool {
+    width <= MAX_TEXTURE_SIDE
+        && height <= MAX_TEXTURE_SIDE
+        && u64::from(width) * u64::from(height) <= max_texels.min(MAX_TEXTURE_TEXELS)
+}
+
+/// Open for reading without blocking on a FIFO (reads from a regular file
+/// are unaffected by the flag).
+fn open_nonblocking(path: &Path) -> std::io::Result<File> {
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    options.open(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::io::Cursor;
+
+    use super::*;
+
+    #[test]
+    fn a_huge_header_is_refused_before_decoding() {
+        let header = b"P6\n100000 100000\n255\n\x01\x02\x03";
+        match decode(Cursor::new(&header[..]), MAX_TEXTURE_TEXELS) {
+            Err(DecodeError::TooLarge { width, height }) => {
+                assert_eq!((width, height), (100_000, 100_000))
+            }
+            other => panic!("expected too large, found {other:?}"),
+        }
+    }
+
+    #[test]
+    fn sides_and_area_are_both_limited() {
+        let max = MAX_TEXTURE_TEXELS;
+        assert!(fits(4096, 4096, max));
+        assert!(fits(16384, 1024, max));
+        assert!(!fits(16385, 1, max));
+        assert!(!fits(8192, 4096, max));
+        assert!(!fits(2, 2, 3));
+    }
+
+    #[test]
+    fn a_small_p3_decodes_with_row_zero_on_top() {
+        let ppm = b"P3\n1 2\n255\n255 0 0\n0 0 255\n";
+        let (width, height, texels) = decode(Cursor::new(&ppm[..]), 2).unwrap();
+        assert_eq!((width, height), (1, 2));
+        assert_eq!(texels, vec![[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]);
+    }
 }

@@ -277,6 +277,35 @@ pub enum CheckError {
         help: String,
     },
 
+    /// Fires when a texture's header gives more texels than a texture may
+    /// have (see docs/reliability.md), or when the scene's textures together
+    /// do; the image is refused before its pixels are read.
+    #[error("texture `{path}` is too large: expected {expected}, found {found}")]
+    #[diagnostic(code(scene::texture_too_large))]
+    TextureTooLarge {
+        path: String,
+        expected: String,
+        found: String,
+        #[label("too large")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    /// Fires on the first sphere or plane beyond the limit on objects, or the
+    /// first light beyond the limit on lights (see docs/reliability.md).
+    #[error("too many {what}: expected at most {limit}, found {found}")]
+    #[diagnostic(code(scene::too_many_objects))]
+    TooManyObjects {
+        what: &'static str,
+        limit: usize,
+        found: usize,
+        #[label("{limit} {what} before this one")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
+
     /// Fires when headup is not perpendicular to the normal (|n̂ · ĥ| > 1e-6);
     /// the renderer uses its projection onto the plane.
     #[error("the plane headup is not perpendicular to its normal")]
@@ -345,7 +374,7 @@ pub enum CheckError {
 
 impl CheckError {
     /// Every code this enum can produce, for the fixture-coverage test.
-    pub const CODES: [&'static str; 27] = [
+    pub const CODES: [&'static str; 29] = [
         "scene::unknown_section",
         "scene::unknown_attribute",
         "scene::misplaced_attribute",
@@ -368,6 +397,8 @@ impl CheckError {
         "scene::texture_not_found",
         "scene::texture_not_a_file",
         "scene::texture_not_an_image",
+        "scene::texture_too_large",
+        "scene::too_many_objects",
         "scene::headup_not_perpendicular",
         "scene::object_behind_camera",
         "scene::light_inside_sphere",

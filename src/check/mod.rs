@@ -22,6 +22,7 @@ use std::collections::BTreeMap;
 use crate::ast::{self, SectionKind};
 use crate::diagnostic::{BoxedDiagnostic, SourceFile};
 use crate::ir::{Effects, Texture};
+use crate::limits::{MAX_LIGHTS, MAX_OBJECTS};
 use crate::model;
 use crate::span::Span;
 use crate::suggest;
@@ -98,6 +99,7 @@ pub fn check_file(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Ve
         });
     }
     cx.lights_inside_spheres();
+    too_many(file, &mut cx.problems);
     let Checker {
         problems, textures, ..
     } = cx;
@@ -119,6 +121,35 @@ pub fn check_file(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Ve
         _ => None,
     };
     (checked, problems.list)
+}
+
+/// Report the first object and the first light beyond [`MAX_OBJECTS`] and
+/// [`MAX_LIGHTS`].
+fn too_many(file: &ast::File, problems: &mut Problems) {
+    let limits = [
+        (
+            "spheres and planes",
+            &[SectionKind::Sphere, SectionKind::Plane][..],
+            MAX_OBJECTS,
+        ),
+        ("lights", &[SectionKind::Light][..], MAX_LIGHTS),
+    ];
+    for (what, kinds, limit) in limits {
+        let mut sections = file.sections.iter().filter(|s| kinds.contains(&*s.kind));
+        let found = sections.clone().count();
+        if let Some(first) = sections.nth(limit) {
+            problems.push(CheckError::TooManyObjects {
+                what,
+                limit,
+                found,
+                span: first.kind.span.into(),
+                help: format!(
+                    "every ray is tested against every object and light: remove at least {} of them",
+                    found - limit
+                ),
+            });
+        }
+    }
 }
 
 fn unknown_section(word: &str, span: Span) -> CheckError {

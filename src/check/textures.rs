@@ -1,11 +1,14 @@
 //! Texture files: each distinct path is resolved against the scene file's
 //! folder and loaded once with [`crate::texture::load`]; a failure becomes a
-//! diagnostic at every line that names the file.
+//! diagnostic at every line that names the file. The textures of a scene
+//! share one budget of texels ([`MAX_SCENE_TEXELS`]), judged from each
+//! file's header before its pixels are decoded.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::ir::Texture;
+use crate::limits::{MAX_SCENE_TEXELS, MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
 use crate::span::Spanned;
 use crate::texture::{self, TextureError};
 
@@ -18,6 +21,13 @@ enum Failure {
     Unreadable(String),
     NoFile,
     Undecodable(String),
+    /// `width × height` texels, and the texels of the textures loaded before
+    /// it when it was the scene's budget that it broke.
+    TooLarge {
+        width: u32,
+        height: u32,
+        before: Option<u64>,
+    },
 }
 
 /// The textures loaded so far, and the paths that failed.
@@ -26,6 +36,8 @@ pub struct Textures {
     dir: PathBuf,
     loaded: BTreeMap<String, Texture>,
     failed: BTreeMap<String, Failure>,
+    /// Texels of every texture in `loaded`.
+    texels: u64,
 }
 
 impl Textures {
@@ -35,6 +47,7 @@ impl Textures {
             dir: dir.to_path_buf(),
             loaded: BTreeMap::new(),
             failed: BTreeMap::new(),
+            texels: 0,
         }
     }
 
@@ -48,8 +61,9 @@ impl Textures {
         let resolved = self.dir.join(written);
         let failure = match self.failed.get(written) {
             Some(failure) => failure.clone(),
-            None => match texture::load(&resolved) {
+            None => match texture::load(&resolved, MAX_SCENE_TEXELS - self.texels) {
                 Ok(texture) => {
+                    self.texels += u64::from(texture.width) * u64::from(texture.height);
                     self.loaded.insert(written.to_string(), texture);
                     return Ok(());
                 }
@@ -60,6 +74,12 @@ impl Textures {
                         TextureError::Decode { source, .. } => {
                             Failure::Undecodable(decode_reason(&source))
                         }
+                        TextureError::TooLarge { width, height, .. } => Failure::TooLarge {
+                            width,
+                            height,
+                            before: texture::fits(width, height, MAX_TEXTURE_TEXELS)
+                                .then_some(self.texels),
+                        },
                     };
                     self.failed.insert(written.to_string(), failure.clone());
                     failure
@@ -89,6 +109,28 @@ impl Textures {
                 span,
                 help: format!(
                     "looked at `{shown}`; textures are PPM (P3 or P6), PNG or JPEG images"
+                ),
+            },
+            Failure::TooLarge {
+                width,
+                height,
+                before,
+            } => CheckError::TextureTooLarge {
+                path,
+                expected: match before {
+                    None => format!(
+                        "at most {MAX_TEXTURE_TEXELS} texels and {MAX_TEXTURE_SIDE} on a side"
+                    ),
+                    Some(_) => format!("at most {MAX_SCENE_TEXELS} texels in all textures"),
+                },
+                found: match before {
+                    None => format!("{width} × {height}"),
+                    Some(before) => format!("{width} × {height} after {before}"),
+                },
+                span,
+                help: format!(
+                    "looked at `{shown}`; scale the image down, such as to 4096 × 4096 \
+                     ({MAX_TEXTURE_TEXELS} texels)"
                 ),
             },
         })

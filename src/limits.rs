@@ -1,0 +1,30 @@
+//! Every size limit in one place, so no input can exhaust memory or time
+//! before it gets a diagnostic: the scene file's size, the number of
+//! objects and lights, and the size of each texture and of all of them.
+//!
+//! The camera resolution (1 to 16384, SPEC.md §1) is checked by the check
+//! pass and `--max-depth` (0 to 64) by the command line; docs/reliability.md
+//! lists all of them with the reasons for each value.
+
+/// The largest scene file read, in bytes (16 MiB). A scene at the object
+/// and light limits with generous comments fits in a few MiB.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
+/// The most spheres and planes in one scene. Every ray tests every object,
+/// so this bounds the work per ray.
+pub const MAX_OBJECTS: usize = 10_000;
+
+/// The most lights in one scene. Every hit casts one shadow ray per light.
+pub const MAX_LIGHTS: usize = 1_000;
+
+/// The largest texture width or height, in texels.
+pub const MAX_TEXTURE_SIDE: u32 = 16_384;
+
+/// The most texels in one texture (2²⁴, e.g. 4096 × 4096 or 8192 × 2048).
+/// A texel is stored as three `f32`s (12 bytes), and decoding needs the
+/// file's own pixels beside them, so one texture peaks below 500 MiB.
+pub const MAX_TEXTURE_TEXELS: u64 = 1 << 24;
+
+/// The most texels in all of a scene's textures together (2²⁶, 768 MiB
+/// as stored for rendering).
+pub const MAX_SCENE_TEXELS: u64 = 1 << 26;
