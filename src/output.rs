@@ -2,14 +2,20 @@
 //! whole or not at all.
 //!
 //! `.ppm` is binary P6 and `.png` is PNG; any other extension is refused
-//! before rendering starts ([`Format::from_path`]). The image is encoded
-//! into a temporary file beside OUT, flushed to disk and renamed over OUT,
-//! so a failure at any point leaves no partial or truncated OUT (the
-//! temporary file is removed when it is dropped). OUT may not be the scene
-//! file itself.
+//! before rendering starts ([`Format::from_path`]), and so is an OUT that
+//! is a folder, is in a folder where no file can be created
+//! ([`check_writable`]), or is one of the scene's inputs ([`check_not_input`]).
+//! The image is encoded into a temporary file beside OUT, flushed to disk
+//! and renamed over OUT, so a failure at any point leaves no partial or
+//! truncated OUT (the temporary file is removed when it is dropped).
+//!
+//! Every temporary file being written is listed, so a Ctrl-C handler can
+//! call [`abandon`]: it removes them and stops any rename from happening
+//! afterwards, and the process can exit leaving nothing half-written.
 
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use image::codecs::png::PngEncoder;
 use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
@@ -37,13 +43,25 @@ pub enum OutputError {
     )]
     UnknownFormat { path: String },
 
-    /// OUT is the scene file being rendered.
-    #[error("the output `{path}` is the scene file itself")]
-    #[diagnostic(code(io::output_is_scene), help("name another output file"))]
-    OutputIsScene { path: String },
+    /// OUT is the scene file or a texture it uses.
+    #[error("the output `{path}` is an input of the render: `{input}`")]
+    #[diagnostic(
+        code(io::output_is_input),
+        help("name another output file; the inputs are never overwritten")
+    )]
+    OutputIsInput { path: String, input: String },
 
-    /// Creating, writing or renaming the file failed.
-    #[error("cannot write `{path}`: {source}")]
+    /// OUT names an existing folder.
+    #[error("the output `{path}` is a folder")]
+    #[diagnostic(
+        code(io::output_is_folder),
+        help("name a file, such as `{path}/out.png`")
+    )]
+    OutputIsFolder { path: String },
+
+    /// Creating, writing or renaming the file failed (the reason is the
+    /// error's source, shown below the message).
+    #[error("cannot write `{path}`")]
     #[diagnostic(
         code(io::write_image),
         help("no image was written; check that the folder exists and is writable")
@@ -71,19 +89,44 @@ impl Format {
     }
 }
 
-/// Refuse an OUT that is the scene file (checked before rendering, so the
-/// mistake costs nothing).
-pub fn check_not_scene(out: &Path, scene: &Path) -> Result<(), OutputError> {
-    let same = match (out.canonicalize(), scene.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
+/// Refuse an OUT that is one of `inputs` (the scene file, a texture),
+/// through any symbolic link or relative path (checked before rendering, so
+/// the mistake costs nothing).
+pub fn check_not_input<'a>(
+    out: &Path,
+    inputs: impl IntoIterator<Item = &'a Path>,
+) -> Result<(), OutputError> {
+    let Ok(out_resolved) = out.canonicalize() else {
+        // OUT does not exist yet, so it is no input.
+        return Ok(());
     };
-    if same {
-        return Err(OutputError::OutputIsScene {
+    for input in inputs {
+        if input.canonicalize().is_ok_and(|i| i == out_resolved) {
+            return Err(OutputError::OutputIsInput {
+                path: out.display().to_string(),
+                input: input.display().to_string(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Refuse an OUT that is a folder or whose folder is missing or not
+/// writable, by creating (and removing) a temporary file beside it: checked
+/// before rendering, so the render is not wasted.
+pub fn check_writable(out: &Path) -> Result<(), OutputError> {
+    if out.is_dir() {
+        return Err(OutputError::OutputIsFolder {
             path: out.display().to_string(),
         });
     }
-    Ok(())
+    temp_builder()
+        .tempfile_in(folder_of(out))
+        .map(drop)
+        .map_err(|source| OutputError::Write {
+            path: out.display().to_string(),
+            source,
+        })
 }
 
 /// Encode `image` as `format` and put it at `path` atomically.
@@ -104,14 +147,14 @@ pub fn write_atomically(
     body: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> std::io::Result<()> {
     let existing = std::fs::metadata(path).ok().map(|m| m.permissions());
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".raytracer-").suffix(".tmp");
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    let mut temp = builder.tempfile_in(folder_of(path))?;
+    let mut temp = {
+        // Created and listed under the lock, so `abandon` sees every file.
+        let mut pending = pending()?;
+        let temp = temp_builder().tempfile_in(folder_of(path))?;
+        pending.push(temp.path().to_path_buf());
+        temp
+    };
+    let listed = Listed(temp.path().to_path_buf());
     {
         let mut writer = BufWriter::new(temp.as_file_mut());
         body(&mut writer)?;
@@ -121,8 +164,64 @@ pub fn write_atomically(
         temp.as_file().set_permissions(permissions)?;
     }
     temp.as_file().sync_all()?;
+    // Renamed under the lock, so it happens before `abandon` or never.
+    let _pending = pending()?;
     temp.persist(path).map_err(|e| e.error)?;
+    drop(_pending);
+    drop(listed);
     Ok(())
+}
+
+/// Temporary files being written: what [`abandon`] removes.
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Set by [`abandon`]: no temporary file is created or renamed after it.
+static ABANDONED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// The list of temporary files, locked; an error once [`abandon`] ran.
+fn pending() -> std::io::Result<MutexGuard<'static, Vec<PathBuf>>> {
+    let list = PENDING.lock().unwrap_or_else(PoisonError::into_inner);
+    if ABANDONED.load(std::sync::atomic::Ordering::SeqCst) {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::Interrupted,
+            "interrupted",
+        ));
+    }
+    Ok(list)
+}
+
+/// Removes its path from [`PENDING`] when the write is over, either way.
+struct Listed(PathBuf);
+
+impl Drop for Listed {
+    fn drop(&mut self) {
+        let mut list = PENDING.lock().unwrap_or_else(PoisonError::into_inner);
+        list.retain(|p| *p != self.0);
+    }
+}
+
+/// Remove every temporary file being written and make every write still
+/// running fail instead of renaming: what a Ctrl-C handler calls before
+/// the process exits. Returns how many files it removed.
+pub fn abandon() -> usize {
+    let mut list = PENDING.lock().unwrap_or_else(PoisonError::into_inner);
+    ABANDONED.store(true, std::sync::atomic::Ordering::SeqCst);
+    list.drain(..)
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .count()
+}
+
+/// Temporary files named `.raytracer-XXXXXX.tmp`, created `0666` less the
+/// umask (as a plain new file would be).
+fn temp_builder() -> tempfile::Builder<'static, 'static> {
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".raytracer-").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    builder
 }
 
 /// The encoded bytes of `image`.

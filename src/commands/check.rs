@@ -15,7 +15,7 @@ use std::path::Path;
 
 use miette::Diagnostic;
 
-use super::{load, Failure, Loaded, Outcome, ReadSceneError};
+use super::{load, read_scene, Failure, Loaded, Outcome, ReadSceneError};
 use crate::check::fix;
 use crate::cli::{CheckArgs, Format};
 use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic, SourceFile};
@@ -109,15 +109,18 @@ impl Output {
     fn unreadable(&mut self, path: &Path, error: ReadSceneError) {
         if self.format == Format::Json {
             self.json.push(JsonDiagnostic {
-                code: "io::read_scene".to_string(),
+                code: error.code().map(|c| c.to_string()).unwrap_or_default(),
                 severity: "error",
                 message: error.to_string(),
-                help: None,
+                help: error.help().map(|h| h.to_string()),
                 file: path.display().to_string(),
                 labels: Vec::new(),
             });
         }
         eprintln!("error: {error}");
+        if let Some(help) = error.help() {
+            eprintln!("  help: {help}");
+        }
     }
 
     fn finish(self) -> Result<(), Failure> {
@@ -154,7 +157,7 @@ fn fix_in_place(path: &Path) -> Result<Vec<String>, WriteFixError> {
             "<stdin>: not fixed: `--fix` rewrites files, not stdin".to_string(),
         ]);
     }
-    let Ok(bytes) = std::fs::read(path) else {
+    let Ok(bytes) = read_scene(path) else {
         return Ok(Vec::new());
     };
     let dir = path.parent().unwrap_or(Path::new(""));

@@ -15,6 +15,7 @@ use miette::Diagnostic;
 use crate::check::Checked;
 use crate::cli::{Cli, Command};
 use crate::diagnostic::{BoxedDiagnostic, Report, SourceFile};
+use crate::limits::MAX_SCENE_BYTES;
 use crate::{check as checker, syntax};
 
 /// How a command ended, when it ran to completion.
@@ -50,14 +51,45 @@ pub fn run(cli: Cli) -> ExitCode {
     }
 }
 
+/// The process got Ctrl-C (SIGINT), SIGTERM or SIGHUP.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error("interrupted; no output file was left half-written")]
+#[diagnostic(
+    code(io::interrupted),
+    help("an image appears whole (when its rename came before the signal) or not at all")
+)]
+pub struct Interrupted;
+
+/// The exit code after an interruption: 128 + SIGINT, as shells report a
+/// program that Ctrl-C stopped.
+pub const INTERRUPTED_EXIT_CODE: i32 = 130;
+
+/// What the binary's signal handler runs: remove every temporary output
+/// file being written (no rename can follow), say so, and exit.
+pub fn interrupt() -> ! {
+    crate::output::abandon();
+    eprintln!("\n{:?}", miette::Report::new(Interrupted));
+    std::process::exit(INTERRUPTED_EXIT_CODE)
+}
+
 /// The scene file could not be read.
 #[derive(Debug, thiserror::Error, Diagnostic)]
-#[error("cannot read scene `{path}`: {source}")]
-#[diagnostic(code(io::read_scene))]
-pub struct ReadSceneError {
-    pub path: String,
-    #[source]
-    pub source: std::io::Error,
+pub enum ReadSceneError {
+    /// Opening or reading failed.
+    #[error("cannot read scene `{path}`: {source}")]
+    #[diagnostic(code(io::read_scene))]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file is larger than [`MAX_SCENE_BYTES`]; only that much was read.
+    #[error("cannot read scene `{path}`: expected at most {limit} bytes, found more")]
+    #[diagnostic(
+        code(io::scene_too_large),
+        help("a scene at the object and light limits fits in a few MiB; is this the scene file?")
+    )]
+    TooLarge { path: String, limit: u64 },
 }
 
 /// A scene run through the front end: every diagnostic, and the checked
@@ -75,23 +107,46 @@ pub struct Loaded {
 /// in `.json`) and check it.
 pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
     let start = Instant::now();
-    let read_error = |source| ReadSceneError {
-        path: path.display().to_string(),
-        source,
-    };
-    let (name, dir, bytes) = if path == Path::new("-") {
-        let mut bytes = Vec::new();
-        std::io::stdin()
-            .read_to_end(&mut bytes)
-            .map_err(read_error)?;
-        let cwd = std::env::current_dir().map_err(read_error)?;
-        ("<stdin>".to_string(), cwd, bytes)
+    let bytes = read_scene(path)?;
+    let (name, dir) = if path == Path::new("-") {
+        let cwd = std::env::current_dir().map_err(|source| ReadSceneError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        ("<stdin>".to_string(), cwd)
     } else {
-        let bytes = std::fs::read(path).map_err(read_error)?;
         let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
-        (path.display().to_string(), dir, bytes)
+        (path.display().to_string(), dir)
     };
     Ok(load_bytes(&name, &dir, &bytes, start))
+}
+
+/// The bytes of the scene at `path` (`-` is stdin), refusing a file larger
+/// than [`MAX_SCENE_BYTES`] after reading one byte more than that, so an
+/// endless input (`/dev/zero`, a pipe) cannot exhaust memory.
+pub fn read_scene(path: &Path) -> Result<Vec<u8>, ReadSceneError> {
+    let shown = path.display().to_string();
+    let read_error = |source| ReadSceneError::Io {
+        path: shown.clone(),
+        source,
+    };
+    let input: Box<dyn Read> = if path == Path::new("-") {
+        Box::new(std::io::stdin().lock())
+    } else {
+        Box::new(std::fs::File::open(path).map_err(read_error)?)
+    };
+    let mut bytes = Vec::new();
+    input
+        .take(MAX_SCENE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(read_error)?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(ReadSceneError::TooLarge {
+            path: shown,
+            limit: MAX_SCENE_BYTES,
+        });
+    }
+    Ok(bytes)
 }
 
 /// Parse and check scene bytes named `name`, whose texture paths resolve

@@ -3,8 +3,9 @@
 //! atomically; report statistics when asked.
 //!
 //! Everything that can be refused cheaply is refused before any work: an
-//! unknown output extension, an output that is the scene file, a `--spp`
-//! that is not a square. The scene's warnings go to stderr (not with
+//! unknown output extension, an output that is the scene file (or, once
+//! the scene is loaded, one of its textures), a folder, or in a folder where
+//! no file can be created, a `--spp` that is not a square. The scene's warnings go to stderr (not with
 //! `--quiet`); its errors go to stderr and the command exits 1 without
 //! touching OUT.
 
@@ -80,8 +81,9 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
     let start = Instant::now();
     let format = Format::from_path(&args.out)?;
     if args.scene != Path::new("-") {
-        output::check_not_scene(&args.out, &args.scene)?;
+        output::check_not_input(&args.out, [args.scene.as_path()])?;
     }
+    output::check_writable(&args.out)?;
     let grid = args.spp.isqrt();
     if grid * grid != args.spp {
         return Err(Box::new(RenderUsageError::SppNotSquare {
@@ -111,6 +113,10 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
         );
         return Ok(Outcome::SceneErrors);
     };
+    output::check_not_input(
+        &args.out,
+        checked.textures.values().map(|t| Path::new(&t.path)),
+    )?;
     if !args.quiet && loaded.report.warning_count() > 0 {
         eprint!(
             "{}",
