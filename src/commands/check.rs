@@ -166,7 +166,9 @@ fn fix_in_place(path: &Path) -> Result<Vec<String>, WriteFixError> {
             "{name}: not fixed: the file is not valid UTF-8"
         )]);
     }
-    let (file, _) = parse(Language::of(path, &bytes), &source.text);
+    let Some(file) = parse(Language::of(path, &bytes), &source.text).0 else {
+        return Ok(Vec::new());
+    };
     let fixes = fix::fixes(&file);
     if fixes.is_empty() {
         return Ok(Vec::new());

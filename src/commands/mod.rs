@@ -100,9 +100,10 @@ impl Language {
     }
 }
 
-/// Parse `text` in `language` into the syntax tree the check pass reads,
-/// with every problem found on the way.
-pub fn parse(language: Language, text: &str) -> (ast::File, Vec<BoxedDiagnostic>) {
+/// Parse `text` in `language` into the syntax tree the check pass reads
+/// (`None` when there is nothing to check: a JSON text that is not a scene
+/// of this format), with every problem found on the way.
+pub fn parse(language: Language, text: &str) -> (Option<ast::File>, Vec<BoxedDiagnostic>) {
     fn boxed<D: miette::Diagnostic + Send + Sync + 'static>(
         errors: Vec<D>,
     ) -> Vec<BoxedDiagnostic> {
@@ -114,7 +115,7 @@ pub fn parse(language: Language, text: &str) -> (ast::File, Vec<BoxedDiagnostic>
     match language {
         Language::Text => {
             let parsed = syntax::parse(text);
-            (parsed.file, boxed(parsed.errors))
+            (Some(parsed.file), boxed(parsed.errors))
         }
         Language::Json => {
             let parsed = json::parse(text);
@@ -151,8 +152,11 @@ pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
     diagnostics.extend(parse_diagnostics);
     let parse_seconds = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    let (checked, check_diagnostics) = checker::check(&file, &source);
-    diagnostics.extend(check_diagnostics);
+    let checked = file.and_then(|file| {
+        let (checked, check_diagnostics) = checker::check(&file, &source);
+        diagnostics.extend(check_diagnostics);
+        checked
+    });
     let report = Report::new(source, diagnostics);
     let checked = checked.filter(|_| report.error_count() == 0);
     Ok(Loaded {

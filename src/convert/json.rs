@@ -14,7 +14,8 @@ use crate::model;
 pub fn to_json(scene: &model::Scene) -> String {
     // The model has only strings, numbers, arrays and maps with string
     // keys, so serialising it cannot fail.
-    let value = serde_json::to_value(scene).unwrap_or(Value::Null);
+    let mut value = serde_json::to_value(scene).unwrap_or(Value::Null);
+    drop_default_color_beside_texture(&mut value);
     let mut out = String::new();
     layout(&value, 0, &mut out);
     out.push('\n');
@@ -27,6 +28,21 @@ pub fn schema() -> String {
     let mut out = serde_json::to_string_pretty(&schema).unwrap_or_default();
     out.push('\n');
     out
+}
+
+/// The model fills in white when no colour is given, and a colour beside a
+/// texture is ignored (and warned about when read back): leave that default
+/// out, as scene text would not have it.
+fn drop_default_color_beside_texture(scene: &mut Value) {
+    let Some(Value::Array(objects)) = scene.get_mut("objects") else {
+        return;
+    };
+    for object in objects.iter_mut().filter_map(Value::as_object_mut) {
+        let white = serde_json::json!(model::Material::default().color);
+        if object.contains_key("texture") && object.get("color") == Some(&white) {
+            object.shift_remove("color");
+        }
+    }
 }
 
 /// Write `value` at nesting depth `depth`: objects and arrays that hold

@@ -27,11 +27,13 @@ use crate::span::{Span, Spanned};
 use crate::suggest;
 pub use errors::JsonError;
 
-/// The result of reading a JSON scene: the tree (empty when the text is not
-/// JSON) and every problem found in its text and shape.
+/// The result of reading a JSON scene: the tree and every problem found in
+/// its text and shape.
 #[derive(Debug)]
 pub struct Parsed {
-    pub file: File,
+    /// `None` when there is no scene to check: the text is not JSON, not an
+    /// object, or of another format version.
+    pub file: Option<File>,
     pub errors: Vec<JsonError>,
 }
 
@@ -42,14 +44,17 @@ pub fn parse(text: &str) -> Parsed {
         errors: Vec::new(),
         sections: Vec::new(),
     };
-    match syntax_tree(text) {
+    let read = match syntax_tree(text) {
         Ok(root) => reader.root(&root),
-        Err(error) => reader.errors.push(error),
-    }
+        Err(error) => {
+            reader.errors.push(error);
+            false
+        }
+    };
     Parsed {
-        file: File {
+        file: read.then_some(File {
             sections: reader.sections,
-        },
+        }),
         errors: reader.errors,
     }
 }
@@ -79,7 +84,7 @@ fn syntax_tree(text: &str) -> Result<Json<'_>, JsonError> {
     // serde_json has the last word on what is JSON: it also rejects what a
     // JSONC parser lets through (control characters in strings, numbers
     // out of range, an empty file).
-    if let Err(error) = serde_json::from_str::<serde::de::IgnoredAny>(text) {
+    if let Err(error) = serde_json::from_str::<serde_json::Value>(text) {
         return Err(serde_json_error(text, &error));
     }
     parsed.value.ok_or_else(|| JsonError::Syntax {
@@ -253,14 +258,18 @@ struct Reader {
 
 impl Reader {
     /// The whole document: `{"format", "camera", "objects", "lights"}`.
-    fn root(&mut self, root: &Json<'_>) {
+    /// False when it is no scene of this format at all.
+    fn root(&mut self, root: &Json<'_>) -> bool {
         let path = Pointer::default();
         let Some(object) = self.object(root, &path) else {
-            return;
+            return false;
         };
         // The format first: another version's fields mean other things, so
         // with an unsupported one nothing else is read or reported.
-        let format = object.properties.iter().find(|p| p.name.as_str() == "format");
+        let format = object
+            .properties
+            .iter()
+            .find(|p| p.name.as_str() == "format");
         if let Some(format) = format {
             match &format.value {
                 Json::StringLit(s) if s.value == model::FORMAT => {}
@@ -270,7 +279,7 @@ impl Reader {
                         found: s.value.to_string(),
                         span: span_of(s).into(),
                     });
-                    return;
+                    return false;
                 }
                 other => self.wrong_type(
                     other,
@@ -309,6 +318,7 @@ impl Reader {
                 }
             }
         }
+        true
     }
 
     /// `"camera": {"resolution": N}`.
