@@ -78,7 +78,13 @@ pub fn to_pov(checked: &Checked) -> String {
                 };
                 let corners = geometry::corners(*center, &basis, *width, *height)
                     .map(|c| vector(pov_point(c.to_array())));
-                let _ = writeln!(out, "polygon {{\n  4, {}", corners.join(", "));
+                // Closed explicitly: five points, the first repeated.
+                let _ = writeln!(
+                    out,
+                    "polygon {{\n  5, {}, {}",
+                    corners.join(", "),
+                    corners[0]
+                );
                 let pigment = object.material.texture.as_deref().map(|path| {
                     plane_texture(
                         &image_map(checked, path, 0),
@@ -124,7 +130,8 @@ fn material(out: &mut String, material: &Material, pigment: Option<String>) {
     );
 }
 
-/// `image_map { TYPE "path" map_type MAP interpolate 0 }` for the texture
+/// `image_map { TYPE "path" map_type MAP }` (nearest texel: no
+/// `interpolate`) for the texture
 /// written as `path`: the type is what the `image` crate decoded the file
 /// as (so a PPM named `.txt` still loads), else its extension's.
 fn image_map(checked: &Checked, path: &str, map_type: u8) -> String {
@@ -140,7 +147,7 @@ fn image_map(checked: &Checked, path: &str, map_type: u8) -> String {
         _ => "ppm",
     };
     let quoted = path.replace('\\', "\\\\").replace('"', "\\\"");
-    format!("image_map {{ {kind} \"{quoted}\" map_type {map_type} interpolate 0 }}")
+    format!("image_map {{ {kind} \"{quoted}\" map_type {map_type} }}")
 }
 
 /// A plane's texture: POV-Ray's planar map shows the image on the unit
@@ -237,7 +244,9 @@ mod tests {
         }]));
         // up = −z (SPEC) → +z (POV); right = up × n = (1, 0, 0).
         assert!(
-            pov.contains("polygon {\n  4, <-2, -1, 4>, <2, -1, 4>, <2, -1, 6>, <-2, -1, 6>\n"),
+            pov.contains(
+                "polygon {\n  5, <-2, -1, 4>, <2, -1, 4>, <2, -1, 6>, <-2, -1, 6>, <-2, -1, 4>\n"
+            ),
             "{pov}"
         );
     }
