@@ -22,6 +22,7 @@ use jsonc_parser::common::Ranged;
 use jsonc_parser::{CollectOptions, ParseOptions};
 
 use crate::ast::{AttrName, Attribute, File, Section, SectionKind, Value};
+use crate::diagnostic::lowercase_first;
 use crate::model;
 use crate::span::{Span, Spanned};
 use crate::suggest;
@@ -122,14 +123,6 @@ fn floor_char_boundary(text: &str, mut offset: usize) -> usize {
         offset -= 1;
     }
     offset
-}
-
-fn lowercase_first(message: &str) -> String {
-    let mut chars = message.chars();
-    match chars.next() {
-        Some(first) => first.to_lowercase().chain(chars).collect(),
-        None => String::new(),
-    }
 }
 
 /// A JSON Pointer (RFC 6901) to a value, for messages.
