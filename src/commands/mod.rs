@@ -145,7 +145,25 @@ pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
         (path.display().to_string(), dir, bytes)
     };
     let language = Language::of(path, &bytes);
-    let (source, utf8_error) = SourceFile::from_bytes(&name, &dir, &bytes);
+    Ok(load_source(&name, &dir, &bytes, language, start))
+}
+
+/// Parse and check scene bytes named `name` (scene text, or JSON when the
+/// name ends in `.json`), whose texture paths resolve against `dir`;
+/// `start` is when reading began, for the parse timing.
+pub fn load_bytes(name: &str, dir: &Path, bytes: &[u8], start: Instant) -> Loaded {
+    load_source(
+        name,
+        dir,
+        bytes,
+        Language::of(Path::new(name), bytes),
+        start,
+    )
+}
+
+/// [`load_bytes`] in a given language.
+fn load_source(name: &str, dir: &Path, bytes: &[u8], language: Language, start: Instant) -> Loaded {
+    let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
     let mut diagnostics: Vec<BoxedDiagnostic> = Vec::new();
     diagnostics.extend(utf8_error.map(|e| Box::new(e) as BoxedDiagnostic));
     let (file, parse_diagnostics) = parse(language, &source.text);
@@ -159,10 +177,10 @@ pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
     });
     let report = Report::new(source, diagnostics);
     let checked = checked.filter(|_| report.error_count() == 0);
-    Ok(Loaded {
+    Loaded {
         report,
         checked,
         parse_seconds,
         check_seconds: start.elapsed().as_secs_f64(),
-    })
+    }
 }
