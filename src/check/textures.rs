@@ -7,6 +7,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use crate::diagnostic::lowercase_first;
 use crate::ir::Texture;
 use crate::limits::{MAX_SCENE_TEXELS, MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
 use crate::span::Spanned;
@@ -156,14 +157,5 @@ fn io_reason(error: &std::io::Error) -> String {
         std::io::ErrorKind::NotFound => "no such file".to_string(),
         std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
         _ => lowercase_first(&error.to_string()),
-    }
-}
-
-/// OS and decoder messages start with a capital; diagnostics do not.
-fn lowercase_first(message: &str) -> String {
-    let mut chars = message.chars();
-    match chars.next() {
-        Some(first) => first.to_lowercase().chain(chars).collect(),
-        None => String::new(),
     }
 }
