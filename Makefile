@@ -4,7 +4,7 @@
 CARGO ?= cargo
 BIN := target/release/raytracer
 
-.PHONY: all build test lint fmt run render-scenes bench accuracy fuzz clean
+.PHONY: all build test lint fmt run render-scenes bench accuracy fuzz fuzz-cmin clean
 
 all: raytracer
 
@@ -42,6 +42,31 @@ render-scenes: raytracer
 	    ./raytracer render $$scene docs/gallery/$$name.png --quiet --stats --threads 1 2>&1; \
 	    echo '```'; \
 	  done; } > docs/gallery.md
+
+# Fuzz the front end (docs/reliability.md): `make fuzz` runs each target
+# (scene text, JSON scenes, texture decoding) for FUZZ_SECONDS with one
+# libFuzzer job, growing fuzz/corpus/TARGET from fuzz/seeds/TARGET; a crash
+# lands in fuzz/artifacts/TARGET and fails the target. Needs cargo-fuzz
+# (`cargo install cargo-fuzz`). libFuzzer's instrumentation and ASan use
+# nightly-only rustc flags: RUSTC_BOOTSTRAP=1 allows them on the stable
+# toolchain (use FUZZ_FLAGS="--sanitizer none" to fuzz without ASan).
+FUZZ_SECONDS ?= 600
+FUZZ_TARGETS ?= scene json texture
+FUZZ_FLAGS ?=
+fuzz:
+	cd fuzz && for target in $(FUZZ_TARGETS); do \
+	  mkdir -p corpus/$$target && \
+	  RAYON_NUM_THREADS=1 RUSTC_BOOTSTRAP=1 $(CARGO) fuzz run -O $(FUZZ_FLAGS) $$target \
+	    corpus/$$target seeds/$$target -- \
+	    -max_total_time=$(FUZZ_SECONDS) -timeout=5 -rss_limit_mb=2048 -print_final_stats=1 \
+	    || exit 1; \
+	done
+
+# Shrink the fuzz corpora to the inputs that add coverage (commit the result).
+fuzz-cmin:
+	cd fuzz && for target in $(FUZZ_TARGETS); do \
+	  RUSTC_BOOTSTRAP=1 $(CARGO) fuzz cmin -O $(FUZZ_FLAGS) $$target corpus/$$target || exit 1; \
+	done
 
 clean:
 	$(CARGO) clean

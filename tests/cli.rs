@@ -273,7 +273,7 @@ fn catches_sigint(pid: u32) -> bool {
 /// (and `delay` later), and return its output.
 #[cfg(target_os = "linux")]
 fn interrupted(args: &[&str], delay: Duration) -> Output {
-    let child = Command::new(bin())
+    let mut child = Command::new(bin())
         .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
@@ -291,7 +291,14 @@ fn interrupted(args: &[&str], delay: Duration) -> Output {
         .status()
         .unwrap();
     assert!(kill.success());
-    // stdin stays open until here: a scene read from it never ends.
+    // stdin stays open until the process has exited (`wait_with_output`
+    // would close it first): a scene read from it never ends on its own.
+    let stdin = child.stdin.take();
+    while child.try_wait().unwrap().is_none() {
+        assert!(start.elapsed() < Duration::from_secs(60), "still running");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    drop(stdin);
     child.wait_with_output().unwrap()
 }
 
