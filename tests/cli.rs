@@ -157,6 +157,17 @@ fn the_output_is_never_an_input() {
 }
 
 #[test]
+fn convert_never_writes_over_its_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("# a comment that canonical text would lose\n{SCENE}");
+    let scene = write(dir.path(), "scene.txt", &text);
+    let output = run(&["convert", &scene, "--to", "scene", "-o", &scene]);
+    assert_fails(&output, 2, &["io::output_is_input"]);
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), text);
+    assert_eq!(listing(dir.path()), ["scene.txt"]);
+}
+
+#[test]
 fn a_missing_output_folder_is_refused_before_rendering() {
     let dir = tempfile::tempdir().unwrap();
     let scene = write(dir.path(), "scene.txt", SCENE);

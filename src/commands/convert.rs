@@ -7,12 +7,13 @@
 //! conversion goes ahead.
 
 use std::io::Write;
+use std::path::Path;
 
 use super::{load, Failure, Outcome};
 use crate::cli::{ConvertArgs, Target};
 use crate::convert::{json, pov, scene_text};
 use crate::diagnostic::{terminal_width, use_color};
-use crate::output::write_atomically;
+use crate::output::{check_not_input, write_atomically};
 
 /// `-o PATH` could not be written.
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
@@ -49,6 +50,10 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, Failure> {
     };
     match &args.output {
         Some(path) => {
+            // Rewriting the scene in place would lose its comments and layout.
+            let scene = (args.scene != Path::new("-")).then_some(args.scene.as_path());
+            let textures = checked.textures.values().map(|t| Path::new(&t.path));
+            check_not_input(path, scene.into_iter().chain(textures))?;
             write_atomically(path, |out| out.write_all(text.as_bytes())).map_err(|reason| {
                 Box::new(WriteOutputError {
                     path: path.display().to_string(),
