@@ -221,6 +221,23 @@ pub fn lowercase_first(message: &str) -> String {
     }
 }
 
+/// An I/O error as a diagnostic's reason: lowercase, and without the paths
+/// some wrappers append (a temporary file's name is no help to the user).
+pub fn io_reason(error: &std::io::Error) -> String {
+    let message = match error.raw_os_error() {
+        Some(code) => std::io::Error::from_raw_os_error(code).to_string(),
+        // `tempfile` words its errors `{reason} at path "{temporary file}"`.
+        None => {
+            let message = error.to_string();
+            match message.split_once(" at path \"") {
+                Some((reason, _)) => reason.to_string(),
+                None => message,
+            }
+        }
+    };
+    lowercase_first(&message)
+}
+
 /// A diagnostic's severity, defaulting to error as miette does.
 pub fn severity_of(d: &dyn Diagnostic) -> Severity {
     d.severity().unwrap_or(Severity::Error)
@@ -289,5 +306,21 @@ impl Diagnostic for WithSource<'_> {
     }
     fn related<'b>(&'b self) -> Option<Box<dyn Iterator<Item = &'b dyn Diagnostic> + 'b>> {
         self.inner.related()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn io_reasons_are_lowercase_without_temporary_paths() {
+        let os = std::io::Error::from_raw_os_error(2);
+        assert!(io_reason(&os).starts_with("no such file"), "{}", io_reason(&os));
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("missing");
+        let wrapped = tempfile::Builder::new().tempfile_in(&missing).unwrap_err();
+        assert!(wrapped.to_string().contains(" at path "), "{wrapped}");
+        assert_eq!(io_reason(&wrapped), io_reason(&os));
     }
 }

@@ -22,6 +22,7 @@ use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
 use image::{ExtendedColorType, ImageEncoder};
 use miette::Diagnostic;
 
+use crate::diagnostic::io_reason;
 use crate::render::Image;
 
 /// An image file format the renderer writes.
@@ -59,17 +60,16 @@ pub enum OutputError {
     )]
     OutputIsFolder { path: String },
 
-    /// Creating, writing or renaming the file failed (the reason is the
-    /// error's source, shown below the message).
-    #[error("cannot write `{path}`")]
+    /// Creating, writing or renaming the file failed.
+    #[error("cannot write `{path}`: {}", io_reason(error))]
     #[diagnostic(
         code(io::write_image),
         help("no image was written; check that the folder exists and is writable")
     )]
     Write {
         path: String,
-        #[source]
-        source: std::io::Error,
+        /// Not a `#[source]`: the message words it, once.
+        error: std::io::Error,
     },
 }
 
@@ -123,17 +123,17 @@ pub fn check_writable(out: &Path) -> Result<(), OutputError> {
     temp_builder()
         .tempfile_in(folder_of(out))
         .map(drop)
-        .map_err(|source| OutputError::Write {
+        .map_err(|error| OutputError::Write {
             path: out.display().to_string(),
-            source,
+            error,
         })
 }
 
 /// Encode `image` as `format` and put it at `path` atomically.
 pub fn write(image: &Image, format: Format, path: &Path) -> Result<(), OutputError> {
-    write_atomically(path, |out| encode(image, format, out)).map_err(|source| OutputError::Write {
+    write_atomically(path, |out| encode(image, format, out)).map_err(|error| OutputError::Write {
         path: path.display().to_string(),
-        source,
+        error,
     })
 }
 

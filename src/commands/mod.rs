@@ -15,7 +15,7 @@ use miette::Diagnostic;
 use crate::ast;
 use crate::check::Checked;
 use crate::cli::{Cli, Command};
-use crate::diagnostic::{BoxedDiagnostic, Report, SourceFile};
+use crate::diagnostic::{io_reason, BoxedDiagnostic, Report, SourceFile};
 use crate::limits::MAX_SCENE_BYTES;
 use crate::{check as checker, json, syntax};
 
@@ -77,12 +77,12 @@ pub fn interrupt() -> ! {
 #[derive(Debug, thiserror::Error, Diagnostic)]
 pub enum ReadSceneError {
     /// Opening or reading failed.
-    #[error("cannot read scene `{path}`: {source}")]
+    #[error("cannot read scene `{path}`: {reason}")]
     #[diagnostic(code(io::read_scene))]
     Io {
         path: String,
-        #[source]
-        source: std::io::Error,
+        /// The I/O error, as [`io_reason`] words it.
+        reason: String,
     },
     /// The file is larger than [`MAX_SCENE_BYTES`]; only that much was read.
     #[error("cannot read scene `{path}`: expected at most {limit} bytes, found more")]
@@ -164,7 +164,7 @@ pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
     let (name, dir) = if path == Path::new("-") {
         let cwd = std::env::current_dir().map_err(|source| ReadSceneError::Io {
             path: path.display().to_string(),
-            source,
+            reason: io_reason(&source),
         })?;
         ("<stdin>".to_string(), cwd)
     } else {
@@ -182,7 +182,7 @@ pub fn read_scene(path: &Path) -> Result<Vec<u8>, ReadSceneError> {
     let shown = path.display().to_string();
     let read_error = |source| ReadSceneError::Io {
         path: shown.clone(),
-        source,
+        reason: io_reason(&source),
     };
     let input: Box<dyn Read> = if path == Path::new("-") {
         Box::new(std::io::stdin().lock())
