@@ -316,7 +316,11 @@ mod tests {
     #[test]
     fn io_reasons_are_lowercase_without_temporary_paths() {
         let os = std::io::Error::from_raw_os_error(2);
-        assert!(io_reason(&os).starts_with("no such file"), "{}", io_reason(&os));
+        assert!(
+            io_reason(&os).starts_with("no such file"),
+            "{}",
+            io_reason(&os)
+        );
         let dir = tempfile::tempdir().unwrap();
         let missing = dir.path().join("missing");
         let wrapped = tempfile::Builder::new().tempfile_in(&missing).unwrap_err();

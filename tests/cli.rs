@@ -144,6 +144,13 @@ fn the_output_is_never_an_input() {
         assert_eq!(std::fs::read_to_string(&scene).unwrap(), scene_text);
     }
 
+    // Statistics written over the scene.
+    let out = dir.path().join("out.png");
+    let output = run(&[&scene, out.to_str().unwrap(), "--stats-json", &scene]);
+    assert_fails(&output, 2, &["io::output_is_input"]);
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), scene_text);
+    assert!(!out.exists());
+
     // The texture the scene uses, through a relative path.
     let texture = b"P6\n1 1\n255\n\x10\x20\x30".to_vec();
     write(dir.path(), "tex.ppm", &texture);

@@ -80,10 +80,15 @@ pub struct Stats {
 pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
     let start = Instant::now();
     let format = Format::from_path(&args.out)?;
-    if args.scene != Path::new("-") {
-        output::check_not_input(&args.out, [args.scene.as_path()])?;
+    // The files this command writes: the image, and the statistics.
+    let outputs: Vec<&Path> = std::iter::once(args.out.as_path())
+        .chain(args.stats_json.as_deref())
+        .collect();
+    let scene = (args.scene != Path::new("-")).then_some(args.scene.as_path());
+    for out in &outputs {
+        output::check_not_input(out, scene)?;
+        output::check_writable(out)?;
     }
-    output::check_writable(&args.out)?;
     let grid = args.spp.isqrt();
     if grid * grid != args.spp {
         return Err(Box::new(RenderUsageError::SppNotSquare {
@@ -113,10 +118,9 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
         );
         return Ok(Outcome::SceneErrors);
     };
-    output::check_not_input(
-        &args.out,
-        checked.textures.values().map(|t| Path::new(&t.path)),
-    )?;
+    for out in &outputs {
+        output::check_not_input(out, checked.textures.values().map(|t| Path::new(&t.path)))?;
+    }
     if !args.quiet && loaded.report.warning_count() > 0 {
         eprint!(
             "{}",
