@@ -13,7 +13,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 #[command(name = "raytracer", version, about, long_about = None)]
 #[command(
     after_help = "`raytracer SCENE OUT` is short for `raytracer render SCENE OUT`.\n\
-Exit codes: 0 success, 1 the scene has errors, 2 usage, I/O or internal error."
+Exit codes: 0 success, 1 the scene has errors, 2 usage, I/O or internal error,\n\
+130 interrupted (Ctrl-C; no output file is left half-written)."
 )]
 pub struct Cli {
     #[command(subcommand)]
