@@ -13,7 +13,8 @@
 //! image and the product's, writes them side by side (naive left, product
 //! right, 4× enlarged) to the output folder, and prints a markdown table:
 //! pixels off by more than 1/255 from the product's f64 image, and for the
-//! far spheres the disk's area against π·R². It ends with the measured
+//! far spheres the disk's area against π·R². The planet case puts the
+//! product's f32 image beside its f64 one. It ends with the measured
 //! error of both sphere forms over random far spheres.
 
 use std::path::{Path, PathBuf};
@@ -58,6 +59,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     ] {
         spawn_case(&out, scene, naive, label)?;
     }
+    precision_case(&out, "planet.txt")?;
     println!();
     sphere_error_table();
     Ok(())
@@ -181,6 +183,26 @@ fn spawn_case(
         &naive_image,
         &product,
     )
+}
+
+/// The product in f32 beside the product in f64: where f32 is not enough.
+fn precision_case(out: &Path, name: &str) -> Result<(), Box<dyn std::error::Error>> {
+    let scene = hard_scene(name);
+    let options = Options::default();
+    let (wide, _) = render::<f64>(&scene, &options, &|| {});
+    let (narrow, _) = render::<f32>(&scene, &options, &|| {});
+    let off = narrow
+        .rgb
+        .chunks(3)
+        .zip(wide.rgb.chunks(3))
+        .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.abs_diff(*y) > 1))
+        .count();
+    println!(
+        "| {name} | f32 | product | {off} ({:.1}%) | against the product in f64 |",
+        100.0 * off as f64 / f64::from(scene.resolution * scene.resolution)
+    );
+    let stem = name.trim_end_matches(".txt");
+    save_pair(&out.join(format!("{stem}_f32_f64.png")), &narrow, &wide)
 }
 
 /// The naive Whitted tracer: same shading as the product, naive numerics.
