@@ -259,14 +259,17 @@ fn pad(range: Range<f64>, log: bool) -> Range<f64> {
 fn write_png(out: &Path, width: u32, height: u32, rgb: Vec<u8>) -> Result<(), Box<dyn Error>> {
     let image =
         image::RgbImage::from_raw(width, height, rgb).ok_or("image buffer size mismatch")?;
-    let dir = out
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let mut file = tempfile::NamedTempFile::new_in(dir)?;
-    image.write_to(&mut file, image::ImageFormat::Png)?;
-    file.persist(out)?;
-    Ok(())
+    let mut temporary = out.as_os_str().to_owned();
+    temporary.push(".partial");
+    let temporary = PathBuf::from(temporary);
+    let written = image
+        .save_with_format(&temporary, image::ImageFormat::Png)
+        .map_err(Box::<dyn Error>::from)
+        .and_then(|()| std::fs::rename(&temporary, out).map_err(Box::<dyn Error>::from));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&temporary);
+    }
+    written
 }
 
 /// A tick label: three significant digits, in exponent form outside
