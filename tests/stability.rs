@@ -28,7 +28,7 @@ use raytracer::render::real::Vector;
 use raytracer::render::trace::{texel, Tracer};
 use raytracer::render::{camera_ray, render, Counters, Image, Options, Real};
 
-use reference::{Expected, Reference};
+use reference::{assert_renders_match_reference, Expected, Reference};
 
 /// Load and lower a scene of scenes/hard/.
 fn hard_scene(name: &str) -> ir::Scene {
@@ -59,50 +59,6 @@ fn both(scene: &ir::Scene, options: &Options) -> [(&'static str, Image, Counters
 /// precisions; at least 80% of the pixels must be unambiguous.
 fn assert_matches_reference(name: &str, scene: &ir::Scene, options: &Options, margin: f64) {
     assert_renders_match_reference(name, scene, options, margin, both(scene, options));
-}
-
-/// [`assert_matches_reference`] for the given renders.
-fn assert_renders_match_reference(
-    name: &str,
-    scene: &ir::Scene,
-    options: &Options,
-    margin: f64,
-    renders: impl IntoIterator<Item = (&'static str, Image, Counters)>,
-) {
-    let reference = Reference::new(scene, options.max_depth, margin);
-    let expected: Vec<Expected> = (0..scene.resolution * scene.resolution)
-        .map(|k| reference.pixel(k % scene.resolution, k / scene.resolution))
-        .collect();
-    let compared = expected
-        .iter()
-        .filter(|e| matches!(e, Expected::Rgb(_)))
-        .count();
-    let total = expected.len();
-    assert!(
-        compared * 10 >= total * 8,
-        "{name}: only {compared} of {total} pixels are unambiguous"
-    );
-    for (precision, image, _) in renders {
-        let mut bad = Vec::new();
-        for (k, e) in expected.iter().enumerate() {
-            let Expected::Rgb(want) = e else { continue };
-            let got = &image.rgb[k * 3..k * 3 + 3];
-            if got.iter().zip(want).any(|(&g, &w)| g.abs_diff(w) > 1) {
-                bad.push((
-                    k as u32 % scene.resolution,
-                    k as u32 / scene.resolution,
-                    [got[0], got[1], got[2]],
-                    *want,
-                ));
-            }
-        }
-        assert!(
-            bad.is_empty(),
-            "{name} in {precision}: {} of {compared} pixels differ from the analytic value by more than 1/255, e.g. (column, row, found, expected) {:?}",
-            bad.len(),
-            &bad[..bad.len().min(5)]
-        );
-    }
 }
 
 const MARGIN: f64 = 1e-3;

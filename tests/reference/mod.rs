@@ -13,7 +13,8 @@
 
 use glam::DVec3;
 use raytracer::ir::{self, Shape};
-use raytracer::render::trace::{texel, AMBIENT};
+use raytracer::render::trace::{texel, Counters, AMBIENT};
+use raytracer::render::{Image, Options};
 
 /// What the reference expects of a pixel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -331,5 +332,51 @@ impl<'a> Reference<'a> {
             return Err(Fragile);
         }
         Ok(())
+    }
+}
+
+/// Compare every unambiguous pixel of each render with the reference to
+/// 1/255; at least 80% of the pixels must be unambiguous, so a test cannot
+/// pass by flagging everything.
+pub fn assert_renders_match_reference(
+    name: &str,
+    scene: &ir::Scene,
+    options: &Options,
+    margin: f64,
+    renders: impl IntoIterator<Item = (&'static str, Image, Counters)>,
+) {
+    let reference = Reference::new(scene, options.max_depth, margin);
+    let expected: Vec<Expected> = (0..scene.resolution * scene.resolution)
+        .map(|k| reference.pixel(k % scene.resolution, k / scene.resolution))
+        .collect();
+    let compared = expected
+        .iter()
+        .filter(|e| matches!(e, Expected::Rgb(_)))
+        .count();
+    let total = expected.len();
+    assert!(
+        compared * 10 >= total * 8,
+        "{name}: only {compared} of {total} pixels are unambiguous"
+    );
+    for (precision, image, _) in renders {
+        let mut bad = Vec::new();
+        for (k, e) in expected.iter().enumerate() {
+            let Expected::Rgb(want) = e else { continue };
+            let got = &image.rgb[k * 3..k * 3 + 3];
+            if got.iter().zip(want).any(|(&g, &w)| g.abs_diff(w) > 1) {
+                bad.push((
+                    k as u32 % scene.resolution,
+                    k as u32 / scene.resolution,
+                    [got[0], got[1], got[2]],
+                    *want,
+                ));
+            }
+        }
+        assert!(
+            bad.is_empty(),
+            "{name} in {precision}: {} of {compared} pixels differ from the analytic value by more than 1/255, e.g. (column, row, found, expected) {:?}",
+            bad.len(),
+            &bad[..bad.len().min(5)]
+        );
     }
 }
