@@ -43,6 +43,17 @@ render-scenes: raytracer
 	    echo '```'; \
 	  done; } > docs/gallery.md
 
+# What accuracy costs: render scenes/ and scenes/hard/ under each setting
+# (precision, depth, samples, --no-skip) against a high-accuracy reference
+# and write docs/accuracy.md with its plot and images. A few minutes on 2 cores.
+accuracy:
+	$(CARGO) run --release --locked --example accuracy -- docs/accuracy.md docs/accuracy
+	$(CARGO) run --release --locked --example plot -- \
+	  docs/accuracy/error_vs_time.csv docs/accuracy/error_vs_time.png \
+	  --title "Supersampling: error against time (labels: samples per pixel)" \
+	  --x-label "time, × the default render" \
+	  --y-label "RMSE against the reference, 1/255" --log-x --log-y --lines
+
 # Fuzz the front end (docs/reliability.md): `make fuzz` runs each target
 # (scene text, JSON scenes, texture decoding) for FUZZ_SECONDS with one
 # libFuzzer job, growing fuzz/corpus/TARGET from fuzz/seeds/TARGET; a crash
