@@ -75,8 +75,8 @@ pub struct Tracer<'a, R: Real> {
 }
 
 impl<'a, R: Real> Tracer<'a, R> {
-    /// A tracer for `scene` reflecting up to `max_depth` times.
-    pub fn new(scene: &'a ir::Scene, max_depth: u32, skip: bool) -> Self {
+    /// A tracer for `scene` with `options`' depth, skip and acceleration.
+    pub fn new(scene: &'a ir::Scene, options: &super::Options) -> Self {
         let lights = scene
             .lights
             .iter()
@@ -87,10 +87,10 @@ impl<'a, R: Real> Tracer<'a, R> {
             .collect();
         Tracer {
             scene,
-            world: World::new(scene),
+            world: World::new(scene, options.accel),
             lights,
-            max_depth,
-            skip,
+            max_depth: options.max_depth,
+            skip: options.skip,
         }
     }
 
