@@ -171,6 +171,6 @@ mod tests {
         };
         let mut bytes = Vec::new();
         encode(&image, Format::Ppm, &mut bytes).unwrap();
-        assert_eq!(bytes, b"P6\n1 1\n255\n\x01\x02\x03");
+        assert_eq!(bytes, b"P6\n1 1 255\n\x01\x02\x03");
     }
 }

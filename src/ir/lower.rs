@@ -96,3 +96,68 @@ fn frame(normal: [f64; 3], headup: [f64; 3]) -> Basis {
         up: DVec3::Y,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+    use std::time::Instant;
+
+    use super::*;
+    use crate::commands::load_bytes;
+
+    fn lowered(text: &str, dir: &Path) -> Scene {
+        let loaded = load_bytes("t.txt", dir, text.as_bytes(), Instant::now());
+        lower(&loaded.checked.expect("scene checks"))
+    }
+
+    #[test]
+    fn the_ir_round_trips_through_json() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        let text = std::fs::read_to_string(dir.join("sample.txt")).expect("sample");
+        let scene = lowered(&text, &dir);
+        let json = serde_json::to_string(&scene).expect("serialise");
+        let back: Scene = serde_json::from_str(&json).expect("deserialise");
+        assert_eq!(back, scene);
+        assert_eq!(scene.textures.len(), 1);
+    }
+
+    #[test]
+    fn derived_geometry_and_effects() {
+        let scene = lowered(
+            "camera 8
+             plane dimension 2 4 center 0 0 -5 normal 0 0 2 headup 0 3 1 reflectivity .5
+             sphere dimension 1 center 0 0 -9",
+            Path::new("."),
+        );
+        let Shape::Rect {
+            normal, right, up, ..
+        } = scene.objects[0].shape
+        else {
+            panic!("not a rectangle")
+        };
+        assert_eq!(normal, DVec3::Z);
+        assert!((up - DVec3::Y).length() < 1e-15, "headup is projected");
+        assert!((right - DVec3::X).length() < 1e-15, "right = up × n");
+        assert_eq!(
+            scene.effects,
+            crate::ir::Effects {
+                shadows: false,
+                reflection: true,
+                textures: false
+            }
+        );
+    }
+
+    #[test]
+    fn a_texture_named_twice_is_decoded_once() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        let scene = lowered(
+            "camera 8
+             sphere dimension 1 center 0 0 -5 texture wood_tex.ppm
+             sphere dimension 1 center 2 0 -5 texture wood_tex.ppm",
+            &dir,
+        );
+        assert_eq!(scene.textures.len(), 1);
+        assert_eq!(scene.objects[1].material.texture, Some(0));
+    }
+}

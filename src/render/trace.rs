@@ -106,7 +106,7 @@ impl<'a, R: Real> Tracer<'a, R> {
             let object = &self.scene.objects[hit.prim as usize];
             let surface = self.surface(&ray, hit, object);
             let albedo = self.albedo(object, &surface, counters);
-            color += self.local(&surface, hit.prim, albedo, color, weight, counters);
+            color += self.local(&surface, hit.prim, albedo, color, weight, counters) * weight;
             let k = object.material.reflectivity;
             if k == 0.0 || depth == self.max_depth {
                 break;

@@ -1,0 +1,83 @@
+//! Helpers shared by the render tests: scene text to IR and to pixels,
+//! in-process, and the corpus copied beside a wood texture.
+
+#![allow(dead_code)] // each test file uses its own subset
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use raytracer::commands::load_bytes;
+use raytracer::ir;
+use raytracer::render::{self, Counters, Image, Options};
+
+/// The scene text checked and lowered (textures resolve against `dir`),
+/// optionally at another resolution. Panics with the diagnostics when the
+/// scene has errors.
+pub fn lower_in(text: &str, dir: &Path, resolution: Option<u32>) -> ir::Scene {
+    let loaded = load_bytes("test.txt", dir, text.as_bytes(), Instant::now());
+    let Some(mut checked) = loaded.checked else {
+        panic!(
+            "scene has errors:\n{}",
+            loaded.report.render_human(80, false)
+        );
+    };
+    if let Some(resolution) = resolution {
+        checked.scene.camera.resolution = resolution;
+    }
+    ir::lower(&checked)
+}
+
+/// [`lower_in`] for scenes without textures.
+pub fn lower(text: &str) -> ir::Scene {
+    lower_in(text, Path::new("."), None)
+}
+
+/// Render with default options in f64.
+pub fn render(scene: &ir::Scene) -> (Image, Counters) {
+    render::render::<f64>(scene, &Options::default(), &|| {})
+}
+
+/// The pixel at column `i`, row `j`.
+pub fn pixel(image: &Image, i: u32, j: u32) -> [u8; 3] {
+    let at = 3 * (j * image.size + i) as usize;
+    [image.rgb[at], image.rgb[at + 1], image.rgb[at + 2]]
+}
+
+/// `round(clamp(c)·255)` per channel, as SPEC.md §2 writes pixels.
+pub fn quantized(c: [f64; 3]) -> [u8; 3] {
+    c.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8)
+}
+
+/// The course corpus (`../shared/corpus/field`, or `$RAYTRACER_CORPUS`).
+pub fn corpus_dir() -> PathBuf {
+    std::env::var_os("RAYTRACER_CORPUS").map_or_else(
+        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/field"),
+        PathBuf::from,
+    )
+}
+
+/// The corpus scene files copied into a temporary folder with the
+/// project's `wood_tex.ppm` beside them.
+pub fn corpus_copy() -> (tempfile::TempDir, Vec<PathBuf>) {
+    let source = corpus_dir();
+    assert!(
+        source.is_dir(),
+        "the scene corpus is missing: {}",
+        source.display()
+    );
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut scenes = Vec::new();
+    for entry in std::fs::read_dir(&source).expect("read corpus") {
+        let path = entry.expect("entry").path();
+        if path.file_name().is_some_and(|n| n == "SOURCE.txt") {
+            continue;
+        }
+        let copy = dir.path().join(path.file_name().expect("name"));
+        std::fs::copy(&path, &copy).expect("copy scene");
+        scenes.push(copy);
+    }
+    scenes.sort();
+    let wood = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/wood_tex.ppm");
+    std::fs::copy(wood, dir.path().join("wood_tex.ppm")).expect("copy texture");
+    (dir, scenes)
+}
