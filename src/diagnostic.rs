@@ -212,6 +212,15 @@ pub fn use_color(stream: &impl std::io::IsTerminal) -> bool {
     stream.is_terminal() && std::env::var_os("NO_COLOR").is_none()
 }
 
+/// OS, decoder and parser messages start with a capital; diagnostics do not.
+pub fn lowercase_first(message: &str) -> String {
+    let mut chars = message.chars();
+    match chars.next() {
+        Some(first) => first.to_lowercase().chain(chars).collect(),
+        None => String::new(),
+    }
+}
+
 /// A diagnostic's severity, defaulting to error as miette does.
 pub fn severity_of(d: &dyn Diagnostic) -> Severity {
     d.severity().unwrap_or(Severity::Error)

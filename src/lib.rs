@@ -2,18 +2,22 @@
 //! scene language.
 //!
 //! The pipeline, one module per stage:
-//! [`syntax`] (text → [`ast`], with every syntax error) →
+//! [`syntax`] (text → [`ast`], with every syntax error; [`json`] reads JSON
+//! scenes into the same tree) →
 //! [`check`] (AST → validated [`model`] scene, with every diagnostic) →
 //! [`ir`] (model → render IR; lowering cannot fail) →
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
-//! [`commands`] runs them for the command line defined in [`cli`].
+//! [`convert`] prints a checked model as JSON, canonical scene text or
+//! POV-Ray. [`commands`] runs them for the command line defined in [`cli`].
 
 pub mod ast;
 pub mod check;
 pub mod cli;
 pub mod commands;
+pub mod convert;
 pub mod diagnostic;
 pub mod ir;
+pub mod json;
 pub mod model;
 pub mod output;
 pub mod render;

@@ -23,9 +23,11 @@ pub struct Scene {
     /// Layout version; always `"raytracer-scene/1"`.
     pub format: String,
     pub camera: Camera,
-    /// Spheres and planes, in source order.
+    /// Spheres and planes, in source order; default none.
+    #[serde(default)]
     pub objects: Vec<Object>,
-    /// Point lights, in source order.
+    /// Point lights, in source order; default none.
+    #[serde(default)]
     pub lights: Vec<Light>,
 }
 
@@ -71,18 +73,25 @@ pub enum Shape {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Material {
     /// Each channel in [0, 1]; default white. Ignored where a texture is given.
+    #[serde(default = "white")]
     pub color: Vec3,
     /// Mirror weight in [0, 1]; default 0.
+    #[serde(default)]
     pub reflectivity: f64,
     /// Image path as written, relative to the scene file's folder.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<String>,
 }
 
+/// The default object colour.
+fn white() -> Vec3 {
+    [1.0, 1.0, 1.0]
+}
+
 impl Default for Material {
     fn default() -> Self {
         Material {
-            color: [1.0, 1.0, 1.0],
+            color: white(),
             reflectivity: 0.0,
             texture: None,
         }

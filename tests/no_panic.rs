@@ -1,10 +1,13 @@
-//! No input panics the front end: random bytes and mutated scene files go
-//! through decoding, parsing, checking, `--fix` and every output format.
+//! No input panics the front end: random bytes and mutated scene files (and
+//! JSON scenes) go through decoding, parsing, checking, `--fix`, every
+//! diagnostic format and, when they check, every `convert` target.
 
 use std::path::Path;
 
 use proptest::prelude::*;
-use raytracer::check::{check_file, fix};
+use raytracer::check::{check, check_file, fix};
+use raytracer::commands::{self, Language};
+use raytracer::convert::{json, pov, scene_text};
 use raytracer::diagnostic::{BoxedDiagnostic, Report, SourceFile};
 use raytracer::syntax::parse;
 
@@ -47,6 +50,12 @@ const INTERESTING: &[char] = &[
     '\u{e9}',
     '\u{1F600}',
     '\0',
+    '{',
+    '}',
+    '[',
+    ']',
+    ',',
+    ':',
 ];
 
 /// Run everything the `check` command runs on `bytes`.
@@ -70,6 +79,40 @@ fn front_end(bytes: &[u8]) {
     let _ = report.render_human(80, false);
     let _ = report.render_short();
     let _ = serde_json::to_string(&report.entries().collect::<Vec<_>>());
+}
+
+/// JSON scenes to mutate: valid ones reaching every field, and the json::
+/// fixtures.
+const JSON_SEEDS: [&str; 4] = [
+    r#"{"format": "raytracer-scene/1", "camera": {"resolution": 4},
+  "objects": [{"type": "sphere", "center": [0, 1, -5], "radius": 1, "color": [0.3, 0.3, 0.3], "reflectivity": 0.7},
+              {"type": "plane", "center": [0, -1, -5], "width": 4, "height": 4, "normal": [0, 1, 0],
+               "headup": [0, 1, 1], "texture": "tiny.ppm"}],
+  "lights": [{"location": [-1, 2, -2], "color": [1, 0.7, 0.7]}]}"#,
+    include_str!("ui/json/schema.json"),
+    include_str!("ui/json/missing_field.json"),
+    include_str!("ui/json/duplicate_field.json"),
+];
+
+/// Read `bytes` as a JSON scene, check it, fix it, and convert it when it
+/// checks.
+fn json_front_end(bytes: &[u8]) {
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ui/scene"));
+    let (source, _) = SourceFile::from_bytes("fuzz.json", dir, bytes);
+    let (file, mut diagnostics) = commands::parse(Language::Json, &source.text);
+    if let Some(file) = file {
+        let _ = fix::apply(&source.text, &fix::fixes(&file));
+        let (checked, problems) = check(&file, &source);
+        diagnostics.extend(problems);
+        if let Some(checked) = checked {
+            let _ = json::to_json(&checked.scene);
+            let _ = scene_text::to_scene_text(&checked.scene);
+            let _ = pov::to_pov(&checked);
+        }
+    }
+    let report = Report::new(source, diagnostics);
+    let _ = report.render_human(80, false);
+    let _ = report.render_short();
 }
 
 #[derive(Clone, Debug)]
@@ -111,6 +154,19 @@ proptest! {
     #[test]
     fn random_bytes_do_not_panic(bytes in proptest::collection::vec(any::<u8>(), 0..300)) {
         front_end(&bytes);
+    }
+
+    #[test]
+    fn random_bytes_as_json_do_not_panic(bytes in proptest::collection::vec(any::<u8>(), 0..300)) {
+        json_front_end(&bytes);
+    }
+
+    #[test]
+    fn mutated_json_scenes_do_not_panic(
+        seed in 0..JSON_SEEDS.len(),
+        edits in proptest::collection::vec(edit(), 1..12),
+    ) {
+        json_front_end(mutate(JSON_SEEDS[seed], &edits).as_bytes());
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! UI tests: one fixture per diagnostic code in `tests/ui/<namespace>/<name>.txt`
-//! with an insta snapshot of its human rendering (plain Unicode, 80 columns)
+//! (`.json` for the `json` namespace, whose fixtures are JSON scenes) with an
+//! insta snapshot of its human rendering (plain Unicode, 80 columns)
 //! in `tests/ui/snapshots/`.
 //!
 //! Coverage cannot drift: every `code(...)` written in the diagnostic enums
@@ -12,9 +13,17 @@ use std::path::{Path, PathBuf};
 
 use raytracer::check::CheckError;
 use raytracer::commands::load;
+use raytracer::json::JsonError;
 use raytracer::syntax::SyntaxError;
 
-const ENUMS: [&str; 2] = ["src/check/errors.rs", "src/syntax/errors.rs"];
+const ENUMS: [&str; 3] = [
+    "src/check/errors.rs",
+    "src/syntax/errors.rs",
+    "src/json/errors.rs",
+];
+
+/// Each namespace's fixture folder and the extension of its fixtures.
+const NAMESPACES: [(&str, &str); 3] = [("syntax", "txt"), ("scene", "txt"), ("json", "json")];
 
 /// Every fixture, as a path relative to the crate root (so rendered file
 /// names and texture paths do not depend on where the repository is).
@@ -22,11 +31,11 @@ fn fixtures() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     std::env::set_current_dir(root).expect("cd to the crate root");
     let mut fixtures = Vec::new();
-    for namespace in ["syntax", "scene"] {
+    for (namespace, extension) in NAMESPACES {
         let dir = Path::new("tests/ui").join(namespace);
         for entry in std::fs::read_dir(&dir).expect("fixture dir") {
             let path = entry.expect("fixture").path();
-            if path.extension().is_some_and(|e| e == "txt") {
+            if path.extension().is_some_and(|e| e == extension) {
                 fixtures.push(path);
             }
         }
@@ -53,6 +62,7 @@ fn listed_codes() -> BTreeSet<&'static str> {
     CheckError::CODES
         .into_iter()
         .chain(SyntaxError::CODES)
+        .chain(JsonError::CODES)
         .collect()
 }
 

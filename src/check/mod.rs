@@ -13,7 +13,7 @@ pub mod errors;
 pub mod fix;
 pub mod format;
 pub mod geometry;
-mod schema;
+pub mod schema;
 mod sections;
 mod textures;
 

@@ -5,6 +5,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use crate::diagnostic::lowercase_first;
 use crate::ir::Texture;
 use crate::span::Spanned;
 use crate::texture::{self, TextureError};
@@ -114,14 +115,5 @@ fn io_reason(error: &std::io::Error) -> String {
         std::io::ErrorKind::NotFound => "no such file".to_string(),
         std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
         _ => lowercase_first(&error.to_string()),
-    }
-}
-
-/// OS and decoder messages start with a capital; diagnostics do not.
-fn lowercase_first(message: &str) -> String {
-    let mut chars = message.chars();
-    match chars.next() {
-        Some(first) => first.to_lowercase().chain(chars).collect(),
-        None => String::new(),
     }
 }

@@ -8,18 +8,19 @@
 //!
 //! With `--fix`, each file first gets the safe fixes of [`crate::check::fix`],
 //! written atomically (a temporary file beside it, then a rename), and is
-//! then checked, so the report shows what remains.
+//! then checked, so the report shows what remains. Fixes replace single
+//! numbers, so they apply to JSON scenes as they do to scene text.
 
 use std::io::Write;
 use std::path::Path;
 
 use miette::Diagnostic;
 
-use super::{load, Failure, Loaded, Outcome, ReadSceneError};
+use super::{load, parse, Failure, Language, Loaded, Outcome, ReadSceneError};
 use crate::check::fix;
 use crate::cli::{CheckArgs, Format};
 use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic, SourceFile};
-use crate::{output, syntax};
+use crate::output;
 
 /// Run `raytracer check`.
 pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
@@ -165,7 +166,10 @@ fn fix_in_place(path: &Path) -> Result<Vec<String>, WriteFixError> {
             "{name}: not fixed: the file is not valid UTF-8"
         )]);
     }
-    let fixes = fix::fixes(&syntax::parse(&source.text).file);
+    let Some(file) = parse(Language::of(path, &bytes), &source.text).0 else {
+        return Ok(Vec::new());
+    };
+    let fixes = fix::fixes(&file);
     if fixes.is_empty() {
         return Ok(Vec::new());
     }

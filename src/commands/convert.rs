@@ -1,9 +1,68 @@
-//! `raytracer convert`: not yet implemented.
+//! `raytracer convert`: load a scene (text or JSON), and print its checked
+//! model as JSON, canonical scene text or POV-Ray to stdout or, with `-o`,
+//! to a file written whole or not at all.
+//!
+//! A scene with errors converts to nothing: its diagnostics go to stderr and
+//! the command exits 1 without writing. Warnings go to stderr too, and the
+//! conversion goes ahead.
 
-use super::{Failure, Outcome};
-use crate::cli::ConvertArgs;
+use std::io::Write;
+
+use super::{load, Failure, Outcome};
+use crate::cli::{ConvertArgs, Target};
+use crate::convert::{json, pov, scene_text};
+use crate::diagnostic::{terminal_width, use_color};
+use crate::output::write_atomically;
+
+/// `-o PATH` could not be written.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+#[error("cannot write `{path}`: {reason}")]
+#[diagnostic(code(io::write_output))]
+pub struct WriteOutputError {
+    pub path: String,
+    pub reason: std::io::Error,
+}
 
 /// Run `raytracer convert`.
-pub fn run(_args: ConvertArgs) -> Result<Outcome, Failure> {
-    Err(miette::miette!("`convert` is not implemented yet").into())
+pub fn run(args: ConvertArgs) -> Result<Outcome, Failure> {
+    let loaded = match load(&args.scene) {
+        Ok(loaded) => loaded,
+        Err(error) => return Err(Box::new(error)),
+    };
+    let report = &loaded.report;
+    if !report.diagnostics.is_empty() {
+        let stderr = std::io::stderr();
+        eprint!(
+            "{}",
+            report.render_human(terminal_width(), use_color(&stderr))
+        );
+    }
+    let Some(checked) = &loaded.checked else {
+        return Ok(Outcome::SceneErrors);
+    };
+    let text = match args.to {
+        Target::Json => json::to_json(&checked.scene),
+        Target::Scene => {
+            scene_text::to_scene_text(&checked.scene).map_err(|e| Box::new(e) as Failure)?
+        }
+        Target::Pov => pov::to_pov(checked),
+    };
+    match &args.output {
+        Some(path) => {
+            write_atomically(path, |out| out.write_all(text.as_bytes())).map_err(|reason| {
+                Box::new(WriteOutputError {
+                    path: path.display().to_string(),
+                    reason,
+                }) as Failure
+            })?
+        }
+        None => {
+            let mut stdout = std::io::stdout().lock();
+            stdout
+                .write_all(text.as_bytes())
+                .and_then(|()| stdout.flush())
+                .map_err(|e| miette::miette!("cannot write to stdout: {e}"))?;
+        }
+    }
+    Ok(Outcome::Success)
 }

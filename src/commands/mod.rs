@@ -12,10 +12,11 @@ use std::time::Instant;
 
 use miette::Diagnostic;
 
+use crate::ast;
 use crate::check::Checked;
 use crate::cli::{Cli, Command};
 use crate::diagnostic::{BoxedDiagnostic, Report, SourceFile};
-use crate::{check as checker, syntax};
+use crate::{check as checker, json, syntax};
 
 /// How a command ended, when it ran to completion.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,8 +72,60 @@ pub struct Loaded {
     pub check_seconds: f64,
 }
 
-/// Read `path` (`-` is stdin), parse it as scene text (or JSON when it ends
-/// in `.json`) and check it.
+/// The languages a scene can be written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Language {
+    /// The scene language of SPEC.md §1.
+    Text,
+    /// The JSON layout of [`crate::model::Scene`].
+    Json,
+}
+
+impl Language {
+    /// JSON for a path ending in `.json` (any case), and for stdin whose
+    /// first non-blank character is `{` (which no scene file starts with);
+    /// scene text otherwise.
+    pub fn of(path: &Path, bytes: &[u8]) -> Language {
+        let json = if path == Path::new("-") {
+            bytes.trim_ascii_start().starts_with(b"{")
+        } else {
+            path.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        };
+        if json {
+            Language::Json
+        } else {
+            Language::Text
+        }
+    }
+}
+
+/// Parse `text` in `language` into the syntax tree the check pass reads
+/// (`None` when there is nothing to check: a JSON text that is not a scene
+/// of this format), with every problem found on the way.
+pub fn parse(language: Language, text: &str) -> (Option<ast::File>, Vec<BoxedDiagnostic>) {
+    fn boxed<D: miette::Diagnostic + Send + Sync + 'static>(
+        errors: Vec<D>,
+    ) -> Vec<BoxedDiagnostic> {
+        errors
+            .into_iter()
+            .map(|e| Box::new(e) as BoxedDiagnostic)
+            .collect()
+    }
+    match language {
+        Language::Text => {
+            let parsed = syntax::parse(text);
+            (Some(parsed.file), boxed(parsed.errors))
+        }
+        Language::Json => {
+            let parsed = json::parse(text);
+            (parsed.file, boxed(parsed.errors))
+        }
+    }
+}
+
+/// Read `path` (`-` is stdin), parse it as scene text or JSON (see
+/// [`Language::of`]) and check it.
 pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
     let start = Instant::now();
     let read_error = |source| ReadSceneError {
@@ -91,26 +144,37 @@ pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
         let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
         (path.display().to_string(), dir, bytes)
     };
-    Ok(load_bytes(&name, &dir, &bytes, start))
+    let language = Language::of(path, &bytes);
+    Ok(load_source(&name, &dir, &bytes, language, start))
 }
 
-/// Parse and check scene bytes named `name`, whose texture paths resolve
-/// against `dir`; `start` is when reading began, for the parse timing.
+/// Parse and check scene bytes named `name` (scene text, or JSON when the
+/// name ends in `.json`), whose texture paths resolve against `dir`;
+/// `start` is when reading began, for the parse timing.
 pub fn load_bytes(name: &str, dir: &Path, bytes: &[u8], start: Instant) -> Loaded {
+    load_source(
+        name,
+        dir,
+        bytes,
+        Language::of(Path::new(name), bytes),
+        start,
+    )
+}
+
+/// [`load_bytes`] in a given language.
+fn load_source(name: &str, dir: &Path, bytes: &[u8], language: Language, start: Instant) -> Loaded {
     let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
     let mut diagnostics: Vec<BoxedDiagnostic> = Vec::new();
     diagnostics.extend(utf8_error.map(|e| Box::new(e) as BoxedDiagnostic));
-    let parsed = syntax::parse(&source.text);
-    diagnostics.extend(
-        parsed
-            .errors
-            .into_iter()
-            .map(|e| Box::new(e) as BoxedDiagnostic),
-    );
+    let (file, parse_diagnostics) = parse(language, &source.text);
+    diagnostics.extend(parse_diagnostics);
     let parse_seconds = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    let (checked, check_diagnostics) = checker::check(&parsed.file, &source);
-    diagnostics.extend(check_diagnostics);
+    let checked = file.and_then(|file| {
+        let (checked, check_diagnostics) = checker::check(&file, &source);
+        diagnostics.extend(check_diagnostics);
+        checked
+    });
     let report = Report::new(source, diagnostics);
     let checked = checked.filter(|_| report.error_count() == 0);
     Loaded {

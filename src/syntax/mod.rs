@@ -49,7 +49,7 @@ pub fn parse(text: &str) -> Parsed {
 type Res<'a, T> = IResult<&'a str, T>;
 
 /// `line_end = "\n" | "\r" | "\u{85}" | "\u{2028}" | "\u{2029}" ;`
-fn is_line_end(c: char) -> bool {
+pub fn is_line_end(c: char) -> bool {
     matches!(c, '\n' | '\r' | '\u{85}' | '\u{2028}' | '\u{2029}')
 }
 
@@ -59,7 +59,7 @@ fn is_space_char(c: char) -> bool {
 }
 
 /// `word_char = ? any character ? - space_char - "#" - '"' ;`
-fn is_word_char(c: char) -> bool {
+pub fn is_word_char(c: char) -> bool {
     !is_space_char(c) && c != '#' && c != '"'
 }
 

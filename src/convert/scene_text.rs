@@ -1,0 +1,155 @@
+//! The canonical scene-text printer (`convert --to scene`).
+//!
+//! The layout is fixed, so printing is a formatter: the camera line, then
+//! each object in order, then each light, one blank line between sections;
+//! attributes two spaces in, in the order of SPEC.md §1's table (`dimension`,
+//! `center`, `normal`, `headup`, `color`, `reflectivity`, `texture`); a
+//! `color` of `1 1 1` and a `reflectivity` of `0` (the defaults) are left out.
+//!
+//! Numbers are the shortest text that reads back as the same `f64`, bit for
+//! bit ([`number`]), and texture paths are bare words where the grammar
+//! reads them back as one, quoted strings otherwise ([`path`]).
+
+use std::fmt::Write;
+
+use crate::ast::{AttrName, SectionKind};
+use crate::model::{self, Shape};
+use crate::syntax::{is_line_end, is_word_char};
+
+use super::UnprintablePath;
+
+/// `scene` as canonical scene text, ending in a newline.
+pub fn to_scene_text(scene: &model::Scene) -> Result<String, UnprintablePath> {
+    let mut out = format!("camera {}\n", scene.camera.resolution);
+    for object in &scene.objects {
+        out.push('\n');
+        match &object.shape {
+            Shape::Sphere { center, radius } => {
+                out.push_str("sphere\n");
+                line(&mut out, "dimension", &[*radius]);
+                line(&mut out, "center", center);
+            }
+            Shape::Plane {
+                center,
+                width,
+                height,
+                normal,
+                headup,
+            } => {
+                out.push_str("plane\n");
+                line(&mut out, "dimension", &[*width, *height]);
+                line(&mut out, "center", center);
+                line(&mut out, "normal", normal);
+                line(&mut out, "headup", headup);
+            }
+        }
+        let material = &object.material;
+        let default = model::Material::default();
+        if !same_bits(&material.color, &default.color) {
+            line(&mut out, "color", &material.color);
+        }
+        if !same_bits(&[material.reflectivity], &[default.reflectivity]) {
+            line(&mut out, "reflectivity", &[material.reflectivity]);
+        }
+        if let Some(texture) = &material.texture {
+            // Writing to a String cannot fail.
+            let _ = writeln!(out, "  texture {}", path(texture)?);
+        }
+    }
+    for light in &scene.lights {
+        out.push_str("\nlight\n");
+        line(&mut out, "location", &light.location);
+        line(&mut out, "color", &light.color);
+    }
+    Ok(out)
+}
+
+/// `  name v1 v2 v3`.
+fn line(out: &mut String, name: &str, values: &[f64]) {
+    let values: Vec<String> = values.iter().copied().map(number).collect();
+    let _ = writeln!(out, "  {name} {}", values.join(" "));
+}
+
+/// Equal bit for bit, so a `-0` reflectivity is printed, not dropped.
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.iter()
+        .map(|x| x.to_bits())
+        .eq(b.iter().map(|x| x.to_bits()))
+}
+
+/// `x` as the shortest scene-language number that reads back as exactly
+/// `x`: plain decimals from 1e-5 up to 1e15 (`0.3`, `-2`, `16384`, `-0`),
+/// an exponent outside that (`1e-7`, `1.5e300`). Rust's `Display` and
+/// `LowerExp` for `f64` print the fewest digits that round-trip.
+/// `x` must be finite, as every number in a checked scene is.
+pub fn number(x: f64) -> String {
+    let magnitude = x.abs();
+    if magnitude == 0.0 || (1e-5..1e15).contains(&magnitude) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// A texture path as the grammar reads it back: a bare word when it is one
+/// and is no keyword (which the parser would read as a keyword instead), a
+/// double-quoted string with `\"` and `\\` escapes otherwise.
+pub fn path(path: &str) -> Result<String, UnprintablePath> {
+    if path.chars().any(is_line_end) {
+        return Err(UnprintablePath {
+            path: path.to_string(),
+        });
+    }
+    let keyword = SectionKind::from_word(path) != SectionKind::Unknown(path.to_string())
+        || AttrName::from_word(path) != AttrName::Unknown(path.to_string());
+    if !path.is_empty() && !keyword && path.chars().all(is_word_char) {
+        return Ok(path.to_string());
+    }
+    let escaped = path.replace('\\', "\\\\").replace('"', "\\\"");
+    Ok(format!("\"{escaped}\""))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_short_exact_and_grammatical() {
+        for (x, text) in [
+            (0.3, "0.3"),
+            (1.0, "1"),
+            (-2.0, "-2"),
+            (16384.0, "16384"),
+            (-0.0, "-0"),
+            (0.0, "0"),
+            (1e-5, "0.00001"),
+            (1e-7, "1e-7"),
+            (1e15, "1e15"),
+            (1e300, "1e300"),
+            (-1.5e-300, "-1.5e-300"),
+            (f64::MAX, "1.7976931348623157e308"),
+            (f64::MIN_POSITIVE, "2.2250738585072014e-308"),
+            (5e-324, "5e-324"),
+            (0.1 + 0.2, "0.30000000000000004"),
+        ] {
+            assert_eq!(number(x), text);
+            let back: f64 = text.parse().unwrap();
+            assert_eq!(back.to_bits(), x.to_bits(), "{text}");
+            let parsed = crate::syntax::parse(&format!("camera {text}"));
+            assert!(parsed.errors.is_empty(), "{text}: {:?}", parsed.errors);
+        }
+    }
+
+    #[test]
+    fn paths_are_bare_words_or_quoted_strings() {
+        assert_eq!(path("wood_tex.ppm").unwrap(), "wood_tex.ppm");
+        assert_eq!(path("dir/1.ppm").unwrap(), "dir/1.ppm");
+        assert_eq!(path("my wood.ppm").unwrap(), "\"my wood.ppm\"");
+        assert_eq!(path("a\"b\\c.ppm").unwrap(), r#""a\"b\\c.ppm""#);
+        assert_eq!(path("#1.ppm").unwrap(), "\"#1.ppm\"");
+        assert_eq!(path("").unwrap(), "\"\"");
+        assert_eq!(path("color").unwrap(), "\"color\"");
+        assert_eq!(path("plane").unwrap(), "\"plane\"");
+        assert_eq!(path("a\u{2028}b").unwrap_err().path, "a\u{2028}b");
+    }
+}

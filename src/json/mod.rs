@@ -1,0 +1,659 @@
+//! Reading JSON scenes (the layout of [`crate::model::Scene`], documented in
+//! docs/formats.md) into the same [`ast::File`] the scene-text parser builds.
+//!
+//! Every section, attribute and value in that tree carries the byte span of
+//! the JSON text it came from, so the check pass runs unchanged on JSON input
+//! and each of its `scene::` diagnostics labels the JSON value at fault. Only
+//! what scene text cannot get wrong the same way is reported here, under
+//! `json::` ([`JsonError`]): invalid JSON, a wrong type or length, missing,
+//! unknown and repeated fields, an unsupported `format`.
+//!
+//! The text is parsed by `jsonc-parser` in strict mode (it keeps the byte
+//! range of every value) and then validated by `serde_json`, the parser that
+//! defines which JSON the scene model accepts, so nothing it rejects slips
+//! through. Where this module reports a problem it puts placeholders
+//! ([`Value::Invalid`]) in the tree, which the check pass reads as "already
+//! reported": each mistake is reported once.
+
+pub mod errors;
+
+use jsonc_parser::ast::{Array, Object, ObjectProp, Value as Json};
+use jsonc_parser::common::Ranged;
+use jsonc_parser::{CollectOptions, ParseOptions};
+
+use crate::ast::{AttrName, Attribute, File, Section, SectionKind, Value};
+use crate::diagnostic::lowercase_first;
+use crate::model;
+use crate::span::{Span, Spanned};
+use crate::suggest;
+pub use errors::JsonError;
+
+/// The result of reading a JSON scene: the tree and every problem found in
+/// its text and shape.
+#[derive(Debug)]
+pub struct Parsed {
+    /// `None` when there is no scene to check: the text is not JSON, not an
+    /// object, or of another format version.
+    pub file: Option<File>,
+    pub errors: Vec<JsonError>,
+}
+
+/// Read a JSON scene. Never fails and never panics: problems are returned in
+/// [`Parsed::errors`] and the tree holds everything that could be read.
+pub fn parse(text: &str) -> Parsed {
+    let mut reader = Reader {
+        errors: Vec::new(),
+        sections: Vec::new(),
+    };
+    let read = match syntax_tree(text) {
+        Ok(root) => reader.root(&root),
+        Err(error) => {
+            reader.errors.push(error);
+            false
+        }
+    };
+    Parsed {
+        file: read.then_some(File {
+            sections: reader.sections,
+        }),
+        errors: reader.errors,
+    }
+}
+
+/// The spanned tree of `text`, or its first syntax error.
+fn syntax_tree(text: &str) -> Result<Json<'_>, JsonError> {
+    let strict = ParseOptions {
+        allow_comments: false,
+        allow_loose_object_property_names: false,
+        allow_trailing_commas: false,
+        allow_missing_commas: false,
+        allow_single_quoted_strings: false,
+        allow_hexadecimal_numbers: false,
+        allow_unary_plus_numbers: false,
+        allow_bare_decimal_point_numbers: false,
+        allow_non_finite_numbers: false,
+        allow_extended_string_escapes: false,
+    };
+    let parsed =
+        jsonc_parser::parse_to_ast(text, &CollectOptions::default(), &strict).map_err(|error| {
+            let range = error.range();
+            JsonError::Syntax {
+                message: lowercase_first(&error.kind().to_string()),
+                span: Span::new(range.start, range.end.max(range.start)).into(),
+            }
+        })?;
+    // serde_json has the last word on what is JSON: it also rejects what a
+    // JSONC parser lets through (control characters in strings, numbers
+    // out of range, an empty file).
+    if let Err(error) = serde_json::from_str::<serde_json::Value>(text) {
+        return Err(serde_json_error(text, &error));
+    }
+    parsed.value.ok_or_else(|| JsonError::Syntax {
+        message: "the file holds no JSON value".to_string(),
+        span: Span::point(0).into(),
+    })
+}
+
+/// A serde_json error as a diagnostic at the character it points after.
+fn serde_json_error(text: &str, error: &serde_json::Error) -> JsonError {
+    let suffix = format!(" at line {} column {}", error.line(), error.column());
+    let message = error.to_string();
+    let message = message.strip_suffix(&suffix).unwrap_or(&message);
+    // serde_json's column counts bytes from the line start, up to and
+    // including the character it stopped at.
+    let line_start: usize = text
+        .split_inclusive('\n')
+        .take(error.line().saturating_sub(1))
+        .map(str::len)
+        .sum();
+    let end = floor_char_boundary(text, line_start + error.column());
+    let start = text[..end]
+        .char_indices()
+        .next_back()
+        .map_or(end, |(i, _)| i.max(line_start));
+    JsonError::Syntax {
+        message: message.to_string(),
+        span: Span::new(start, end).into(),
+    }
+}
+
+fn floor_char_boundary(text: &str, mut offset: usize) -> usize {
+    offset = offset.min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    offset
+}
+
+/// A JSON Pointer (RFC 6901) to a value, for messages.
+#[derive(Clone, Debug, Default)]
+struct Pointer(String);
+
+impl Pointer {
+    fn child(&self, segment: &str) -> Pointer {
+        Pointer(format!(
+            "{}/{}",
+            self.0,
+            segment.replace('~', "~0").replace('/', "~1")
+        ))
+    }
+
+    fn index(&self, i: usize) -> Pointer {
+        Pointer(format!("{}/{i}", self.0))
+    }
+
+    /// "`/objects/2/normal`", or "the top level" for the whole document.
+    fn place(&self) -> String {
+        if self.0.is_empty() {
+            "the top level".to_string()
+        } else {
+            format!("`{}`", self.0)
+        }
+    }
+}
+
+fn span_of(node: &impl Ranged) -> Span {
+    let range = node.range();
+    Span::new(range.start, range.end)
+}
+
+/// The opening brace of an object: where "this object" labels point.
+fn brace(object: &Object<'_>) -> Span {
+    Span::new(object.range.start, object.range.start + 1)
+}
+
+/// "a string", "an array of 2 values": what a JSON value is, for messages.
+fn describe(value: &Json<'_>) -> String {
+    match value {
+        Json::StringLit(s) => format!("the string `{:?}`", s.value),
+        Json::NumberLit(n) => format!("the number `{}`", n.value),
+        Json::BooleanLit(b) => format!("`{}`", b.value),
+        Json::NullKeyword(_) => "`null`".to_string(),
+        Json::Object(_) => "an object".to_string(),
+        Json::Array(a) => match a.elements.len() {
+            0 => "an empty array".to_string(),
+            1 => "an array of 1 value".to_string(),
+            n => format!("an array of {n} values"),
+        },
+    }
+}
+
+/// One field an object takes: its name and a value to show in help lines.
+struct Field {
+    name: &'static str,
+    example: &'static str,
+    required: bool,
+}
+
+const fn field(name: &'static str, example: &'static str, required: bool) -> Field {
+    Field {
+        name,
+        example,
+        required,
+    }
+}
+
+const COLOR: Field = field("color", "[1, 1, 1]", false);
+const REFLECTIVITY: Field = field("reflectivity", "0.5", false);
+const TEXTURE: Field = field("texture", "\"wood_tex.ppm\"", false);
+const CENTER: Field = field("center", "[0, 0, -5]", true);
+
+const ROOT: [Field; 4] = [
+    field("format", "\"raytracer-scene/1\"", true),
+    field("camera", "{\"resolution\": 400}", true),
+    field("objects", "[]", false),
+    field("lights", "[]", false),
+];
+const CAMERA: [Field; 1] = [field("resolution", "400", true)];
+const SPHERE: [Field; 6] = [
+    field("type", "\"sphere\"", true),
+    CENTER,
+    field("radius", "1", true),
+    COLOR,
+    REFLECTIVITY,
+    TEXTURE,
+];
+const PLANE: [Field; 9] = [
+    field("type", "\"plane\"", true),
+    CENTER,
+    field("width", "4", true),
+    field("height", "4", true),
+    field("normal", "[0, 1, 0]", true),
+    field("headup", "[0, 0, -1]", true),
+    COLOR,
+    REFLECTIVITY,
+    TEXTURE,
+];
+const LIGHT: [Field; 2] = [
+    field("location", "[0, 2, 0]", true),
+    field("color", "[1, 1, 1]", true),
+];
+/// The `type` of an object, in documentation order.
+const TYPES: [&str; 2] = ["sphere", "plane"];
+
+/// The fields of one object that it takes, first occurrence of each.
+struct Fields<'v, 'a> {
+    path: Pointer,
+    given: Vec<&'v ObjectProp<'a>>,
+}
+
+impl<'v, 'a> Fields<'v, 'a> {
+    fn get(&self, name: &str) -> Option<&'v ObjectProp<'a>> {
+        self.given.iter().copied().find(|p| p.name.as_str() == name)
+    }
+}
+
+/// The reading state: problems found and sections built so far.
+struct Reader {
+    errors: Vec<JsonError>,
+    sections: Vec<Section>,
+}
+
+impl Reader {
+    /// The whole document: `{"format", "camera", "objects", "lights"}`.
+    /// False when it is no scene of this format at all.
+    fn root(&mut self, root: &Json<'_>) -> bool {
+        let path = Pointer::default();
+        let Some(object) = self.object(root, &path) else {
+            return false;
+        };
+        // The format first: another version's fields mean other things, so
+        // with an unsupported one nothing else is read or reported.
+        let format = object
+            .properties
+            .iter()
+            .find(|p| p.name.as_str() == "format");
+        if let Some(format) = format {
+            match &format.value {
+                Json::StringLit(s) if s.value == model::FORMAT => {}
+                Json::StringLit(s) => {
+                    self.errors.push(JsonError::UnsupportedFormat {
+                        expected: model::FORMAT.to_string(),
+                        found: s.value.to_string(),
+                        span: span_of(s).into(),
+                    });
+                    return false;
+                }
+                other => self.wrong_type(
+                    other,
+                    &path.child("format"),
+                    "a string",
+                    format!("write `\"format\": \"{}\"`", model::FORMAT),
+                ),
+            }
+        }
+        let fields = self.fields(object, &path, &ROOT);
+        self.require(&fields, &ROOT, brace(object));
+        match fields.get("camera") {
+            Some(camera) => self.camera(camera, &path.child("camera")),
+            // Reported missing above; keep the check pass from saying so too.
+            None => self.sections.push(Section {
+                kind: Spanned::new(brace(object), SectionKind::Camera),
+                args: vec![Spanned::new(brace(object), Value::Invalid)],
+                attributes: Vec::new(),
+                span: brace(object),
+            }),
+        }
+        for (name, each) in [
+            (
+                "objects",
+                Self::scene_object as fn(&mut Self, &Json<'_>, &Pointer),
+            ),
+            ("lights", Self::light),
+        ] {
+            let Some(list) = fields.get(name) else {
+                continue;
+            };
+            let path = path.child(name);
+            if let Some(array) = self.array(&list.value, &path) {
+                for (i, element) in array.elements.iter().enumerate() {
+                    each(self, element, &path.index(i));
+                }
+            }
+        }
+        true
+    }
+
+    /// `"camera": {"resolution": N}`.
+    fn camera(&mut self, prop: &ObjectProp<'_>, path: &Pointer) {
+        let key = span_of(&prop.name);
+        let mut section = Section {
+            kind: Spanned::new(key, SectionKind::Camera),
+            args: Vec::new(),
+            attributes: Vec::new(),
+            span: span_of(prop),
+        };
+        let resolution = match self.object(&prop.value, path) {
+            Some(object) => {
+                let fields = self.fields(object, path, &CAMERA);
+                self.require(&fields, &CAMERA, brace(object));
+                fields
+                    .get("resolution")
+                    .map(|r| self.number(&r.value, &path.child("resolution")))
+            }
+            None => None,
+        };
+        section
+            .args
+            .push(resolution.unwrap_or(Spanned::new(key, Value::Invalid)));
+        self.sections.push(section);
+    }
+
+    /// One element of `objects`: a sphere or a plane, by its `type`.
+    fn scene_object(&mut self, value: &Json<'_>, path: &Pointer) {
+        let Some(object) = self.object(value, path) else {
+            return;
+        };
+        let type_prop = object.properties.iter().find(|p| p.name.as_str() == "type");
+        let Some(type_prop) = type_prop else {
+            self.errors.push(JsonError::MissingField {
+                names: "`type`".to_string(),
+                place: path.place(),
+                span: brace(object).into(),
+                help: "add `\"type\": \"sphere\"` or `\"type\": \"plane\"` to this object"
+                    .to_string(),
+            });
+            return;
+        };
+        let type_path = path.child("type");
+        let (kind, fields): (SectionKind, &[Field]) = match &type_prop.value {
+            Json::StringLit(s) if s.value == "sphere" => (SectionKind::Sphere, &SPHERE),
+            Json::StringLit(s) if s.value == "plane" => (SectionKind::Plane, &PLANE),
+            other => {
+                let help = match other {
+                    Json::StringLit(s) => suggest::nearest(&s.value, &TYPES)
+                        .map(|(near, _)| format!("did you mean `\"{near}\"`?")),
+                    _ => None,
+                };
+                self.errors.push(JsonError::Schema {
+                    expected: "`\"sphere\"` or `\"plane\"`".to_string(),
+                    place: type_path.place(),
+                    found: describe(other),
+                    span: span_of(other).into(),
+                    help: help.unwrap_or_else(|| {
+                        "an object's `type` is `\"sphere\"` or `\"plane\"`".to_string()
+                    }),
+                });
+                return;
+            }
+        };
+        let given = self.fields(object, path, fields);
+        self.require(&given, fields, brace(object));
+        let mut attributes = Vec::new();
+        let center = self.vector_attribute(&given, "center", AttrName::Center, brace(object));
+        if kind == SectionKind::Sphere {
+            attributes.push(self.dimension(&given, &["radius"], brace(object)));
+            attributes.push(center);
+        } else {
+            attributes.push(self.dimension(&given, &["width", "height"], brace(object)));
+            attributes.push(center);
+            for (name, attr) in [("normal", AttrName::Normal), ("headup", AttrName::Headup)] {
+                attributes.push(self.vector_attribute(&given, name, attr, brace(object)));
+            }
+        }
+        if let Some(color) = given.get("color") {
+            attributes.push(self.vector(color, AttrName::Color, &path.child("color")));
+        }
+        if let Some(k) = given.get("reflectivity") {
+            let value = self.number(&k.value, &path.child("reflectivity"));
+            attributes.push(attribute(k, AttrName::Reflectivity, vec![value]));
+        }
+        if let Some(texture) = given.get("texture") {
+            attributes.extend(self.texture(texture, &path.child("texture")));
+        }
+        self.sections.push(Section {
+            kind: Spanned::new(span_of(&type_prop.value), kind),
+            args: Vec::new(),
+            attributes,
+            span: span_of(object),
+        });
+    }
+
+    /// One element of `lights`.
+    fn light(&mut self, value: &Json<'_>, path: &Pointer) {
+        let Some(object) = self.object(value, path) else {
+            return;
+        };
+        let given = self.fields(object, path, &LIGHT);
+        self.require(&given, &LIGHT, brace(object));
+        let attributes = vec![
+            self.vector_attribute(&given, "location", AttrName::Location, brace(object)),
+            self.vector_attribute(&given, "color", AttrName::Color, brace(object)),
+        ];
+        self.sections.push(Section {
+            kind: Spanned::new(brace(object), SectionKind::Light),
+            args: Vec::new(),
+            attributes,
+            span: span_of(object),
+        });
+    }
+
+    /// The `dimension` attribute from the fields `names` (`radius`, or
+    /// `width` and `height`), with a placeholder for each missing one.
+    fn dimension(&mut self, given: &Fields<'_, '_>, names: &[&str], missing: Span) -> Attribute {
+        let mut values = Vec::new();
+        let mut name_span = None;
+        let mut span = missing;
+        for name in names {
+            match given.get(name) {
+                Some(prop) => {
+                    name_span.get_or_insert(span_of(&prop.name));
+                    span = if values.is_empty() {
+                        span_of(prop)
+                    } else {
+                        span.join(span_of(prop))
+                    };
+                    values.push(self.number(&prop.value, &given.path.child(name)));
+                }
+                None => values.push(Spanned::new(missing, Value::Invalid)),
+            }
+        }
+        Attribute {
+            name: Spanned::new(name_span.unwrap_or(missing), AttrName::Dimension),
+            values,
+            span,
+        }
+    }
+
+    /// A required three-number attribute, or a placeholder when missing.
+    fn vector_attribute(
+        &mut self,
+        given: &Fields<'_, '_>,
+        name: &str,
+        attr: AttrName,
+        missing: Span,
+    ) -> Attribute {
+        match given.get(name) {
+            Some(prop) => self.vector(prop, attr, &given.path.child(name)),
+            None => Attribute {
+                name: Spanned::new(missing, attr),
+                values: vec![Spanned::new(missing, Value::Invalid); 3],
+                span: missing,
+            },
+        }
+    }
+
+    /// `[x, y, z]` as an attribute of three values.
+    fn vector(&mut self, prop: &ObjectProp<'_>, attr: AttrName, path: &Pointer) -> Attribute {
+        let values = match &prop.value {
+            Json::Array(array) if array.elements.len() == 3 => array
+                .elements
+                .iter()
+                .enumerate()
+                .map(|(i, element)| self.number(element, &path.index(i)))
+                .collect(),
+            other => {
+                self.wrong_type(
+                    other,
+                    path,
+                    "an array of 3 numbers",
+                    "write three numbers, such as `[0, 1, -5]`".to_string(),
+                );
+                vec![Spanned::new(span_of(other), Value::Invalid); 3]
+            }
+        };
+        attribute(prop, attr, values)
+    }
+
+    /// `"texture": "path"`; `null` means no texture, as in the serde model.
+    fn texture(&mut self, prop: &ObjectProp<'_>, path: &Pointer) -> Option<Attribute> {
+        let value = match &prop.value {
+            Json::NullKeyword(_) => return None,
+            Json::StringLit(s) => Spanned::new(span_of(s), Value::Text(s.value.to_string())),
+            other => {
+                self.wrong_type(
+                    other,
+                    path,
+                    "a string",
+                    "write the image path as a string, such as `\"wood_tex.ppm\"`".to_string(),
+                );
+                Spanned::new(span_of(other), Value::Invalid)
+            }
+        };
+        Some(attribute(prop, AttrName::Texture, vec![value]))
+    }
+
+    /// A number value, or a placeholder after reporting what is there.
+    fn number(&mut self, value: &Json<'_>, path: &Pointer) -> Spanned<Value> {
+        let span = span_of(value);
+        match value {
+            Json::NumberLit(n) => match n.value.parse::<f64>() {
+                Ok(x) if x.is_finite() => Spanned::new(span, Value::Number(x)),
+                // serde_json rejected this already; never trust it twice.
+                _ => {
+                    self.errors.push(JsonError::Syntax {
+                        message: format!("number `{}` is out of range", n.value),
+                        span: span.into(),
+                    });
+                    Spanned::new(span, Value::Invalid)
+                }
+            },
+            other => {
+                self.wrong_type(
+                    other,
+                    path,
+                    "a number",
+                    "numbers are written without quotes, such as `1`, `-0.5` or `1e3`".to_string(),
+                );
+                Spanned::new(span, Value::Invalid)
+            }
+        }
+    }
+
+    /// The object `value` is, or `None` after reporting what it is.
+    fn object<'v, 'a>(&mut self, value: &'v Json<'a>, path: &Pointer) -> Option<&'v Object<'a>> {
+        match value {
+            Json::Object(object) => Some(object),
+            other => {
+                self.wrong_type(
+                    other,
+                    path,
+                    "an object",
+                    "see docs/formats.md for the layout of a JSON scene".to_string(),
+                );
+                None
+            }
+        }
+    }
+
+    /// The array `value` is, or `None` after reporting what it is.
+    fn array<'v, 'a>(&mut self, value: &'v Json<'a>, path: &Pointer) -> Option<&'v Array<'a>> {
+        match value {
+            Json::Array(array) => Some(array),
+            other => {
+                self.wrong_type(
+                    other,
+                    path,
+                    "an array",
+                    "write a list in brackets, such as `[]` for none".to_string(),
+                );
+                None
+            }
+        }
+    }
+
+    fn wrong_type(&mut self, found: &Json<'_>, path: &Pointer, expected: &str, help: String) {
+        self.errors.push(JsonError::Schema {
+            expected: expected.to_string(),
+            place: path.place(),
+            found: describe(found),
+            span: span_of(found).into(),
+            help,
+        });
+    }
+
+    /// The fields of `object` that `takes` lists, reporting unknown and
+    /// repeated ones.
+    fn fields<'v, 'a>(
+        &mut self,
+        object: &'v Object<'a>,
+        path: &Pointer,
+        takes: &[Field],
+    ) -> Fields<'v, 'a> {
+        let names: Vec<&str> = takes.iter().map(|f| f.name).collect();
+        let mut given: Vec<&'v ObjectProp<'a>> = Vec::new();
+        for prop in &object.properties {
+            let name = prop.name.as_str();
+            if let Some(first) = given.iter().find(|p| p.name.as_str() == name) {
+                self.errors.push(JsonError::DuplicateField {
+                    name: name.to_string(),
+                    place: path.place(),
+                    first: span_of(&first.name).into(),
+                    second: span_of(&prop.name).into(),
+                });
+            } else if names.contains(&name) {
+                given.push(prop);
+            } else {
+                let help = match suggest::nearest(name, &names) {
+                    Some((near, _)) => format!("did you mean `{near}`?"),
+                    None => format!("this object takes {}", crate::check::schema::list(&names)),
+                };
+                self.errors.push(JsonError::UnknownField {
+                    found: name.to_string(),
+                    place: path.place(),
+                    span: span_of(&prop.name).into(),
+                    help,
+                });
+            }
+        }
+        Fields {
+            path: path.clone(),
+            given,
+        }
+    }
+
+    /// Report the required fields of `takes` that `given` lacks, in one
+    /// diagnostic labelled at `at`.
+    fn require(&mut self, given: &Fields<'_, '_>, takes: &[Field], at: Span) {
+        let missing: Vec<&Field> = takes
+            .iter()
+            .filter(|f| f.required && given.get(f.name).is_none())
+            .collect();
+        if missing.is_empty() {
+            return;
+        }
+        let names: Vec<&str> = missing.iter().map(|f| f.name).collect();
+        let example: Vec<String> = missing
+            .iter()
+            .map(|f| format!("\"{}\": {}", f.name, f.example))
+            .collect();
+        self.errors.push(JsonError::MissingField {
+            names: crate::check::schema::list(&names),
+            place: given.path.place(),
+            span: at.into(),
+            help: format!("add `{}` to this object", example.join(", ")),
+        });
+    }
+}
+
+/// An attribute named by an object field, spanning the whole field.
+fn attribute(prop: &ObjectProp<'_>, name: AttrName, values: Vec<Spanned<Value>>) -> Attribute {
+    Attribute {
+        name: Spanned::new(span_of(&prop.name), name),
+        values,
+        span: span_of(prop),
+    }
+}
+
+#[cfg(test)]
+mod tests;

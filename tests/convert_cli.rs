@@ -1,0 +1,178 @@
+//! `raytracer convert` end to end, and `.json` scenes through `check` and
+//! `render`: output to stdout and to `-o`, exit codes, nothing written for
+//! a bad scene, diagnostics with JSON line and column.
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+const SCENE: &str = "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\n  color .5 .25 1\n\
+                     light location 0 5 0 color 1 1 1\n";
+const CANONICAL: &str =
+    "camera 4\n\nsphere\n  dimension 1\n  center 0 0 -5\n  color 0.5 0.25 1\n\n\
+                         light\n  location 0 5 0\n  color 1 1 1\n";
+
+fn raytracer(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raytracer"))
+        .args(args)
+        .current_dir(dir)
+        .env_remove("COLUMNS")
+        .stdin(Stdio::null())
+        .output()
+        .expect("run raytracer")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8(bytes.to_vec()).unwrap()
+}
+
+#[test]
+fn converts_to_stdout_and_back() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.txt"), SCENE).unwrap();
+    let json = raytracer(&["convert", "s.txt", "--to", "json"], dir.path());
+    assert_eq!(json.status.code(), Some(0), "{}", text(&json.stderr));
+    assert!(text(&json.stdout).starts_with("{\n  \"format\": \"raytracer-scene/1\",\n"));
+    std::fs::write(dir.path().join("s.json"), &json.stdout).unwrap();
+    let back = raytracer(&["convert", "s.json", "--to", "scene"], dir.path());
+    assert_eq!(back.status.code(), Some(0), "{}", text(&back.stderr));
+    assert_eq!(text(&back.stdout), CANONICAL);
+    let pov = raytracer(&["convert", "s.json", "--to", "pov"], dir.path());
+    assert_eq!(pov.status.code(), Some(0));
+    assert!(text(&pov.stdout).contains("sphere {\n  <0, 0, 5>, 1\n"));
+}
+
+#[test]
+fn json_scenes_check_and_render_like_scene_text() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.txt"), SCENE).unwrap();
+    let json = raytracer(
+        &["convert", "s.txt", "--to", "json", "-o", "s.json"],
+        dir.path(),
+    );
+    assert_eq!(json.status.code(), Some(0), "{}", text(&json.stderr));
+    assert!(json.stdout.is_empty());
+    let check = raytracer(&["check", "s.json"], dir.path());
+    assert_eq!(check.status.code(), Some(0), "{}", text(&check.stdout));
+    assert_eq!(text(&check.stdout), "s.json: ok; effects: shadows\n");
+    for scene in ["s.txt", "s.json"] {
+        let out = format!("{scene}.ppm");
+        let render = raytracer(&["render", scene, &out, "--quiet"], dir.path());
+        assert_eq!(render.status.code(), Some(0), "{}", text(&render.stderr));
+    }
+    let from_text = std::fs::read(dir.path().join("s.txt.ppm")).unwrap();
+    let from_json = std::fs::read(dir.path().join("s.json.ppm")).unwrap();
+    assert_eq!(from_text, from_json);
+}
+
+#[test]
+fn scene_rules_apply_to_json_with_labels_on_the_json_text() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = r#"{
+  "format": "raytracer-scene/1",
+  "camera": {"resolution": 4},
+  "objects": [{"type": "sphere", "center": [0, 0, -5], "radius": -1}]
+}
+"#;
+    std::fs::write(dir.path().join("bad.json"), json).unwrap();
+    let check = raytracer(&["check", "bad.json", "--format", "short"], dir.path());
+    assert_eq!(check.status.code(), Some(1));
+    assert_eq!(
+        text(&check.stdout),
+        "bad.json:4:66: error[scene::dimension_not_positive]: the radius must be greater than 0, \
+         found `-1`\nbad.json: 1 error, 0 warnings\n"
+    );
+}
+
+#[test]
+fn a_scene_with_errors_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("bad.json"),
+        "{\"format\": \"raytracer-scene/1\",}",
+    )
+    .unwrap();
+    let out = raytracer(
+        &["convert", "bad.json", "--to", "scene", "-o", "out.txt"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("json::syntax"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(
+        text(&out.stderr).contains("bad.json:1:31"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(!dir.path().join("out.txt").exists());
+    assert!(out.stdout.is_empty());
+}
+
+#[test]
+fn unreadable_input_and_unwritable_output_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = raytracer(&["convert", "missing.txt", "--to", "json"], dir.path());
+    assert_eq!(missing.status.code(), Some(2));
+    assert!(text(&missing.stderr).contains("io::read_scene"));
+
+    std::fs::write(dir.path().join("s.txt"), SCENE).unwrap();
+    let nowhere = raytracer(
+        &[
+            "convert",
+            "s.txt",
+            "--to",
+            "json",
+            "-o",
+            "no/such/dir/s.json",
+        ],
+        dir.path(),
+    );
+    assert_eq!(nowhere.status.code(), Some(2));
+    assert!(text(&nowhere.stderr).contains("io::write_output"));
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+
+    let usage = raytracer(&["convert", "s.txt", "--to", "yaml"], dir.path());
+    assert_eq!(usage.status.code(), Some(2));
+}
+
+#[test]
+fn stdin_json_is_recognised_by_its_brace() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.txt"), SCENE).unwrap();
+    let json = raytracer(&["convert", "s.txt", "--to", "json"], dir.path()).stdout;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raytracer"))
+        .args(["convert", "-", "--to", "scene"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::io::Write::write_all(&mut child.stdin.take().unwrap(), &json).unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), CANONICAL);
+}
+
+#[test]
+fn fix_rewrites_json_numbers_in_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = r#"{"format": "raytracer-scene/1", "camera": {"resolution": 4},
+  "objects": [{"type": "plane", "center": [0, -1, -5], "width": 4, "height": 4,
+               "normal": [0, 2, 0], "headup": [0, 1, 1]}]}
+"#;
+    std::fs::write(dir.path().join("p.json"), json).unwrap();
+    let fix = raytracer(&["check", "p.json", "--fix"], dir.path());
+    assert_eq!(fix.status.code(), Some(0), "{}", text(&fix.stdout));
+    let fixed = std::fs::read_to_string(dir.path().join("p.json")).unwrap();
+    assert!(
+        fixed.contains(r#""normal": [0, 1, 0], "headup": [0, 0, 1]"#),
+        "{fixed}"
+    );
+    assert!(
+        text(&fix.stdout).contains("p.json: ok"),
+        "{}",
+        text(&fix.stdout)
+    );
+}

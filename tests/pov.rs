@@ -1,0 +1,187 @@
+//! `convert --to pov` end to end against the real POV-Ray: for every
+//! checkable scene in the corpus and in scenes/, our renderer and `povray`
+//! agree on which pixels an object covers, except on silhouettes.
+//!
+//! The comparison renders a coverage copy of each scene (no lights, every
+//! object white with reflectivity 0 and no texture, at a smaller size), so
+//! a covered pixel is the ambient 0.1 (26/255) in both renderers and the
+//! background is black. Pixels may differ only where the pixel has a
+//! neighbour of the other class in either image (sampling positions and
+//! edge tests differ by rounding there).
+//!
+//! POV-Ray is a Debian package (`povray`) that .ci/run installs; without it
+//! the test fails under `CI=true` and says it was skipped otherwise.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use raytracer::commands::load;
+use raytracer::convert::scene_text::to_scene_text;
+use raytracer::model::{Material, Scene};
+
+const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/corpus/field");
+const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
+const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";
+/// The coverage images' width and height.
+const SIZE: u32 = 96;
+/// A covered pixel is 26/255 and the background 0: split halfway.
+const COVERED: u8 = 13;
+
+/// True when `povray` runs; under CI its absence is a failure.
+fn povray_available() -> bool {
+    let found = Command::new("povray")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !found {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "`povray` is not installed, and CI must run the POV-Ray comparison: \
+             .ci/run installs it (`apt-get install -y povray`)"
+        );
+        eprintln!("SKIPPED: `povray` is not installed (`apt-get install povray`)");
+    }
+    found
+}
+
+fn run(command: &mut Command) {
+    let output = command.output().expect("start the command");
+    assert!(
+        output.status.success(),
+        "{command:?} failed:\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+/// Every checkable scene text in the corpus and scenes/.
+fn scenes() -> Vec<PathBuf> {
+    let corpus =
+        std::env::var_os("RAYTRACER_CORPUS").map_or_else(|| PathBuf::from(CORPUS), PathBuf::from);
+    assert!(
+        corpus.is_dir(),
+        "the scene corpus is missing: {}",
+        corpus.display()
+    );
+    let mut scenes = Vec::new();
+    for folder in [corpus, PathBuf::from(SCENES)] {
+        for entry in std::fs::read_dir(folder).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().to_string();
+            if (name.ends_with(".txt") || name.ends_with(".scene"))
+                && name != "SOURCE.txt"
+                && name != PARALLEL
+            {
+                scenes.push(path);
+            }
+        }
+    }
+    scenes.sort();
+    scenes
+}
+
+/// The coverage copy of a scene: no lights, plain white matte objects.
+fn coverage_scene(scene: &Path, dir: &Path) -> Scene {
+    // Textures are dropped, so a small stand-in lets textured scenes check.
+    let copy = dir.join(scene.file_name().unwrap());
+    std::fs::copy(scene, &copy).unwrap();
+    std::fs::write(dir.join("wood_tex.ppm"), "P3\n1 1\n255\n0 0 0\n").unwrap();
+    let mut model = load(&copy)
+        .unwrap()
+        .checked
+        .expect("the scene checks")
+        .scene;
+    model.camera.resolution = SIZE;
+    model.lights.clear();
+    for object in &mut model.objects {
+        object.material = Material::default();
+    }
+    model
+}
+
+/// Which pixels are covered, row-major.
+fn mask(path: &Path) -> Vec<bool> {
+    let image = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8();
+    assert_eq!(image.dimensions(), (SIZE, SIZE), "{}", path.display());
+    image.pixels().map(|p| p.0[0] >= COVERED).collect()
+}
+
+/// True when pixel `i` has an 8-neighbour of the other class in `mask`.
+fn on_silhouette(mask: &[bool], i: usize) -> bool {
+    let n = SIZE as i64;
+    let (x, y) = ((i as i64) % n, (i as i64) / n);
+    (-1..=1).any(|dy| {
+        (-1..=1).any(|dx| {
+            let (nx, ny) = (x + dx, y + dy);
+            (0..n).contains(&nx) && (0..n).contains(&ny) && mask[(ny * n + nx) as usize] != mask[i]
+        })
+    })
+}
+
+#[test]
+fn povray_covers_the_same_pixels_as_our_renderer() {
+    if !povray_available() {
+        return;
+    }
+    let bin = env!("CARGO_BIN_EXE_raytracer");
+    let scenes = scenes();
+    assert!(scenes.len() >= 11, "found {} scenes", scenes.len());
+    let mut report = Vec::new();
+    for scene in &scenes {
+        let name = scene.file_name().unwrap().to_string_lossy().to_string();
+        let dir = tempfile::tempdir().unwrap();
+        let text = dir.path().join("coverage.txt");
+        let model = coverage_scene(scene, dir.path());
+        std::fs::write(&text, to_scene_text(&model).unwrap()).unwrap();
+
+        let ours = dir.path().join("ours.png");
+        run(Command::new(bin)
+            .arg("render")
+            .arg(&text)
+            .arg(&ours)
+            .arg("--quiet"));
+        let pov = dir.path().join("coverage.pov");
+        run(Command::new(bin)
+            .args(["convert", "--to", "pov", "-o"])
+            .arg(&pov)
+            .arg(&text));
+        let theirs = dir.path().join("povray.png");
+        run(Command::new("povray")
+            .current_dir(dir.path())
+            .arg("+Icoverage.pov")
+            .arg("+Opovray.png")
+            .arg(format!("+W{SIZE}"))
+            .arg(format!("+H{SIZE}"))
+            .args(["-A", "-D", "+FN", "File_Gamma=1", "-V", "-GA"]));
+
+        let (ours, theirs) = (mask(&ours), mask(&theirs));
+        let covered = ours.iter().filter(|&&c| c).count();
+        let differ: Vec<usize> = (0..ours.len()).filter(|&i| ours[i] != theirs[i]).collect();
+        let inside: Vec<usize> = differ
+            .iter()
+            .copied()
+            .filter(|&i| !on_silhouette(&ours, i) && !on_silhouette(&theirs, i))
+            .collect();
+        report.push(format!(
+            "{name}: {covered} covered, {} differ on silhouettes, {} elsewhere",
+            differ.len() - inside.len(),
+            inside.len()
+        ));
+        assert!(
+            covered > 0,
+            "{name}: the coverage image is empty, so it tests nothing"
+        );
+        assert!(
+            inside.is_empty(),
+            "{name}: {} pixels differ away from silhouettes, first at {:?}",
+            inside.len(),
+            inside
+                .iter()
+                .take(5)
+                .map(|i| (i % SIZE as usize, i / SIZE as usize))
+                .collect::<Vec<_>>()
+        );
+    }
+    eprintln!("{}", report.join("\n"));
+}
