@@ -43,6 +43,11 @@ render-scenes: raytracer
 	    echo '```'; \
 	  done; } > docs/gallery.md
 
+# Ours against POV-Ray 3.7 (installed when missing), alternating, one
+# thread: a table of medians (docs/performance.md). REPS=N for more samples.
+bench:
+	scripts/bench.sh
+
 clean:
 	$(CARGO) clean
 	rm -f raytracer out.png
