@@ -4,7 +4,7 @@
 CARGO ?= cargo
 BIN := target/release/raytracer
 
-.PHONY: all build test lint fmt run render-scenes bench accuracy fuzz clean
+.PHONY: all build test lint fmt run render-scenes bench bench-scaling accuracy fuzz clean
 
 all: raytracer
 
@@ -47,6 +47,11 @@ render-scenes: raytracer
 # thread: a table of medians (docs/performance.md). REPS=N for more samples.
 bench:
 	scripts/bench.sh
+
+# Our render time against object count (10 to 1,000,000 spheres), medians
+# to docs/scaling.csv for the plot in docs/performance.md.
+bench-scaling:
+	scripts/scaling.sh
 
 clean:
 	$(CARGO) clean

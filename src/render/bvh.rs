@@ -10,9 +10,13 @@
 //!
 //! The hierarchy must find exactly what testing every primitive finds, so
 //! the image is the same byte for byte:
-//! - every box is padded by many rounding steps of the scene's scale before
-//!   it is rounded to `R`, so no ray a primitive test accepts (with its own
-//!   rounding) misses the box around it;
+//! - boxes are `f32` in both precisions (32-byte nodes, two to a cache
+//!   line) and tested in `f32`; every primitive's box is padded by many
+//!   rounding steps of `R` at its own scale (for the primitive test's
+//!   rounding) plus many `f32` steps at the whole scene's scale (for the
+//!   box test's: ray origins lie on primitives or at the camera, inside
+//!   that scale) and rounded outwards, so no ray a primitive test accepts
+//!   misses the box around it;
 //! - [`Bvh::closest`] breaks ties in `t` towards the lower IR index, as a
 //!   front-to-back scan of the primitives does;
 //! - each primitive is tested with the very [`Shape::hit`] the scan uses.
@@ -35,20 +39,22 @@ const BINS: usize = 16;
 const PRIMITIVE_COST: f64 = 0.6;
 /// Deeper than this, a node becomes a leaf, so traversal's stack is fixed.
 const MAX_DEPTH: usize = 60;
-/// Boxes grow by this many machine epsilons of the scene's scale.
+/// Boxes grow by this many epsilons of `R` at the primitive's scale...
 const PAD_EPSILONS: f64 = 256.0;
+/// ...and this many `f32` epsilons at the scene's scale.
+const PAD_F32_EPSILONS: f64 = 64.0;
 
-/// An axis-aligned box in precision `R`, per axis.
+/// An axis-aligned box, per axis.
 #[derive(Clone, Copy, Debug)]
-struct Bounds<R: Real> {
+struct Bounds {
     /// The min corner, then the max corner.
-    corners: [[R; 3]; 2],
+    corners: [[f32; 3]; 2],
 }
 
 /// A node of the flat hierarchy.
 #[derive(Clone, Copy, Debug)]
-struct Node<R: Real> {
-    bounds: Bounds<R>,
+struct Node {
+    bounds: Bounds,
     /// Interior: the second child's node index. Leaf: the first primitive.
     index: u32,
     /// Primitives in a leaf; 0 for an interior node.
@@ -57,7 +63,7 @@ struct Node<R: Real> {
 
 /// The hierarchy over one scene's primitives.
 pub struct Bvh<R: Real> {
-    nodes: Vec<Node<R>>,
+    nodes: Vec<Node>,
     /// The primitives in leaf order.
     prims: Vec<Prim<R>>,
     /// The IR index of each of `prims`.
@@ -89,13 +95,8 @@ impl<R: Real> Prim<R> {
 struct Item {
     lo: DVec3,
     hi: DVec3,
+    centroid: DVec3,
     id: u32,
-}
-
-impl Item {
-    fn centroid(&self) -> DVec3 {
-        (self.lo + self.hi) * 0.5
-    }
 }
 
 /// A box in `f64` while building.
@@ -125,18 +126,30 @@ impl Aabb {
 impl<R: Real> Bvh<R> {
     /// The hierarchy over `shapes`, whose positions are their IR indices.
     pub fn new(shapes: &[Shape<R>]) -> Bvh<R> {
-        let pad_scale = R::epsilon().wide() * PAD_EPSILONS;
-        let mut items: Vec<Item> = shapes
+        let boxes: Vec<(DVec3, DVec3)> = shapes
+            .iter()
+            .map(|shape| {
+                let (lo, hi) = shape.bounds();
+                (lo.wide(), hi.wide())
+            })
+            .collect();
+        let scale_of = |(lo, hi): &(DVec3, DVec3)| {
+            (lo.abs().max(hi.abs()).max_element() + (hi - *lo).max_element()).max(1.0)
+        };
+        let scene_scale = boxes.iter().map(scale_of).fold(1.0, f64::max);
+        let scene_pad = f64::from(f32::EPSILON) * PAD_F32_EPSILONS * scene_scale;
+        let mut items: Vec<Item> = boxes
             .iter()
             .enumerate()
-            .map(|(id, shape)| {
-                let (lo, hi) = shape.bounds();
-                let (lo, hi) = (lo.wide(), hi.wide());
-                let scale = lo.abs().max(hi.abs()).max_element() + (hi - lo).max_element();
-                let pad = DVec3::splat(pad_scale * scale.max(1.0));
+            .map(|(id, b)| {
+                let (lo, hi) = *b;
+                let own_pad = R::epsilon().wide() * PAD_EPSILONS * scale_of(b);
+                let pad = DVec3::splat(scene_pad + own_pad);
+                let (lo, hi) = (lo - pad, hi + pad);
                 Item {
-                    lo: lo - pad,
-                    hi: hi + pad,
+                    lo,
+                    hi,
+                    centroid: (lo + hi) * 0.5,
                     id: id as u32,
                 }
             })
@@ -160,9 +173,9 @@ impl<R: Real> Bvh<R> {
     pub fn closest(&self, shapes: &[Shape<R>], ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {
         let slab = Slab::new(ray);
         let mut best: Option<Hit<R>> = None;
-        let mut reach = t_max;
+        let mut reach = reach_f32(t_max);
         // Nodes still to visit, with where the ray enters them.
-        let mut stack = [(0u32, R::zero()); MAX_DEPTH + 2];
+        let mut stack = [(0u32, 0f32); MAX_DEPTH + 2];
         let mut top = 0;
         slab.enter(&self.nodes[0].bounds, reach)?;
         let mut node = 0usize;
@@ -185,7 +198,7 @@ impl<R: Real> Bvh<R> {
                         };
                         if better {
                             best = Some(Hit { t, prim: id });
-                            reach = t;
+                            reach = reach_f32(t);
                         }
                     }
                 }
@@ -230,10 +243,11 @@ impl<R: Real> Bvh<R> {
     /// Whether any of `shapes` lies on the ray in `(0, t_max)`.
     pub fn occluded(&self, shapes: &[Shape<R>], ray: &Ray<R>, t_max: R) -> bool {
         let slab = Slab::new(ray);
+        let reach = reach_f32(t_max);
         let mut stack = [0u32; MAX_DEPTH + 2];
         let mut top = 0;
         let mut node = 0usize;
-        if slab.enter(&self.nodes[0].bounds, t_max).is_none() {
+        if slab.enter(&self.nodes[0].bounds, reach).is_none() {
             return false;
         }
         loop {
@@ -248,8 +262,8 @@ impl<R: Real> Bvh<R> {
                 }
             } else {
                 let (a, b) = (node + 1, n.index as usize);
-                let hit_a = slab.enter(&self.nodes[a].bounds, t_max).is_some();
-                let hit_b = slab.enter(&self.nodes[b].bounds, t_max).is_some();
+                let hit_a = slab.enter(&self.nodes[a].bounds, reach).is_some();
+                let hit_b = slab.enter(&self.nodes[b].bounds, reach).is_some();
                 if hit_a && hit_b {
                     stack[top] = b as u32;
                     top += 1;
@@ -268,23 +282,30 @@ impl<R: Real> Bvh<R> {
     }
 }
 
-/// A ray prepared for box tests: origin, reciprocal direction and, per
-/// axis, which corner of a box the ray meets first.
-struct Slab<R: Real> {
-    origin: [R; 3],
-    inverse: [R; 3],
+/// `t` as an `f32` no smaller than it (a few steps up covers rounding).
+#[inline]
+fn reach_f32<R: Real>(t: R) -> f32 {
+    let t = t.wide() as f32;
+    t + t * (4.0 * f32::EPSILON)
+}
+
+/// A ray prepared for `f32` box tests: origin, reciprocal direction and,
+/// per axis, which corner of a box the ray meets first.
+struct Slab {
+    origin: [f32; 3],
+    inverse: [f32; 3],
     /// 1 where the direction is negative: the ray enters at the max side.
     first: [usize; 3],
 }
 
-impl<R: Real> Slab<R> {
-    fn new(ray: &Ray<R>) -> Slab<R> {
-        let (o, d) = (ray.origin, ray.dir);
-        let inverse = [d.x().recip(), d.y().recip(), d.z().recip()];
+impl Slab {
+    fn new<R: Real>(ray: &Ray<R>) -> Slab {
+        let (o, d) = (ray.origin.wide(), ray.dir.wide());
+        let inverse = [d.x, d.y, d.z].map(|c| (c as f32).recip());
         Slab {
-            origin: [o.x(), o.y(), o.z()],
+            origin: [o.x, o.y, o.z].map(|c| c as f32),
             inverse,
-            first: inverse.map(|i| usize::from(i < R::zero())),
+            first: inverse.map(|i| usize::from(i < 0.0)),
         }
     }
 
@@ -293,8 +314,8 @@ impl<R: Real> Slab<R> {
     /// (origin exactly on a slab plane parallel to the ray) is ignored by
     /// `min`/`max`, which pick the other operand.
     #[inline]
-    fn enter(&self, bounds: &Bounds<R>, reach: R) -> Option<R> {
-        let mut near = R::zero();
+    fn enter(&self, bounds: &Bounds, reach: f32) -> Option<f32> {
+        let mut near = 0f32;
         let mut far = reach;
         for axis in 0..3 {
             let first = self.first[axis];
@@ -309,18 +330,12 @@ impl<R: Real> Slab<R> {
 
 /// Build the subtree over `items` (which start at leaf slot `offset`) into
 /// `nodes`, reordering `items` into leaf order; returns the root's index.
-fn build<R: Real>(
-    items: &mut [Item],
-    offset: usize,
-    depth: usize,
-    nodes: &mut Vec<Node<R>>,
-) -> usize {
+fn build(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<Node>) -> usize {
     let mut bounds = Aabb::EMPTY;
     let mut centroids = Aabb::EMPTY;
     for item in items.iter() {
         bounds.grow(item.lo, item.hi);
-        let c = item.centroid();
-        centroids.grow(c, c);
+        centroids.grow(item.centroid, item.centroid);
     }
     let index = nodes.len();
     nodes.push(Node {
@@ -347,21 +362,24 @@ fn build<R: Real>(
 fn best_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usize> {
     let n = items.len();
     let extent = centroids.hi - centroids.lo;
-    let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, bin)
-    for axis in 0..3 {
-        // All centroids share this coordinate: nothing to split along it.
-        if extent[axis] <= 0.0 {
-            continue;
-        }
-        let scale = BINS as f64 / extent[axis];
-        let bin_of = |item: &Item| {
-            (((item.centroid()[axis] - centroids.lo[axis]) * scale) as usize).min(BINS - 1)
-        };
-        let mut bins = [(Aabb::EMPTY, 0usize); BINS];
-        for item in items.iter() {
-            let bin = &mut bins[bin_of(item)];
+    // Bins per axis, filled in one pass; an axis along which all centroids
+    // share one coordinate has nothing to split and is skipped.
+    let scale = (DVec3::splat(BINS as f64) / extent).to_array();
+    let bin_of = |item: &Item, axis: usize| {
+        (((item.centroid[axis] - centroids.lo[axis]) * scale[axis]) as usize).min(BINS - 1)
+    };
+    let mut bins = [[(Aabb::EMPTY, 0usize); BINS]; 3];
+    for item in items.iter() {
+        for (axis, axis_bins) in bins.iter_mut().enumerate() {
+            let bin = &mut axis_bins[bin_of(item, axis)];
             bin.0.grow(item.lo, item.hi);
             bin.1 += 1;
+        }
+    }
+    let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, bin)
+    for (axis, bins) in bins.iter().enumerate() {
+        if extent[axis] <= 0.0 {
+            continue;
         }
         // Areas and counts of everything right of each boundary.
         let mut right = [(0.0, 0usize); BINS];
@@ -387,19 +405,14 @@ fn best_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usi
     }
     let (cost, axis, bin) = best?;
     // Costs relative to the parent's area, in units of a node visit.
-    let area = bounds.area();
-    let split_cost = 1.0 + PRIMITIVE_COST * cost / area;
+    let split_cost = 1.0 + PRIMITIVE_COST * cost / bounds.area();
     let leaf_cost = PRIMITIVE_COST * n as f64;
     if n <= MAX_LEAF && split_cost >= leaf_cost {
         return None;
     }
-    let scale = BINS as f64 / extent[axis];
-    let goes_left = |item: &Item| {
-        (((item.centroid()[axis] - centroids.lo[axis]) * scale) as usize).min(BINS - 1) < bin
-    };
     let mut split = 0;
     for i in 0..n {
-        if goes_left(&items[i]) {
+        if bin_of(&items[i], axis) < bin {
             items.swap(i, split);
             split += 1;
         }
@@ -407,14 +420,39 @@ fn best_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usi
     Some(split)
 }
 
-/// A building box in precision `R`. Rounding to nearest moves a corner by
-/// at most half a unit in the last place of the scene's scale, far less
-/// than the padding every primitive's box already has.
-fn to_bounds<R: Real>(b: Aabb) -> Bounds<R> {
+/// A building box in `f32`, rounded outwards.
+fn to_bounds(b: Aabb) -> Bounds {
+    let down = |x: f64| {
+        let r = x as f32;
+        if f64::from(r) > x {
+            next_toward_neg_infinity(r)
+        } else {
+            r
+        }
+    };
+    let up = |x: f64| {
+        let r = x as f32;
+        if f64::from(r) < x {
+            -next_toward_neg_infinity(-r)
+        } else {
+            r
+        }
+    };
     Bounds {
         corners: [
-            [R::of(b.lo.x), R::of(b.lo.y), R::of(b.lo.z)],
-            [R::of(b.hi.x), R::of(b.hi.y), R::of(b.hi.z)],
+            [down(b.lo.x), down(b.lo.y), down(b.lo.z)],
+            [up(b.hi.x), up(b.hi.y), up(b.hi.z)],
         ],
+    }
+}
+
+/// The largest `f32` below finite `r`.
+fn next_toward_neg_infinity(r: f32) -> f32 {
+    if r == 0.0 {
+        -f32::from_bits(1)
+    } else if r > 0.0 {
+        f32::from_bits(r.to_bits() - 1)
+    } else {
+        f32::from_bits(r.to_bits() + 1)
     }
 }
