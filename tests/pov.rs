@@ -9,6 +9,11 @@
 //! neighbour of the other class in either image (sampling positions and
 //! edge tests differ by rounding there).
 //!
+//! A second test renders the scenes as they are (lights, reflections and
+//! the real scenes/wood_tex.ppm texture) and asserts that at most 1% of the
+//! pixels differ by more than 1/255: the shading, reflection, gamma and
+//! texture mapping agree, not only the geometry.
+//!
 //! POV-Ray is a Debian package (`povray`) that .ci/run installs; without it
 //! the test fails under `CI=true` and says it was skipped otherwise.
 
@@ -79,18 +84,52 @@ fn scenes() -> Vec<PathBuf> {
     scenes
 }
 
-/// The coverage copy of a scene: no lights, plain white matte objects.
-fn coverage_scene(scene: &Path, dir: &Path) -> Scene {
-    // Textures are dropped, so a small stand-in lets textured scenes check.
+/// The scene at `scene`, copied into `dir` beside scenes/wood_tex.ppm, at
+/// the comparison size.
+fn small_scene(scene: &Path, dir: &Path) -> Scene {
     let copy = dir.join(scene.file_name().unwrap());
     std::fs::copy(scene, &copy).unwrap();
-    std::fs::write(dir.join("wood_tex.ppm"), "P3\n1 1\n255\n0 0 0\n").unwrap();
-    let mut model = load(&copy)
-        .unwrap()
-        .checked
-        .expect("the scene checks")
-        .scene;
+    std::fs::copy(
+        Path::new(SCENES).join("wood_tex.ppm"),
+        dir.join("wood_tex.ppm"),
+    )
+    .unwrap();
+    let loaded = load(&copy).unwrap();
+    let mut model = loaded.checked.expect("the scene checks").scene;
     model.camera.resolution = SIZE;
+    model
+}
+
+/// Render `model` with our renderer and with POV-Ray (through `convert
+/// --to pov`) in `dir`; the two images' paths.
+fn render_both(model: &Scene, dir: &Path) -> (PathBuf, PathBuf) {
+    let bin = env!("CARGO_BIN_EXE_raytracer");
+    let text = dir.join("compare.txt");
+    std::fs::write(&text, to_scene_text(model).unwrap()).unwrap();
+    let ours = dir.join("ours.png");
+    run(Command::new(bin)
+        .arg("render")
+        .arg(&text)
+        .arg(&ours)
+        .arg("--quiet"));
+    let pov = dir.join("compare.pov");
+    run(Command::new(bin)
+        .args(["convert", "--to", "pov", "-o"])
+        .arg(&pov)
+        .arg(&text));
+    run(Command::new("povray")
+        .current_dir(dir)
+        .arg("+Icompare.pov")
+        .arg("+Opovray.png")
+        .arg(format!("+W{SIZE}"))
+        .arg(format!("+H{SIZE}"))
+        .args(["-A", "-D", "+FN", "File_Gamma=1", "-V", "-GA"]));
+    (ours, dir.join("povray.png"))
+}
+
+/// The coverage copy of a scene: no lights, plain white matte objects.
+fn coverage_scene(scene: &Path, dir: &Path) -> Scene {
+    let mut model = small_scene(scene, dir);
     model.lights.clear();
     for object in &mut model.objects {
         object.material = Material::default();
@@ -124,37 +163,13 @@ fn povray_covers_the_same_pixels_as_our_renderer() {
     if !povray_available() {
         return;
     }
-    let bin = env!("CARGO_BIN_EXE_raytracer");
     let scenes = scenes();
     assert!(scenes.len() >= 11, "found {} scenes", scenes.len());
     let mut report = Vec::new();
     for scene in &scenes {
         let name = scene.file_name().unwrap().to_string_lossy().to_string();
         let dir = tempfile::tempdir().unwrap();
-        let text = dir.path().join("coverage.txt");
-        let model = coverage_scene(scene, dir.path());
-        std::fs::write(&text, to_scene_text(&model).unwrap()).unwrap();
-
-        let ours = dir.path().join("ours.png");
-        run(Command::new(bin)
-            .arg("render")
-            .arg(&text)
-            .arg(&ours)
-            .arg("--quiet"));
-        let pov = dir.path().join("coverage.pov");
-        run(Command::new(bin)
-            .args(["convert", "--to", "pov", "-o"])
-            .arg(&pov)
-            .arg(&text));
-        let theirs = dir.path().join("povray.png");
-        run(Command::new("povray")
-            .current_dir(dir.path())
-            .arg("+Icoverage.pov")
-            .arg("+Opovray.png")
-            .arg(format!("+W{SIZE}"))
-            .arg(format!("+H{SIZE}"))
-            .args(["-A", "-D", "+FN", "File_Gamma=1", "-V", "-GA"]));
-
+        let (ours, theirs) = render_both(&coverage_scene(scene, dir.path()), dir.path());
         let (ours, theirs) = (mask(&ours), mask(&theirs));
         let covered = ours.iter().filter(|&&c| c).count();
         let differ: Vec<usize> = (0..ours.len()).filter(|&i| ours[i] != theirs[i]).collect();
@@ -181,6 +196,35 @@ fn povray_covers_the_same_pixels_as_our_renderer() {
                 .take(5)
                 .map(|i| (i % SIZE as usize, i / SIZE as usize))
                 .collect::<Vec<_>>()
+        );
+    }
+    eprintln!("{}", report.join("\n"));
+}
+
+#[test]
+fn povray_renders_the_same_picture_but_for_a_few_pixels() {
+    if !povray_available() {
+        return;
+    }
+    let mut report = Vec::new();
+    for scene in &scenes() {
+        let name = scene.file_name().unwrap().to_string_lossy().to_string();
+        let dir = tempfile::tempdir().unwrap();
+        let (ours, theirs) = render_both(&small_scene(scene, dir.path()), dir.path());
+        let (ours, theirs) = (
+            image::open(&ours).unwrap().to_rgb8(),
+            image::open(&theirs).unwrap().to_rgb8(),
+        );
+        let differ = ours
+            .pixels()
+            .zip(theirs.pixels())
+            .filter(|(a, b)| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > 1))
+            .count();
+        report.push(format!("{name}: {differ} pixels differ by more than 1/255"));
+        assert!(
+            differ * 100 <= (SIZE * SIZE) as usize,
+            "{name}: {differ} of {} pixels differ by more than 1/255",
+            SIZE * SIZE
         );
     }
     eprintln!("{}", report.join("\n"));
