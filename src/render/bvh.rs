@@ -3,7 +3,7 @@
 //!
 //! Built top-down with the surface area heuristic on binned centroids
 //! (Wald 2007), then stored flat in depth-first order: an interior node's
-//! first child is the next node, its second child is at `second`; a leaf
+//! first child is the next node, its second child is at its index; a leaf
 //! names a run of primitives, kept in leaf order with the IR index of each:
 //! spheres inline (so a leaf is one cache line or two), other shapes by
 //! their index into the world's list.
@@ -11,7 +11,9 @@
 //! The hierarchy must find exactly what testing every primitive finds, so
 //! the image is the same byte for byte:
 //! - boxes are `f32` in both precisions (32-byte nodes, two to a cache
-//!   line) and tested in `f32`; every primitive's box is padded by many
+//!   line) and tested in `f32`, three axes at once with glam's SIMD
+//!   `Vec3A` (a scene with coordinates beyond `f32`'s range gets infinite
+//!   boxes, which every ray enters); every primitive's box is padded by many
 //!   rounding steps of `R` at its own scale (for the primitive test's
 //!   rounding) plus many `f32` steps at the whole scene's scale (for the
 //!   box test's: ray origins lie on primitives or at the camera, inside
@@ -25,7 +27,7 @@
 //! the nearest hit so far; [`Bvh::occluded`] stops at the first hit (shadow
 //! rays need any hit, not the nearest).
 
-use glam::DVec3;
+use glam::{DVec3, Vec3A, Vec4};
 
 use super::geometry::{Ray, Shape, Sphere};
 use super::real::{Real, Vector};
@@ -44,21 +46,44 @@ const PAD_EPSILONS: f64 = 256.0;
 /// ...and this many `f32` epsilons at the scene's scale.
 const PAD_F32_EPSILONS: f64 = 64.0;
 
-/// An axis-aligned box, per axis.
+/// A node of the flat hierarchy, 32 bytes: its box as two rows of four
+/// lanes, so each corner loads as one SIMD vector; the fourth lanes carry
+/// the node's two integers as bit patterns (the box test ignores them).
 #[derive(Clone, Copy, Debug)]
-struct Bounds {
-    /// The min corner, then the max corner.
-    corners: [[f32; 3]; 2],
+#[repr(C, align(32))]
+struct Node {
+    /// Min x, y, z; then, as bits, interior: the second child's node
+    /// index, leaf: the first primitive.
+    lo: [f32; 4],
+    /// Max x, y, z; then, as bits, the primitives in a leaf (0: interior).
+    hi: [f32; 4],
 }
 
-/// A node of the flat hierarchy.
-#[derive(Clone, Copy, Debug)]
-struct Node {
-    bounds: Bounds,
-    /// Interior: the second child's node index. Leaf: the first primitive.
-    index: u32,
+impl Node {
+    fn leaf(b: Aabb, first: u32, count: u32) -> Node {
+        let (lo, hi) = to_f32_box(b);
+        Node {
+            lo: [lo[0], lo[1], lo[2], f32::from_bits(first)],
+            hi: [hi[0], hi[1], hi[2], f32::from_bits(count)],
+        }
+    }
+
+    fn make_interior(&mut self, second: u32) {
+        self.lo[3] = f32::from_bits(second);
+        self.hi[3] = f32::from_bits(0);
+    }
+
+    /// Interior: the second child; leaf: the first primitive.
+    #[inline]
+    fn index(&self) -> usize {
+        self.lo[3].to_bits() as usize
+    }
+
     /// Primitives in a leaf; 0 for an interior node.
-    count: u32,
+    #[inline]
+    fn count(&self) -> usize {
+        self.hi[3].to_bits() as usize
+    }
 }
 
 /// The hierarchy over one scene's primitives.
@@ -177,13 +202,13 @@ impl<R: Real> Bvh<R> {
         // Nodes still to visit, with where the ray enters them.
         let mut stack = [(0u32, 0f32); MAX_DEPTH + 2];
         let mut top = 0;
-        slab.enter(&self.nodes[0].bounds, reach)?;
+        slab.enter(&self.nodes[0], reach)?;
         let mut node = 0usize;
         loop {
             let n = &self.nodes[node];
-            if n.count > 0 {
-                let first = n.index as usize;
-                for slot in first..first + n.count as usize {
+            if n.count() > 0 {
+                let first = n.index();
+                for slot in first..first + n.count() {
                     let id = self.ids[slot];
                     // With a hit in hand, also accept one at the same `t`
                     // (the lower index wins it, as in a scan).
@@ -203,9 +228,9 @@ impl<R: Real> Bvh<R> {
                     }
                 }
             } else {
-                let (a, b) = (node + 1, n.index as usize);
-                let ta = slab.enter(&self.nodes[a].bounds, reach);
-                let tb = slab.enter(&self.nodes[b].bounds, reach);
+                let (a, b) = (node + 1, n.index());
+                let ta = slab.enter(&self.nodes[a], reach);
+                let tb = slab.enter(&self.nodes[b], reach);
                 match (ta, tb) {
                     (Some(ta), Some(tb)) => {
                         let (near, far) = if tb < ta { (b, (a, ta)) } else { (a, (b, tb)) };
@@ -247,23 +272,23 @@ impl<R: Real> Bvh<R> {
         let mut stack = [0u32; MAX_DEPTH + 2];
         let mut top = 0;
         let mut node = 0usize;
-        if slab.enter(&self.nodes[0].bounds, reach).is_none() {
+        if slab.enter(&self.nodes[0], reach).is_none() {
             return false;
         }
         loop {
             let n = &self.nodes[node];
-            if n.count > 0 {
-                let first = n.index as usize;
-                for slot in first..first + n.count as usize {
+            if n.count() > 0 {
+                let first = n.index();
+                for slot in first..first + n.count() {
                     let id = self.ids[slot];
                     if self.prims[slot].hit(shapes, id, ray, t_max).is_some() {
                         return true;
                     }
                 }
             } else {
-                let (a, b) = (node + 1, n.index as usize);
-                let hit_a = slab.enter(&self.nodes[a].bounds, reach).is_some();
-                let hit_b = slab.enter(&self.nodes[b].bounds, reach).is_some();
+                let (a, b) = (node + 1, n.index());
+                let hit_a = slab.enter(&self.nodes[a], reach).is_some();
+                let hit_b = slab.enter(&self.nodes[b], reach).is_some();
                 if hit_a && hit_b {
                     stack[top] = b as u32;
                     top += 1;
@@ -289,41 +314,42 @@ fn reach_f32<R: Real>(t: R) -> f32 {
     t + t * (4.0 * f32::EPSILON)
 }
 
-/// A ray prepared for `f32` box tests: origin, reciprocal direction and,
-/// per axis, which corner of a box the ray meets first.
+/// A ray prepared for `f32` box tests: origin and reciprocal direction.
 struct Slab {
-    origin: [f32; 3],
-    inverse: [f32; 3],
-    /// 1 where the direction is negative: the ray enters at the max side.
-    first: [usize; 3],
+    origin: Vec3A,
+    inverse: Vec3A,
 }
 
 impl Slab {
     fn new<R: Real>(ray: &Ray<R>) -> Slab {
         let (o, d) = (ray.origin.wide(), ray.dir.wide());
-        let inverse = [d.x, d.y, d.z].map(|c| (c as f32).recip());
+        // A zero component becomes the smallest normal value of its sign:
+        // its reciprocal is finite, so no slab distance is `0 · ∞ = NaN`,
+        // and the ray moves less than any padding.
+        let component = |c: f64| {
+            let c = c as f32;
+            if c == 0.0 {
+                f32::MIN_POSITIVE.copysign(c)
+            } else {
+                c
+            }
+        };
         Slab {
-            origin: [o.x, o.y, o.z].map(|c| c as f32),
-            inverse,
-            first: inverse.map(|i| usize::from(i < 0.0)),
+            origin: Vec3A::new(o.x as f32, o.y as f32, o.z as f32),
+            inverse: Vec3A::new(component(d.x), component(d.y), component(d.z)).recip(),
         }
     }
 
-    /// Where the ray enters `bounds`, if it does within `[0, reach]`.
-    /// Zero direction components give infinite slab distances; a `NaN`
-    /// (origin exactly on a slab plane parallel to the ray) is ignored by
-    /// `min`/`max`, which pick the other operand.
+    /// Where the ray enters the box of `node`, if it does within
+    /// `[0, reach]`.
     #[inline]
-    fn enter(&self, bounds: &Bounds, reach: f32) -> Option<f32> {
-        let mut near = 0f32;
-        let mut far = reach;
-        for axis in 0..3 {
-            let first = self.first[axis];
-            let a = (bounds.corners[first][axis] - self.origin[axis]) * self.inverse[axis];
-            let b = (bounds.corners[1 - first][axis] - self.origin[axis]) * self.inverse[axis];
-            near = near.max(a);
-            far = far.min(b);
-        }
+    fn enter(&self, node: &Node, reach: f32) -> Option<f32> {
+        let lo = Vec3A::from_vec4(Vec4::from_array(node.lo));
+        let hi = Vec3A::from_vec4(Vec4::from_array(node.hi));
+        let a = (lo - self.origin) * self.inverse;
+        let b = (hi - self.origin) * self.inverse;
+        let near = a.min(b).max_element().max(0.0);
+        let far = b.max(a).min_element().min(reach);
         (near <= far).then_some(near)
     }
 }
@@ -338,11 +364,7 @@ fn build(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<Node>)
         centroids.grow(item.centroid, item.centroid);
     }
     let index = nodes.len();
-    nodes.push(Node {
-        bounds: to_bounds(bounds),
-        index: offset as u32,
-        count: items.len() as u32,
-    });
+    nodes.push(Node::leaf(bounds, offset as u32, items.len() as u32));
     if items.len() <= 1 || depth >= MAX_DEPTH {
         return index;
     }
@@ -352,8 +374,7 @@ fn build(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<Node>)
     let (left, right) = items.split_at_mut(split);
     build(left, offset, depth + 1, nodes);
     let second = build(right, offset + split, depth + 1, nodes);
-    nodes[index].index = second as u32;
-    nodes[index].count = 0;
+    nodes[index].make_interior(second as u32);
     index
 }
 
@@ -420,8 +441,8 @@ fn best_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usi
     Some(split)
 }
 
-/// A building box in `f32`, rounded outwards.
-fn to_bounds(b: Aabb) -> Bounds {
+/// A building box in `f32`, rounded outwards: min and max corners.
+fn to_f32_box(b: Aabb) -> ([f32; 3], [f32; 3]) {
     let down = |x: f64| {
         let r = x as f32;
         if f64::from(r) > x {
@@ -438,12 +459,10 @@ fn to_bounds(b: Aabb) -> Bounds {
             r
         }
     };
-    Bounds {
-        corners: [
-            [down(b.lo.x), down(b.lo.y), down(b.lo.z)],
-            [up(b.hi.x), up(b.hi.y), up(b.hi.z)],
-        ],
-    }
+    (
+        [down(b.lo.x), down(b.lo.y), down(b.lo.z)],
+        [up(b.hi.x), up(b.hi.y), up(b.hi.z)],
+    )
 }
 
 /// The largest `f32` below finite `r`.
