@@ -12,8 +12,8 @@
 //! the image is the same byte for byte:
 //! - boxes are `f32` in both precisions (32-byte nodes, two to a cache
 //!   line) and tested in `f32`, three axes at once with glam's SIMD
-//!   `Vec3A` (a scene with coordinates beyond `f32`'s range gets infinite
-//!   boxes, which every ray enters); every primitive's box is padded by many
+//!   `Vec3A` (a scene reaching beyond [`MAX_SCALE`] gets no hierarchy);
+//!   every primitive's box is padded by many
 //!   rounding steps of `R` at its own scale (for the primitive test's
 //!   rounding) plus many `f32` steps at the whole scene's scale (for the
 //!   box test's: ray origins lie on primitives or at the camera, inside
@@ -39,6 +39,9 @@ const MAX_LEAF: usize = 4;
 const BINS: usize = 16;
 /// The relative cost of testing a primitive against visiting a node.
 const PRIMITIVE_COST: f64 = 0.6;
+/// Scenes whose coordinates reach beyond this are left to brute force:
+/// far inside `f32`'s range, so box tests never meet an infinity.
+pub const MAX_SCALE: f64 = 1e30;
 /// Deeper than this, a node becomes a leaf, so traversal's stack is fixed.
 const MAX_DEPTH: usize = 60;
 /// Boxes grow by this many epsilons of `R` at the primitive's scale...
@@ -149,8 +152,10 @@ impl Aabb {
 }
 
 impl<R: Real> Bvh<R> {
-    /// The hierarchy over `shapes`, whose positions are their IR indices.
-    pub fn new(shapes: &[Shape<R>]) -> Bvh<R> {
+    /// The hierarchy over `shapes`, whose positions are their IR indices;
+    /// `None` for a scene larger than [`MAX_SCALE`], whose ray origins
+    /// `f32` box tests could not hold.
+    pub fn new(shapes: &[Shape<R>]) -> Option<Bvh<R>> {
         let boxes: Vec<(DVec3, DVec3)> = shapes
             .iter()
             .map(|shape| {
@@ -162,6 +167,9 @@ impl<R: Real> Bvh<R> {
             (lo.abs().max(hi.abs()).max_element() + (hi - *lo).max_element()).max(1.0)
         };
         let scene_scale = boxes.iter().map(scale_of).fold(1.0, f64::max);
+        if scene_scale > MAX_SCALE {
+            return None;
+        }
         let scene_pad = f64::from(f32::EPSILON) * PAD_F32_EPSILONS * scene_scale;
         let mut items: Vec<Item> = boxes
             .iter()
@@ -189,7 +197,7 @@ impl<R: Real> Bvh<R> {
                 Shape::Rect(_) => Prim::Other,
             })
             .collect();
-        Bvh { nodes, prims, ids }
+        Some(Bvh { nodes, prims, ids })
     }
 
     /// The nearest hit in `(0, t_max)` among `shapes` (the list the
@@ -473,5 +481,52 @@ fn next_toward_neg_infinity(r: f32) -> f32 {
         f32::from_bits(r.to_bits() - 1)
     } else {
         f32::from_bits(r.to_bits() + 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sphere(x: f64, radius: f64) -> Shape<f64> {
+        Shape::Sphere(Sphere {
+            center: DVec3::new(x, 0.0, -5.0),
+            radius,
+        })
+    }
+
+    #[test]
+    fn boxes_are_rounded_outwards() {
+        let b = Aabb {
+            lo: DVec3::new(0.1, -0.1, -1e-50),
+            hi: DVec3::new(0.3, -0.3, 1e-50),
+        };
+        let (lo, hi) = to_f32_box(b);
+        for axis in 0..3 {
+            assert!(f64::from(lo[axis]) <= b.lo[axis], "{axis}");
+            assert!(f64::from(hi[axis]) >= b.hi[axis], "{axis}");
+        }
+    }
+
+    #[test]
+    fn a_scene_beyond_f32_range_gets_no_hierarchy() {
+        assert!(Bvh::new(&[sphere(0.0, 1.0), sphere(1e31, 1.0)]).is_none());
+        assert!(Bvh::new(&[sphere(0.0, 1.0), sphere(1e6, 1.0)]).is_some());
+    }
+
+    #[test]
+    fn rays_along_an_axis_through_box_faces_still_hit() {
+        // Direction components exactly zero, origin on the spheres' plane.
+        let shapes: Vec<Shape<f64>> = (0..9).map(|i| sphere(f64::from(i), 0.25)).collect();
+        let bvh = Bvh::new(&shapes).expect("a small scene");
+        let ray = Ray {
+            origin: DVec3::new(-3.0, 0.0, -5.0),
+            dir: DVec3::X,
+            from: None,
+        };
+        let hit = bvh.closest(&shapes, &ray, f64::INFINITY).expect("a hit");
+        assert_eq!((hit.prim, hit.t), (0, 2.75));
+        assert!(bvh.occluded(&shapes, &ray, 2.8));
+        assert!(!bvh.occluded(&shapes, &ray, 2.7));
     }
 }

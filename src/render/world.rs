@@ -60,7 +60,7 @@ impl<R: Real> World<R> {
             Accel::Bvh => !shapes.is_empty(),
             Accel::Brute => false,
         };
-        let bvh = hierarchy.then(|| Bvh::new(&shapes));
+        let bvh = hierarchy.then(|| Bvh::new(&shapes)).flatten();
         World { shapes, bvh }
     }
 
