@@ -49,9 +49,24 @@ bench:
 	scripts/bench.sh
 
 # Our render time against object count (10 to 1,000,000 spheres), medians
-# to docs/scaling.csv for the plot in docs/performance.md.
+# to docs/scaling.csv, plotted to docs/scaling.png.
 bench-scaling:
 	scripts/scaling.sh
+	$(CARGO) run --release --locked --example plot -- \
+	  docs/scaling_plot.csv docs/scaling.png \
+	  --title "Render time against sphere count (1000², one thread)" \
+	  --x-label "spheres" --y-label "seconds.render" --log-x --log-y --lines
+
+# What accuracy costs: render scenes/ and scenes/hard/ under each setting
+# (precision, depth, samples, --no-skip) against a high-accuracy reference
+# and write docs/accuracy.md with its plot and images. A few minutes on 2 cores.
+accuracy:
+	$(CARGO) run --release --locked --example accuracy -- docs/accuracy.md docs/accuracy
+	$(CARGO) run --release --locked --example plot -- \
+	  docs/accuracy/error_vs_time.csv docs/accuracy/error_vs_time.png \
+	  --title "Supersampling: error against time (labels: samples per pixel)" \
+	  --x-label "time, × the default render" \
+	  --y-label "RMSE against the reference, 1/255" --log-x --log-y --lines
 
 clean:
 	$(CARGO) clean

@@ -5,6 +5,8 @@
 # the counts interleaved; brute force too where it finishes in seconds.
 # Writes the medians to docs/scaling.csv:
 #   spheres,accel,render_s,rays,mrays_per_s,peak_mb,parse_check_s
+# and the render times as `series,x,y` for examples/plot.rs to
+# docs/scaling_plot.csv.
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
@@ -47,6 +49,7 @@ median() {
 }
 
 echo "spheres,accel,render_s,rays,mrays_per_s,peak_mb,parse_check_s" >docs/scaling.csv
+echo "series,spheres,seconds" >docs/scaling_plot.csv
 for run in "${RUNS[@]}"; do
   read -r n accel <<<"$run"
   r=$(median "$n,$accel" 3)
@@ -55,5 +58,7 @@ for run in "${RUNS[@]}"; do
   front=$(median "$n,$accel" 6)
   awk -v n="$n" -v a="$accel" -v r="$r" -v rays="$rays" -v kb="$kb" -v f="$front" \
     'BEGIN {printf "%s,%s,%.4f,%d,%.2f,%.1f,%.4f\n", n, a, r, rays, rays / r / 1e6, kb / 1024, f}' >>docs/scaling.csv
+  series=$([ "$accel" = auto ] && echo "hierarchy (--accel auto)" || echo "brute force")
+  echo "$series,$n,$r" >>docs/scaling_plot.csv
 done
 column -s, -t docs/scaling.csv

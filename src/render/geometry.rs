@@ -7,9 +7,10 @@
 //!   `q` with `q = −b − sign(b)·√Δ`, `c = f·f − r²`.
 //! - Rectangles intersect their plane, then set the hit point's plane
 //!   coordinate exactly: `p = c + x·right + y·up`.
-//! - A spawned ray starts on the face-forward side of its surface, moved by
-//!   Wächter & Binder's offset (Ray Tracing Gems ch. 6), and remembers the
-//!   primitive it left. A ray cannot hit the rectangle it left again; from
+//! - A spawned ray starts on the face-forward side of its surface, moved
+//!   off it by a bound on the hit point's rounding error that scales with
+//!   the scene's coordinates (the isotropic form of pbrt's error-bound
+//!   offset), and remembers the primitive it left. A ray cannot hit the rectangle it left again; from
 //!   the sphere it left it can only hit the far root, and only when it heads
 //!   inside. Both rules are exact, so no fixed epsilon is needed.
 
@@ -59,6 +60,17 @@ impl<R: Real> Shape<R> {
             Shape::Rect(r) if !from_here => r.hit(ray, t_max),
             Shape::Rect(_) => None,
         }
+    }
+
+    /// A bound on the magnitudes a hit point `p` of this primitive is
+    /// computed from, `‖p‖∞ + ‖centre‖∞`: the hit point (a reprojection
+    /// `c + r·m` or `c + x·right + y·up`) is exact to a few `ε` of it.
+    pub fn error_scale(&self, p: R::Vec) -> R {
+        let center = match self {
+            Shape::Sphere(s) => s.center,
+            Shape::Rect(r) => r.center,
+        };
+        max_abs::<R>(p) + max_abs::<R>(center)
     }
 
     /// Corners of the axis-aligned box around the primitive.
@@ -152,25 +164,26 @@ impl<R: Real> Rect<R> {
     }
 }
 
+/// How far a spawned ray's origin is moved off its surface, in units of
+/// `ε · scale` (see [`offset_origin`]).
+pub const OFFSET_ULPS: f64 = 64.0;
+
 /// `p` moved off its surface along `n` (unit, on the side the new ray
-/// leaves by), by Wächter & Binder's rule: a fixed number of representable
-/// values per component, or a small absolute step near the origin where
-/// floats are dense.
-pub fn offset_origin<R: Real>(p: R::Vec, n: R::Vec) -> R::Vec {
-    let component = |p: R, n: R| {
-        if p.abs() < R::ORIGIN {
-            return p + R::FLOAT_SCALE * n;
-        }
-        let ulps = (R::INT_SCALE * n).to_i32().unwrap_or(0);
-        // Stepping away from zero moves a positive value up and a negative
-        // value down: flip the step for negative components.
-        p.step_ulps(if p < R::zero() { -ulps } else { ulps })
-    };
-    R::Vec::new(
-        component(p.x(), n.x()),
-        component(p.y(), n.y()),
-        component(p.z(), n.z()),
-    )
+/// leaves by) by `OFFSET_ULPS · ε · scale`, where `scale` is the hit's
+/// [`Shape::error_scale`]: the rounding error of a computed hit point is a
+/// few `ε · scale`, so the step clears it with a wide margin. The step is
+/// proportional to the scene's coordinates, so a scene scaled about the
+/// eye gets the same image at any scale (Wächter & Binder's fixed step
+/// near the origin does not), and the step along `n` survives rounding:
+/// each component rounds by at most `ε·|p|/2`, far below the step.
+pub fn offset_origin<R: Real>(p: R::Vec, n: R::Vec, scale: R) -> R::Vec {
+    let step = R::of(OFFSET_ULPS) * R::epsilon() * scale.max(R::min_positive_value());
+    p + n * step
+}
+
+/// The largest magnitude of a vector's components.
+fn max_abs<R: Real>(v: R::Vec) -> R {
+    v.x().abs().max(v.y().abs()).max(v.z().abs())
 }
 
 #[cfg(test)]
@@ -234,13 +247,22 @@ mod tests {
     }
 
     #[test]
-    fn offset_moves_to_the_normal_side_at_any_scale() {
-        for scale in [1e-3, 1.0, 1e6] {
-            let p = DVec3::new(0.3, -0.7, 0.2) * scale;
-            let n = DVec3::new(1.0, 1.0, -1.0).normalize();
-            let moved = offset_origin::<f64>(p, n);
-            assert!((moved - p).dot(n) > 0.0, "scale {scale}");
-            assert!((moved - p).length() < 1e-9 * scale.max(1.0));
+    fn offset_moves_along_the_normal_in_proportion_to_scale() {
+        fn check<R: Real>() {
+            for scale in [1e-6, 1e-3, 1.0, 1e6] {
+                let p = R::Vec::of(DVec3::new(0.3, -0.7, 0.2) * scale);
+                let n = R::Vec::of(DVec3::new(1.0, 1e-9, -1.0).normalize());
+                let s = R::of(scale);
+                let moved = offset_origin::<R>(p, n, s);
+                let along = (moved - p).dot(n).wide();
+                let step = OFFSET_ULPS * R::epsilon().wide() * scale;
+                assert!(
+                    (along - step).abs() < 0.05 * step,
+                    "scale {scale}: {along} vs {step}"
+                );
+            }
         }
+        check::<f32>();
+        check::<f64>();
     }
 }

@@ -78,14 +78,14 @@ pub fn render<R: Real>(
         .map(|(j, row)| {
             let mut counters = Counters::default();
             for (i, pixel) in row.chunks_exact_mut(3).enumerate() {
-                let mut sum = DVec3::ZERO;
-                for sample in 0..grid * grid {
+                let samples = (0..grid * grid).map(|sample| {
                     let (u, v) = sample_offset(i as u32, j as u32, sample, grid);
                     let ray = camera_ray::<R>(size, i as f64 + u, j as f64 + v);
-                    let color = tracer.radiance(ray, &mut counters);
-                    sum += color.clamp(DVec3::ZERO, DVec3::ONE);
-                }
-                pixel.copy_from_slice(&quantize(sum / f64::from(grid * grid)));
+                    tracer
+                        .radiance(ray, &mut counters)
+                        .clamp(DVec3::ZERO, DVec3::ONE)
+                });
+                pixel.copy_from_slice(&quantize(mean(samples)));
             }
             row_done();
             counters
@@ -133,6 +133,24 @@ fn unit_hash(key: u64) -> f64 {
     (z >> 11) as f64 / (1u64 << 53) as f64
 }
 
+/// The mean of the samples as `first + Σ(cᵢ − first)/n`: the same value
+/// when every sample is the same (a plain `Σcᵢ/n` drifts by rounding and
+/// flips values that sit on a rounding boundary, like the ambient 0.1·255
+/// = 25.5), and a sum of small deviations elsewhere.
+fn mean(samples: impl Iterator<Item = DVec3>) -> DVec3 {
+    let mut first = None;
+    let mut deviation = DVec3::ZERO;
+    let mut count = 0u32;
+    for sample in samples {
+        count += 1;
+        match first {
+            None => first = Some(sample),
+            Some(first) => deviation += sample - first,
+        }
+    }
+    first.map_or(DVec3::ZERO, |first| first + deviation / f64::from(count))
+}
+
 /// SPEC.md §2's output: clamp to [0, 1], then `round(c·255)`.
 fn quantize(color: DVec3) -> [u8; 3] {
     let byte = |c: f64| (c.clamp(0.0, 1.0) * 255.0).round() as u8;
@@ -159,6 +177,21 @@ mod tests {
             assert!((cv / 3.0..(cv + 1.0) / 3.0).contains(&v), "{s}: {v}");
         }
         assert_eq!(sample_offset(7, 3, 0, 1), (0.5, 0.5));
+    }
+
+    #[test]
+    fn the_mean_of_equal_samples_is_that_sample() {
+        for n in [1, 4, 9, 16, 64, 256, 1024] {
+            let one = DVec3::new(0.1, 0.7 * 0.1, 1.0 / 3.0);
+            assert_eq!(mean(std::iter::repeat_n(one, n)), one, "{n} samples");
+        }
+        let mixed = [
+            DVec3::ZERO,
+            DVec3::ONE,
+            DVec3::splat(0.5),
+            DVec3::splat(0.5),
+        ];
+        assert_eq!(mean(mixed.into_iter()), DVec3::splat(0.5));
     }
 
     #[test]

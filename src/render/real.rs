@@ -5,9 +5,8 @@
 //! spawned rays) is generic over it, so `--precision f32|f64` runs the same
 //! code. Colours stay `f64` in both: precision is about geometry.
 //!
-//! It also carries what robust ray spawning needs of the number format:
-//! stepping a value a number of representable floats away from zero, and
-//! the constants of Wächter & Binder's offset (Ray Tracing Gems ch. 6).
+//! It also carries how far short of a light a shadow ray stops, which
+//! depends on the number format.
 
 use std::fmt::Debug;
 use std::ops::{Add, Mul, Neg, Sub};
@@ -20,14 +19,6 @@ pub trait Real: Float + FloatConst + Debug + Default + Send + Sync + 'static {
     /// The 3-vector of this precision.
     type Vec: Vector<Self>;
 
-    /// Points closer to the origin than this (in every component) are
-    /// offset by [`Real::FLOAT_SCALE`] in absolute terms, not in ulps.
-    const ORIGIN: Self;
-    /// The absolute offset near the origin, along the normal.
-    const FLOAT_SCALE: Self;
-    /// How many representable values a spawned ray's origin is moved along
-    /// the normal, per unit of the normal's component.
-    const INT_SCALE: Self;
     /// Shadow rays end this fraction of the way to the light, so a surface
     /// the light sits on does not shadow it.
     const SHADOW_REACH: Self;
@@ -37,10 +28,6 @@ pub trait Real: Float + FloatConst + Debug + Default + Send + Sync + 'static {
 
     /// Widen to `f64`.
     fn wide(self) -> f64;
-
-    /// `self` moved `ulps` representable values: away from zero for
-    /// positive `ulps` when `self` is positive, towards it when negative.
-    fn step_ulps(self, ulps: i32) -> Self;
 }
 
 /// The vector operations the tracer uses, on glam's `Vec3` and `DVec3`.
@@ -120,9 +107,6 @@ vector!(DVec3, f64);
 
 impl Real for f32 {
     type Vec = Vec3;
-    const ORIGIN: f32 = 1.0 / 32.0;
-    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
-    const INT_SCALE: f32 = 256.0;
     const SHADOW_REACH: f32 = 1.0 - 512.0 * f32::EPSILON;
 
     fn of(x: f64) -> f32 {
@@ -131,18 +115,10 @@ impl Real for f32 {
     fn wide(self) -> f64 {
         f64::from(self)
     }
-    fn step_ulps(self, ulps: i32) -> f32 {
-        // Adjacent floats of one sign have adjacent bit patterns.
-        f32::from_bits((self.to_bits() as i32).wrapping_add(ulps) as u32)
-    }
 }
 
 impl Real for f64 {
     type Vec = DVec3;
-    const ORIGIN: f64 = 1.0 / 32.0;
-    // The same 2^12 ulps of ORIGIN as f32's 1/65536 is in its format.
-    const FLOAT_SCALE: f64 = 1.0 / 35_184_372_088_832.0; // 2^-45
-    const INT_SCALE: f64 = 256.0;
     const SHADOW_REACH: f64 = 1.0 - 512.0 * f64::EPSILON;
 
     fn of(x: f64) -> f64 {
@@ -150,28 +126,5 @@ impl Real for f64 {
     }
     fn wide(self) -> f64 {
         self
-    }
-    fn step_ulps(self, ulps: i32) -> f64 {
-        f64::from_bits((self.to_bits() as i64).wrapping_add(i64::from(ulps)) as u64)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn step_ulps_moves_by_representable_values() {
-        assert_eq!(1.0f32.step_ulps(1), 1.0 + f32::EPSILON);
-        assert_eq!(1.0f64.step_ulps(1), 1.0 + f64::EPSILON);
-        assert_eq!((-1.0f64).step_ulps(1), -1.0 - f64::EPSILON);
-        assert_eq!(2.0f32.step_ulps(-1), 2.0 - f32::EPSILON);
-    }
-
-    #[test]
-    fn float_scale_is_the_same_share_of_origin_in_both() {
-        let ulps32 = f32::FLOAT_SCALE / (f32::ORIGIN * f32::EPSILON);
-        let ulps64 = f64::FLOAT_SCALE / (f64::ORIGIN * f64::EPSILON);
-        assert_eq!(f64::from(ulps32), ulps64);
     }
 }

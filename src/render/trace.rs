@@ -63,6 +63,8 @@ struct Surface<R: Real> {
     normal: R::Vec,
     /// Texture coordinates, computed only for textured objects.
     uv: Option<(f64, f64)>,
+    /// The magnitude the point's rounding error is relative to.
+    error_scale: R,
 }
 
 /// Traces rays through one scene in precision `R`.
@@ -119,7 +121,7 @@ impl<'a, R: Real> Tracer<'a, R> {
             let d = ray.dir;
             let n = surface.normal;
             ray = Ray {
-                origin: offset_origin::<R>(surface.point, n),
+                origin: offset_origin::<R>(surface.point, n, surface.error_scale),
                 dir: (d - n * (R::of(2.0) * d.dot(n))).normalize(),
                 from: Some(hit.prim),
             };
@@ -134,7 +136,8 @@ impl<'a, R: Real> Tracer<'a, R> {
     fn surface(&self, ray: &Ray<R>, hit: Hit<R>, object: &ir::Object) -> Surface<R> {
         let along = ray.origin + ray.dir * hit.t;
         let textured = object.material.texture.is_some();
-        let (point, normal, uv) = match &self.world.shapes[hit.prim as usize] {
+        let shape = &self.world.shapes[hit.prim as usize];
+        let (point, normal, uv) = match shape {
             Shape::Sphere(s) => {
                 let outward = (along - s.center).normalize();
                 let point = s.center + outward * s.radius;
@@ -156,7 +159,12 @@ impl<'a, R: Real> Tracer<'a, R> {
         } else {
             normal
         };
-        Surface { point, normal, uv }
+        Surface {
+            point,
+            normal,
+            uv,
+            error_scale: shape.error_scale(point),
+        }
     }
 
     /// The surface colour: the texel under the hit, or the material colour.
@@ -192,7 +200,7 @@ impl<'a, R: Real> Tracer<'a, R> {
                 counters.shadow_rays_skipped += 1;
                 continue;
             }
-            let origin = offset_origin::<R>(surface.point, surface.normal);
+            let origin = offset_origin::<R>(surface.point, surface.normal, surface.error_scale);
             let to_light = light.position - origin;
             let distance = to_light.length();
             if distance.is_zero() {
