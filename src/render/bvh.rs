@@ -218,15 +218,13 @@ impl<R: Real> Bvh<R> {
                 let first = n.index();
                 for slot in first..first + n.count() {
                     let id = self.ids[slot];
-                    // With a hit in hand, also accept one at the same `t`
-                    // (the lower index wins it, as in a scan).
-                    let limit = match best {
-                        Some(hit) => hit.t.step_ulps(1),
-                        None => t_max,
-                    };
-                    if let Some(t) = self.prims[slot].hit(shapes, id, ray, limit) {
+                    // A primitive's `t` does not depend on the limit it is
+                    // given (only whether it is returned), so testing
+                    // against `t_max` and keeping the nearest, the lower
+                    // index on a tie, is what a scan finds.
+                    if let Some(t) = self.prims[slot].hit(shapes, id, ray, t_max) {
                         let better = match best {
-                            Some(hit) => t < hit.t || id < hit.prim,
+                            Some(hit) => t < hit.t || (t == hit.t && id < hit.prim),
                             None => true,
                         };
                         if better {
