@@ -36,10 +36,9 @@ pub enum Accel {
     Brute,
 }
 
-/// Up to this many primitives, testing them all is at least as fast as
-/// walking a hierarchy (scenes/sample.txt has 2; at 11 primitives the two
-/// were within noise, at 101 the hierarchy was 3× faster: see
-/// docs/performance.md).
+/// Up to this many primitives, every one is tested: scenes/sample.txt (2)
+/// renders a third faster so, while at 11 the hierarchy was already a
+/// little faster and at 101 five times (docs/performance.md).
 pub const BRUTE_FORCE_MAX: usize = 4;
 
 /// The primitives of a scene in precision `R`.
