@@ -69,7 +69,7 @@ pub fn render<R: Real>(
     row_done: &(dyn Fn() + Sync),
 ) -> (Image, Counters) {
     let size = scene.resolution;
-    let tracer = Tracer::<R>::new(scene, options);
+    let tracer = Tracer::<R>::with_accel(scene, options.max_depth, options.skip, options.accel);
     let grid = options.spp.isqrt().max(1);
     let mut rgb = vec![0u8; size as usize * size as usize * 3];
     let counters = rgb
