@@ -111,3 +111,16 @@ fn ties_edges_and_touching() {
     }
     assert_same("ties", &text);
 }
+
+#[test]
+fn a_degenerate_chain_of_growing_spheres() {
+    // Spheres at geometric distances, sizes spanning eleven orders of
+    // magnitude: binned splits peel off a few at a time (a deep, lopsided
+    // tree) and box padding differs by as much between neighbours.
+    let mut text = format!("camera 48\n{SAMPLE_BODY}");
+    for i in 0..150 {
+        let d = 1.2f64.powi(i);
+        text += &sphere([0.3 * d, 0.1 * d, -2.0 - d], 0.25 * d, 0.5, [0.6, 0.6, 0.9]);
+    }
+    assert_same("chain", &text);
+}
