@@ -4,7 +4,7 @@
 CARGO ?= cargo
 BIN := target/release/raytracer
 
-.PHONY: all build test lint fmt run render-scenes bench accuracy fuzz fuzz-cmin clean
+.PHONY: all build test lint fmt run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean
 
 all: raytracer
 
@@ -42,6 +42,20 @@ render-scenes: raytracer
 	    ./raytracer render $$scene docs/gallery/$$name.png --quiet --stats --threads 1 2>&1; \
 	    echo '```'; \
 	  done; } > docs/gallery.md
+
+# Ours against POV-Ray 3.7 (installed when missing), alternating, one
+# thread: a table of medians (docs/performance.md). REPS=N for more samples.
+bench:
+	scripts/bench.sh
+
+# Our render time against object count (10 to 1,000,000 spheres), medians
+# to docs/scaling.csv, plotted to docs/scaling.png.
+bench-scaling:
+	scripts/scaling.sh
+	$(CARGO) run --release --locked --example plot -- \
+	  docs/scaling_plot.csv docs/scaling.png \
+	  --title "Render time against sphere count (1000², one thread)" \
+	  --x-label "spheres" --y-label "seconds.render" --log-x --log-y --lines
 
 # What accuracy costs: render scenes/ and scenes/hard/ under each setting
 # (precision, depth, samples, --no-skip) against a high-accuracy reference

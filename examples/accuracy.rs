@@ -27,7 +27,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use raytracer::ir;
-use raytracer::render::{render, Counters, Image, Options, Real};
+use raytracer::render::{render, Accel, Counters, Image, Options, Real};
 
 /// Image side for every measured render.
 const RESOLUTION: u32 = 128;
@@ -66,6 +66,7 @@ const fn setting(
             spp,
             max_depth,
             skip,
+            accel: Accel::Auto,
         },
     }
 }
@@ -140,6 +141,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             spp: REFERENCE_SPP,
             max_depth: REFERENCE_DEPTH,
             skip: true,
+            accel: Accel::Auto,
         };
         let clock = Instant::now();
         let (reference, reference_counters) = render::<f64>(&scene, &reference_options, &|| {});

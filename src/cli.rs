@@ -8,6 +8,8 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use crate::render::Accel;
+
 /// Render and check scenes of the raytracer scene language.
 #[derive(Debug, Parser)]
 #[command(name = "raytracer", version, about, long_about = None)]
@@ -61,6 +63,10 @@ pub struct RenderArgs {
     /// value (for measuring what that skip saves).
     #[arg(long)]
     pub no_skip: bool,
+    /// How rays find primitives: a hierarchy above a few primitives
+    /// (`auto`), always (`bvh`) or never (`brute`). The image is the same.
+    #[arg(long, value_enum, default_value_t = Accel::Auto)]
+    pub accel: Accel,
     /// Print ray counts and stage timings to stderr.
     #[arg(long)]
     pub stats: bool,

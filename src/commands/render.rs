@@ -72,6 +72,7 @@ pub struct Stats {
     pub spp: u32,
     pub max_depth: u32,
     pub skip: bool,
+    pub accel: render::Accel,
     pub resolution: u32,
     pub effects: Effects,
 }
@@ -138,6 +139,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
         spp: args.spp,
         max_depth: args.max_depth,
         skip: !args.no_skip,
+        accel: args.accel,
     };
     let rendering = Instant::now();
     let (image, counters) = pool.install(|| trace(&scene, &options, args.precision, args.quiet));
@@ -165,6 +167,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
         spp: args.spp,
         max_depth: args.max_depth,
         skip: options.skip,
+        accel: options.accel,
         resolution: scene.resolution,
         effects: scene.effects,
     };

@@ -53,6 +53,7 @@ pub enum Shape<R: Real> {
 impl<R: Real> Shape<R> {
     /// The smallest `t` in `(0, t_max)` where `ray` meets the surface;
     /// `from_here` says the ray was spawned from this very primitive.
+    #[inline]
     pub fn hit(&self, ray: &Ray<R>, t_max: R, from_here: bool) -> Option<R> {
         match self {
             Shape::Sphere(s) => s.hit(ray, t_max, from_here),
@@ -96,7 +97,9 @@ impl<R: Real> Shape<R> {
 }
 
 impl<R: Real> Sphere<R> {
-    fn hit(&self, ray: &Ray<R>, t_max: R, from_here: bool) -> Option<R> {
+    /// [`Shape::hit`] for a sphere.
+    #[inline]
+    pub fn hit(&self, ray: &Ray<R>, t_max: R, from_here: bool) -> Option<R> {
         let f = ray.origin - self.center;
         let b = f.dot(ray.dir);
         let l = f - ray.dir * b;

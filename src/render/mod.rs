@@ -9,9 +9,10 @@
 //! threads. Everything is generic over the precision [`Real`].
 //!
 //! [`real`] has the two precisions, [`geometry`] the rays, primitives and
-//! their intersection, [`world`] the primitives of a scene, and [`trace`]
-//! the integrator.
+//! their intersection, [`world`] the primitives of a scene, [`bvh`] the
+//! hierarchy that finds them fast, and [`trace`] the integrator.
 
+pub mod bvh;
 pub mod geometry;
 pub mod real;
 pub mod trace;
@@ -26,6 +27,7 @@ pub use real::Real;
 use real::Vector;
 pub use trace::Counters;
 use trace::Tracer;
+pub use world::Accel;
 
 /// How to render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,6 +38,8 @@ pub struct Options {
     pub max_depth: u32,
     /// Skip work that cannot change an 8-bit value.
     pub skip: bool,
+    /// How rays find primitives (never changes the image).
+    pub accel: Accel,
 }
 
 impl Default for Options {
@@ -45,6 +49,7 @@ impl Default for Options {
             spp: 1,
             max_depth: 8,
             skip: true,
+            accel: Accel::Auto,
         }
     }
 }
@@ -64,7 +69,7 @@ pub fn render<R: Real>(
     row_done: &(dyn Fn() + Sync),
 ) -> (Image, Counters) {
     let size = scene.resolution;
-    let tracer = Tracer::<R>::new(scene, options.max_depth, options.skip);
+    let tracer = Tracer::<R>::with_accel(scene, options.max_depth, options.skip, options.accel);
     let grid = options.spp.isqrt().max(1);
     let mut rgb = vec![0u8; size as usize * size as usize * 3];
     let counters = rgb

@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 
 use super::geometry::{offset_origin, Ray, Shape};
 use super::real::{Real, Vector};
-use super::world::{Hit, World};
+use super::world::{Accel, Hit, World};
 use crate::ir;
 
 /// The share of a surface's colour that is lit without any light.
@@ -77,8 +77,14 @@ pub struct Tracer<'a, R: Real> {
 }
 
 impl<'a, R: Real> Tracer<'a, R> {
-    /// A tracer for `scene` reflecting up to `max_depth` times.
+    /// A tracer for `scene` reflecting up to `max_depth` times, finding
+    /// hits as [`Accel::Auto`] chooses.
     pub fn new(scene: &'a ir::Scene, max_depth: u32, skip: bool) -> Self {
+        Self::with_accel(scene, max_depth, skip, Accel::Auto)
+    }
+
+    /// [`Tracer::new`] with the way rays find primitives chosen.
+    pub fn with_accel(scene: &'a ir::Scene, max_depth: u32, skip: bool, accel: Accel) -> Self {
         let lights = scene
             .lights
             .iter()
@@ -89,7 +95,7 @@ impl<'a, R: Real> Tracer<'a, R> {
             .collect();
         Tracer {
             scene,
-            world: World::new(scene),
+            world: World::new(scene, accel),
             lights,
             max_depth,
             skip,

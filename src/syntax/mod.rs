@@ -38,6 +38,7 @@ pub fn parse(text: &str) -> Parsed {
         src: text,
         rest: text,
         errors: Vec::new(),
+        scratch: Vec::new(),
     };
     let file = cursor.file();
     Parsed {
@@ -182,6 +183,8 @@ struct Cursor<'a> {
     src: &'a str,
     rest: &'a str,
     errors: Vec<SyntaxError>,
+    /// The buffer [`Cursor::values`] gathers into.
+    scratch: Vec<Spanned<Value>>,
 }
 
 impl<'a> Cursor<'a> {
@@ -297,7 +300,11 @@ impl<'a> Cursor<'a> {
     /// [`Value::Invalid`]; the run of values ends at the first word that is neither a number nor a
     /// path.
     fn values(&mut self, path_allowed: bool) -> Vec<Spanned<Value>> {
-        let mut values = Vec::new();
+        // Gathered in a reused buffer and copied out at their exact size:
+        // a growing Vec per attribute would keep spare room (and leave the
+        // allocator fragmented), most of a large scene's syntax tree.
+        let mut values = std::mem::take(&mut self.scratch);
+        values.clear();
         while let Some((token, span, rest)) = self.peek() {
             match token {
                 Token::Str(text) => values.push(Spanned::new(span, Value::Text(text))),
@@ -324,7 +331,10 @@ impl<'a> Cursor<'a> {
             }
             self.rest = rest;
         }
-        values
+        let mut exact = Vec::with_capacity(values.len());
+        exact.append(&mut values);
+        self.scratch = values;
+        exact
     }
 
     /// Convert a numeric-looking word, reporting why it is not a number.

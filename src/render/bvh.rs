@@ -1,0 +1,530 @@
+//! A bounding volume hierarchy over a scene's primitives, in the tracer's
+//! precision.
+//!
+//! Built top-down with the surface area heuristic on binned centroids
+//! (Wald 2007), then stored flat in depth-first order: an interior node's
+//! first child is the next node, its second child is at its index; a leaf
+//! names a run of primitives, kept in leaf order with the IR index of each:
+//! spheres inline (so a leaf is one cache line or two), other shapes by
+//! their index into the world's list.
+//!
+//! The hierarchy must find exactly what testing every primitive finds, so
+//! the image is the same byte for byte:
+//! - boxes are `f32` in both precisions (32-byte nodes, two to a cache
+//!   line) and tested in `f32`, three axes at once with glam's SIMD
+//!   `Vec3A` (a scene reaching beyond [`MAX_SCALE`] gets no hierarchy);
+//!   every primitive's box is padded by many
+//!   rounding steps of `R` at its own scale (for the primitive test's
+//!   rounding) plus many `f32` steps at the whole scene's scale (for the
+//!   box test's: ray origins lie on primitives or at the camera, inside
+//!   that scale) and rounded outwards, so no ray a primitive test accepts
+//!   misses the box around it;
+//! - [`Bvh::closest`] breaks ties in `t` towards the lower IR index, as a
+//!   front-to-back scan of the primitives does;
+//! - each primitive is tested with the very [`Shape::hit`] the scan uses.
+//!
+//! [`Bvh::closest`] visits the nearer child first and skips boxes beyond
+//! the nearest hit so far; [`Bvh::occluded`] stops at the first hit (shadow
+//! rays need any hit, not the nearest).
+
+use glam::{DVec3, Vec3A, Vec4};
+
+use super::geometry::{Ray, Shape, Sphere};
+use super::real::{Real, Vector};
+use super::world::Hit;
+
+/// Primitives in a leaf at most (unless they cannot be told apart).
+const MAX_LEAF: usize = 4;
+/// Centroid bins per axis for the surface area heuristic.
+const BINS: usize = 16;
+/// The relative cost of testing a primitive against visiting a node.
+const PRIMITIVE_COST: f64 = 0.6;
+/// Scenes whose coordinates reach beyond this are left to brute force:
+/// far inside `f32`'s range, so box tests never meet an infinity.
+pub const MAX_SCALE: f64 = 1e30;
+/// Deeper than this, a node becomes a leaf, so traversal's stack is fixed.
+const MAX_DEPTH: usize = 60;
+/// Boxes grow by this many epsilons of `R` at the primitive's scale...
+const PAD_EPSILONS: f64 = 256.0;
+/// ...and this many `f32` epsilons at the scene's scale.
+const PAD_F32_EPSILONS: f64 = 64.0;
+
+/// A node of the flat hierarchy, 32 bytes: its box as two rows of four
+/// lanes, so each corner loads as one SIMD vector; the fourth lanes carry
+/// the node's two integers as bit patterns (the box test ignores them).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+struct Node {
+    /// Min x, y, z; then, as bits, interior: the second child's node
+    /// index, leaf: the first primitive.
+    lo: [f32; 4],
+    /// Max x, y, z; then, as bits, the primitives in a leaf (0: interior).
+    hi: [f32; 4],
+}
+
+impl Node {
+    fn leaf(b: Aabb, first: u32, count: u32) -> Node {
+        let (lo, hi) = to_f32_box(b);
+        Node {
+            lo: [lo[0], lo[1], lo[2], f32::from_bits(first)],
+            hi: [hi[0], hi[1], hi[2], f32::from_bits(count)],
+        }
+    }
+
+    fn make_interior(&mut self, second: u32) {
+        self.lo[3] = f32::from_bits(second);
+        self.hi[3] = f32::from_bits(0);
+    }
+
+    /// Interior: the second child; leaf: the first primitive.
+    #[inline]
+    fn index(&self) -> usize {
+        self.lo[3].to_bits() as usize
+    }
+
+    /// Primitives in a leaf; 0 for an interior node.
+    #[inline]
+    fn count(&self) -> usize {
+        self.hi[3].to_bits() as usize
+    }
+}
+
+/// The hierarchy over one scene's primitives.
+pub struct Bvh<R: Real> {
+    nodes: Vec<Node>,
+    /// The primitives in leaf order.
+    prims: Vec<Prim<R>>,
+    /// The IR index of each of `prims`.
+    ids: Vec<u32>,
+}
+
+/// A primitive in leaf order.
+#[derive(Clone, Copy, Debug)]
+enum Prim<R: Real> {
+    Sphere(Sphere<R>),
+    /// Any other shape: look it up in the world's list by IR index.
+    Other,
+}
+
+impl<R: Real> Prim<R> {
+    /// [`Shape::hit`] of the primitive with IR index `id`.
+    #[inline]
+    fn hit(&self, shapes: &[Shape<R>], id: u32, ray: &Ray<R>, t_max: R) -> Option<R> {
+        let from_here = ray.from == Some(id);
+        match self {
+            Prim::Sphere(s) => s.hit(ray, t_max, from_here),
+            Prim::Other => shapes[id as usize].hit(ray, t_max, from_here),
+        }
+    }
+}
+
+/// A primitive while building: its padded box (in `f64`) and centroid.
+#[derive(Clone, Copy)]
+struct Item {
+    lo: DVec3,
+    hi: DVec3,
+    centroid: DVec3,
+    id: u32,
+}
+
+/// A box in `f64` while building.
+#[derive(Clone, Copy)]
+struct Aabb {
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl Aabb {
+    const EMPTY: Aabb = Aabb {
+        lo: DVec3::INFINITY,
+        hi: DVec3::NEG_INFINITY,
+    };
+
+    fn grow(&mut self, lo: DVec3, hi: DVec3) {
+        self.lo = self.lo.min(lo);
+        self.hi = self.hi.max(hi);
+    }
+
+    fn area(&self) -> f64 {
+        let e = (self.hi - self.lo).max(DVec3::ZERO);
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+}
+
+impl<R: Real> Bvh<R> {
+    /// The hierarchy over `shapes`, whose positions are their IR indices;
+    /// `None` for a scene larger than [`MAX_SCALE`], whose ray origins
+    /// `f32` box tests could not hold.
+    pub fn new(shapes: &[Shape<R>]) -> Option<Bvh<R>> {
+        let boxes: Vec<(DVec3, DVec3)> = shapes
+            .iter()
+            .map(|shape| {
+                let (lo, hi) = shape.bounds();
+                (lo.wide(), hi.wide())
+            })
+            .collect();
+        let scale_of = |(lo, hi): &(DVec3, DVec3)| {
+            (lo.abs().max(hi.abs()).max_element() + (hi - *lo).max_element()).max(1.0)
+        };
+        let scene_scale = boxes.iter().map(scale_of).fold(1.0, f64::max);
+        if scene_scale > MAX_SCALE {
+            return None;
+        }
+        let scene_pad = f64::from(f32::EPSILON) * PAD_F32_EPSILONS * scene_scale;
+        let mut items: Vec<Item> = boxes
+            .iter()
+            .enumerate()
+            .map(|(id, b)| {
+                let (lo, hi) = *b;
+                let own_pad = R::epsilon().wide() * PAD_EPSILONS * scale_of(b);
+                let pad = DVec3::splat(scene_pad + own_pad);
+                let (lo, hi) = (lo - pad, hi + pad);
+                Item {
+                    lo,
+                    hi,
+                    centroid: (lo + hi) * 0.5,
+                    id: id as u32,
+                }
+            })
+            .collect();
+        let mut nodes = Vec::with_capacity(2 * items.len().div_ceil(2).max(1));
+        build(&mut items, 0, 0, &mut nodes);
+        let ids: Vec<u32> = items.iter().map(|item| item.id).collect();
+        let prims = ids
+            .iter()
+            .map(|&id| match shapes[id as usize] {
+                Shape::Sphere(s) => Prim::Sphere(s),
+                Shape::Rect(_) => Prim::Other,
+            })
+            .collect();
+        Some(Bvh { nodes, prims, ids })
+    }
+
+    /// The nearest hit in `(0, t_max)` among `shapes` (the list the
+    /// hierarchy was built over); among hits at the same `t`, the primitive
+    /// with the lowest IR index.
+    pub fn closest(&self, shapes: &[Shape<R>], ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {
+        let slab = Slab::new(ray);
+        let mut best: Option<Hit<R>> = None;
+        let mut reach = reach_f32(t_max);
+        // Nodes still to visit, with where the ray enters them.
+        let mut stack = [(0u32, 0f32); MAX_DEPTH + 2];
+        let mut top = 0;
+        slab.enter(&self.nodes[0], reach)?;
+        let mut node = 0usize;
+        loop {
+            let n = &self.nodes[node];
+            if n.count() > 0 {
+                let first = n.index();
+                for slot in first..first + n.count() {
+                    let id = self.ids[slot];
+                    // A primitive's `t` does not depend on the limit it is
+                    // given (only whether it is returned), so testing
+                    // against `t_max` and keeping the nearest, the lower
+                    // index on a tie, is what a scan finds.
+                    if let Some(t) = self.prims[slot].hit(shapes, id, ray, t_max) {
+                        let better = match best {
+                            Some(hit) => t < hit.t || (t == hit.t && id < hit.prim),
+                            None => true,
+                        };
+                        if better {
+                            best = Some(Hit { t, prim: id });
+                            reach = reach_f32(t);
+                        }
+                    }
+                }
+            } else {
+                let (a, b) = (node + 1, n.index());
+                let ta = slab.enter(&self.nodes[a], reach);
+                let tb = slab.enter(&self.nodes[b], reach);
+                match (ta, tb) {
+                    (Some(ta), Some(tb)) => {
+                        let (near, far) = if tb < ta { (b, (a, ta)) } else { (a, (b, tb)) };
+                        stack[top] = (far.0 as u32, far.1);
+                        top += 1;
+                        node = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        node = a;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        node = b;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
+            }
+            // Pop the next node the ray enters before the nearest hit.
+            loop {
+                if top == 0 {
+                    return best;
+                }
+                top -= 1;
+                let (candidate, entry) = stack[top];
+                if entry <= reach {
+                    node = candidate as usize;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Whether any of `shapes` lies on the ray in `(0, t_max)`.
+    pub fn occluded(&self, shapes: &[Shape<R>], ray: &Ray<R>, t_max: R) -> bool {
+        let slab = Slab::new(ray);
+        let reach = reach_f32(t_max);
+        let mut stack = [0u32; MAX_DEPTH + 2];
+        let mut top = 0;
+        let mut node = 0usize;
+        if slab.enter(&self.nodes[0], reach).is_none() {
+            return false;
+        }
+        loop {
+            let n = &self.nodes[node];
+            if n.count() > 0 {
+                let first = n.index();
+                for slot in first..first + n.count() {
+                    let id = self.ids[slot];
+                    if self.prims[slot].hit(shapes, id, ray, t_max).is_some() {
+                        return true;
+                    }
+                }
+            } else {
+                let (a, b) = (node + 1, n.index());
+                let hit_a = slab.enter(&self.nodes[a], reach).is_some();
+                let hit_b = slab.enter(&self.nodes[b], reach).is_some();
+                if hit_a && hit_b {
+                    stack[top] = b as u32;
+                    top += 1;
+                }
+                if hit_a || hit_b {
+                    node = if hit_a { a } else { b };
+                    continue;
+                }
+            }
+            if top == 0 {
+                return false;
+            }
+            top -= 1;
+            node = stack[top] as usize;
+        }
+    }
+}
+
+/// `t` as an `f32` no smaller than it (a few steps up covers rounding).
+#[inline]
+fn reach_f32<R: Real>(t: R) -> f32 {
+    let t = t.wide() as f32;
+    t + t * (4.0 * f32::EPSILON)
+}
+
+/// A ray prepared for `f32` box tests: origin and reciprocal direction.
+struct Slab {
+    origin: Vec3A,
+    inverse: Vec3A,
+}
+
+impl Slab {
+    fn new<R: Real>(ray: &Ray<R>) -> Slab {
+        let (o, d) = (ray.origin.wide(), ray.dir.wide());
+        // A zero component becomes the smallest normal value of its sign:
+        // its reciprocal is finite, so no slab distance is `0 · ∞ = NaN`,
+        // and the ray moves less than any padding.
+        let component = |c: f64| {
+            let c = c as f32;
+            if c == 0.0 {
+                f32::MIN_POSITIVE.copysign(c)
+            } else {
+                c
+            }
+        };
+        Slab {
+            origin: Vec3A::new(o.x as f32, o.y as f32, o.z as f32),
+            inverse: Vec3A::new(component(d.x), component(d.y), component(d.z)).recip(),
+        }
+    }
+
+    /// Where the ray enters the box of `node`, if it does within
+    /// `[0, reach]`.
+    #[inline]
+    fn enter(&self, node: &Node, reach: f32) -> Option<f32> {
+        let lo = Vec3A::from_vec4(Vec4::from_array(node.lo));
+        let hi = Vec3A::from_vec4(Vec4::from_array(node.hi));
+        let a = (lo - self.origin) * self.inverse;
+        let b = (hi - self.origin) * self.inverse;
+        let near = a.min(b).max_element().max(0.0);
+        let far = b.max(a).min_element().min(reach);
+        (near <= far).then_some(near)
+    }
+}
+
+/// Build the subtree over `items` (which start at leaf slot `offset`) into
+/// `nodes`, reordering `items` into leaf order; returns the root's index.
+fn build(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<Node>) -> usize {
+    let mut bounds = Aabb::EMPTY;
+    let mut centroids = Aabb::EMPTY;
+    for item in items.iter() {
+        bounds.grow(item.lo, item.hi);
+        centroids.grow(item.centroid, item.centroid);
+    }
+    let index = nodes.len();
+    nodes.push(Node::leaf(bounds, offset as u32, items.len() as u32));
+    if items.len() <= 1 || depth >= MAX_DEPTH {
+        return index;
+    }
+    let Some(split) = best_split(items, &bounds, &centroids) else {
+        return index;
+    };
+    let (left, right) = items.split_at_mut(split);
+    build(left, offset, depth + 1, nodes);
+    let second = build(right, offset + split, depth + 1, nodes);
+    nodes[index].make_interior(second as u32);
+    index
+}
+
+/// Partition `items` along the cheapest binned SAH split and return the
+/// size of the first part, or `None` when a leaf is cheaper.
+fn best_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usize> {
+    let n = items.len();
+    let extent = centroids.hi - centroids.lo;
+    // Bins per axis, filled in one pass; an axis along which all centroids
+    // share one coordinate has nothing to split and is skipped.
+    let scale = (DVec3::splat(BINS as f64) / extent).to_array();
+    let bin_of = |item: &Item, axis: usize| {
+        (((item.centroid[axis] - centroids.lo[axis]) * scale[axis]) as usize).min(BINS - 1)
+    };
+    let mut bins = [[(Aabb::EMPTY, 0usize); BINS]; 3];
+    for item in items.iter() {
+        for (axis, axis_bins) in bins.iter_mut().enumerate() {
+            let bin = &mut axis_bins[bin_of(item, axis)];
+            bin.0.grow(item.lo, item.hi);
+            bin.1 += 1;
+        }
+    }
+    let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, bin)
+    for (axis, bins) in bins.iter().enumerate() {
+        if extent[axis] <= 0.0 {
+            continue;
+        }
+        // Areas and counts of everything right of each boundary.
+        let mut right = [(0.0, 0usize); BINS];
+        let mut acc = (Aabb::EMPTY, 0usize);
+        for bin in (1..BINS).rev() {
+            acc.0.grow(bins[bin].0.lo, bins[bin].0.hi);
+            acc.1 += bins[bin].1;
+            right[bin] = (acc.0.area(), acc.1);
+        }
+        let mut left = (Aabb::EMPTY, 0usize);
+        for bin in 1..BINS {
+            left.0.grow(bins[bin - 1].0.lo, bins[bin - 1].0.hi);
+            left.1 += bins[bin - 1].1;
+            let (right_area, right_count) = right[bin];
+            if left.1 == 0 || right_count == 0 {
+                continue;
+            }
+            let cost = left.0.area() * left.1 as f64 + right_area * right_count as f64;
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, axis, bin));
+            }
+        }
+    }
+    let (cost, axis, bin) = best?;
+    // Costs relative to the parent's area, in units of a node visit.
+    let split_cost = 1.0 + PRIMITIVE_COST * cost / bounds.area();
+    let leaf_cost = PRIMITIVE_COST * n as f64;
+    if n <= MAX_LEAF && split_cost >= leaf_cost {
+        return None;
+    }
+    let mut split = 0;
+    for i in 0..n {
+        if bin_of(&items[i], axis) < bin {
+            items.swap(i, split);
+            split += 1;
+        }
+    }
+    Some(split)
+}
+
+/// A building box in `f32`, rounded outwards: min and max corners.
+fn to_f32_box(b: Aabb) -> ([f32; 3], [f32; 3]) {
+    let down = |x: f64| {
+        let r = x as f32;
+        if f64::from(r) > x {
+            next_toward_neg_infinity(r)
+        } else {
+            r
+        }
+    };
+    let up = |x: f64| {
+        let r = x as f32;
+        if f64::from(r) < x {
+            -next_toward_neg_infinity(-r)
+        } else {
+            r
+        }
+    };
+    (
+        [down(b.lo.x), down(b.lo.y), down(b.lo.z)],
+        [up(b.hi.x), up(b.hi.y), up(b.hi.z)],
+    )
+}
+
+/// The largest `f32` below finite `r`.
+fn next_toward_neg_infinity(r: f32) -> f32 {
+    if r == 0.0 {
+        -f32::from_bits(1)
+    } else if r > 0.0 {
+        f32::from_bits(r.to_bits() - 1)
+    } else {
+        f32::from_bits(r.to_bits() + 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sphere(x: f64, radius: f64) -> Shape<f64> {
+        Shape::Sphere(Sphere {
+            center: DVec3::new(x, 0.0, -5.0),
+            radius,
+        })
+    }
+
+    #[test]
+    fn boxes_are_rounded_outwards() {
+        let b = Aabb {
+            lo: DVec3::new(0.1, -0.1, -1e-50),
+            hi: DVec3::new(0.3, -0.3, 1e-50),
+        };
+        let (lo, hi) = to_f32_box(b);
+        for axis in 0..3 {
+            assert!(f64::from(lo[axis]) <= b.lo[axis], "{axis}");
+            assert!(f64::from(hi[axis]) >= b.hi[axis], "{axis}");
+        }
+    }
+
+    #[test]
+    fn a_scene_beyond_f32_range_gets_no_hierarchy() {
+        assert!(Bvh::new(&[sphere(0.0, 1.0), sphere(1e31, 1.0)]).is_none());
+        assert!(Bvh::new(&[sphere(0.0, 1.0), sphere(1e6, 1.0)]).is_some());
+    }
+
+    #[test]
+    fn rays_along_an_axis_through_box_faces_still_hit() {
+        // Direction components exactly zero, origin on the spheres' plane.
+        let shapes: Vec<Shape<f64>> = (0..9).map(|i| sphere(f64::from(i), 0.25)).collect();
+        let bvh = Bvh::new(&shapes).expect("a small scene");
+        let ray = Ray {
+            origin: DVec3::new(-3.0, 0.0, -5.0),
+            dir: DVec3::X,
+            from: None,
+        };
+        let hit = bvh.closest(&shapes, &ray, f64::INFINITY).expect("a hit");
+        assert_eq!((hit.prim, hit.t), (0, 2.75));
+        assert!(bvh.occluded(&shapes, &ray, 2.8));
+        assert!(!bvh.occluded(&shapes, &ray, 2.7));
+    }
+}
