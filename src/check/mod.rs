@@ -144,7 +144,7 @@ fn too_many(file: &ast::File, problems: &mut Problems) {
                 found,
                 span: first.kind.span.into(),
                 help: format!(
-                    "every ray is tested against every object and light: remove at least {} of them",
+                    "the limit bounds memory and time (docs/reliability.md): remove at least {} of them",
                     found - limit
                 ),
             });
