@@ -1,26 +1,18 @@
 //! `raytracer check` end to end: exit codes, the three formats, several
 //! files in one run, `--deny-warnings` and `--fix`.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod support;
+
+use std::process::Output;
+
+use support::{run, write};
 
 const CLEAN: &str = "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\n  reflectivity .5\nlight location 0 5 0 color 1 1 1\n";
 const WARNS: &str = "camera 4\nplane\n\tdimension 4 4\n\tcenter 0 -1 -5\n\tnormal 0 -1 -1   # tilted\n\theadup 0 1 0\n";
 const ERRORS: &str = "camera 4\nsphere\n  dimension -1\n  center 0 -5\n";
 
-fn write(dir: &Path, name: &str, text: &str) -> String {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path.display().to_string()
-}
-
 fn check(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raytracer"))
-        .arg("check")
-        .args(args)
-        .env_remove("COLUMNS")
-        .output()
-        .expect("run raytracer")
+    run(&[&["check"], args].concat())
 }
 
 fn stdout(output: &Output) -> String {

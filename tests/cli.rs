@@ -8,43 +8,19 @@
 //! permission test run as root, a tmpfs that cannot be mounted) say so on
 //! stderr and pass without asserting.
 
+mod support;
+
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
+use support::{bin, listing, run, write};
+
 const SCENE: &str =
     "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  reflectivity .5\nlight location 0 5 0 color 1 1 1\n";
 
-fn bin() -> &'static str {
-    env!("CARGO_BIN_EXE_raytracer")
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(bin())
-        .args(args)
-        .env_remove("COLUMNS")
-        .output()
-        .expect("run raytracer")
-}
-
 fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-fn write(dir: &Path, name: &str, text: impl AsRef<[u8]>) -> String {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path.display().to_string()
-}
-
-/// The names in `dir`, sorted: no `.raytracer-*.tmp` may be among them.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 /// Assert `output` exited with `code` and its stderr holds every one of `needles`.

@@ -2,8 +2,12 @@
 //! `render`: output to stdout and to `-o`, exit codes, nothing written for
 //! a bad scene, diagnostics with JSON line and column.
 
+mod support;
+
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
+
+use support::command;
 
 const SCENE: &str = "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\n  color .5 .25 1\n\
                      light location 0 5 0 color 1 1 1\n";
@@ -12,11 +16,8 @@ const CANONICAL: &str =
                          light\n  location 0 5 0\n  color 1 1 1\n";
 
 fn raytracer(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raytracer"))
-        .args(args)
+    command(args)
         .current_dir(dir)
-        .env_remove("COLUMNS")
-        .stdin(Stdio::null())
         .output()
         .expect("run raytracer")
 }
@@ -142,8 +143,7 @@ fn stdin_json_is_recognised_by_its_brace() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("s.txt"), SCENE).unwrap();
     let json = raytracer(&["convert", "s.txt", "--to", "json"], dir.path()).stdout;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_raytracer"))
-        .args(["convert", "-", "--to", "scene"])
+    let mut child = command(&["convert", "-", "--to", "scene"])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

@@ -3,19 +3,12 @@
 //! binary, because `abandon` is for good: nothing is renamed after it in
 //! this process.
 
+mod support;
+
 use std::io::{Error, ErrorKind};
-use std::path::Path;
 
 use raytracer::output;
-
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
+use support::listing;
 
 #[test]
 fn interrupted_and_failed_writes_leave_the_old_file_and_no_temporary() {

@@ -6,17 +6,9 @@
 mod support;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use serde_json::Value;
-use support::{corpus_copy, lower, render};
-
-fn raytracer(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raytracer"))
-        .args(args)
-        .output()
-        .expect("run raytracer")
-}
+use support::{corpus_copy, listing, lower, render, run};
 
 /// Render `scene` (text) with `--stats-json` and return the statistics.
 fn stats_of(scene: &str) -> Value {
@@ -25,7 +17,7 @@ fn stats_of(scene: &str) -> Value {
     std::fs::write(&path, scene).expect("write scene");
     let out = dir.path().join("out.ppm");
     let json = dir.path().join("stats.json");
-    let run = raytracer(&[
+    let output = run(&[
         "render",
         path.to_str().unwrap(),
         out.to_str().unwrap(),
@@ -33,9 +25,9 @@ fn stats_of(scene: &str) -> Value {
         json.to_str().unwrap(),
     ]);
     assert!(
-        run.status.success(),
+        output.status.success(),
         "{}",
-        String::from_utf8_lossy(&run.stderr)
+        String::from_utf8_lossy(&output.stderr)
     );
     serde_json::from_slice(&std::fs::read(json).expect("stats written")).expect("stats JSON")
 }
@@ -110,23 +102,23 @@ fn every_corpus_scene_renders_but_the_parallel_headup() {
     for scene in &scenes {
         let name = scene.file_name().unwrap().to_string_lossy().to_string();
         let out = dir.path().join(format!("{name}.ppm"));
-        let run = raytracer(&[
+        let output = run(&[
             scene.to_str().unwrap(),
             out.to_str().unwrap(),
             "--threads",
             "2",
         ]);
         if name == "reflection_91b7c2f_headup010.txt" {
-            assert_eq!(run.status.code(), Some(1), "{name}");
-            let stderr = String::from_utf8_lossy(&run.stderr);
+            assert_eq!(output.status.code(), Some(1), "{name}");
+            let stderr = String::from_utf8_lossy(&output.stderr);
             assert!(stderr.contains("headup_parallel_to_normal"), "{stderr}");
             assert!(!out.exists(), "{name}: an image was written");
         } else {
             assert_eq!(
-                run.status.code(),
+                output.status.code(),
                 Some(0),
                 "{name}: {}",
-                String::from_utf8_lossy(&run.stderr)
+                String::from_utf8_lossy(&output.stderr)
             );
             let bytes = std::fs::read(&out).expect("image written");
             assert!(bytes.starts_with(b"P6"), "{name}: not a binary PPM");
@@ -143,8 +135,8 @@ fn png_output_decodes_to_the_same_pixels_as_ppm() {
     std::fs::write(&scene, format!("{SPHERE}{PLANE}{LIGHT}")).expect("write");
     let decoded = |name: &str| {
         let out = dir.path().join(name);
-        let run = raytracer(&["render", scene.to_str().unwrap(), out.to_str().unwrap()]);
-        assert!(run.status.success());
+        let output = run(&["render", scene.to_str().unwrap(), out.to_str().unwrap()]);
+        assert!(output.status.success());
         image::open(&out).expect("decodes").to_rgb8()
     };
     let (ppm, png) = (decoded("a.ppm"), decoded("a.png"));
@@ -160,32 +152,27 @@ fn refused_outputs_cost_nothing_and_write_nothing() {
     let s = scene.to_str().unwrap();
 
     let bmp = dir.path().join("out.bmp");
-    let run = raytracer(&["render", s, bmp.to_str().unwrap()]);
-    assert_eq!(run.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&run.stderr).contains("io::output_format"));
+    let output = run(&["render", s, bmp.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("io::output_format"));
     assert!(!bmp.exists());
 
-    let run = raytracer(&["render", s, s]);
-    assert_eq!(run.status.code(), Some(2), "rendering over the scene");
+    let output = run(&["render", s, s]);
+    assert_eq!(output.status.code(), Some(2), "rendering over the scene");
     assert_eq!(std::fs::read_to_string(&scene).unwrap(), SPHERE);
 
-    let run = raytracer(&["render", s, "x.ppm", "--spp", "5"]);
-    assert_eq!(run.status.code(), Some(2));
-    let stderr = String::from_utf8_lossy(&run.stderr);
+    let output = run(&["render", s, "x.ppm", "--spp", "5"]);
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("expected a square number"), "{stderr}");
     assert!(stderr.contains("try 4 or 9"), "{stderr}");
 
     let missing = dir.path().join("no/such/folder/out.ppm");
-    let run = raytracer(&["render", s, missing.to_str().unwrap()]);
-    assert_eq!(run.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&run.stderr).contains("cannot write"));
+    let output = run(&["render", s, missing.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("cannot write"));
 
-    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name())
-        .filter(|n| n != "s.txt")
-        .collect();
-    assert!(leftovers.is_empty(), "{leftovers:?}");
+    assert_eq!(listing(dir.path()), ["s.txt"]);
 }
 
 #[test]
@@ -194,9 +181,9 @@ fn scene_errors_exit_1_and_write_no_image() {
     let scene = dir.path().join("s.txt");
     std::fs::write(&scene, "camera 16\nsphere dimension -1 center 0 0 -4\n").expect("write");
     let out = dir.path().join("out.ppm");
-    let run = raytracer(&[scene.to_str().unwrap(), out.to_str().unwrap()]);
-    assert_eq!(run.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&run.stderr).contains("scene::dimension_not_positive"));
+    let output = run(&[scene.to_str().unwrap(), out.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("scene::dimension_not_positive"));
     assert!(!out.exists());
 }
 

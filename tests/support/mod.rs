@@ -1,14 +1,51 @@
-//! Helpers shared by the render tests: scene text to IR and to pixels,
-//! in-process, and the corpus copied beside a wood texture.
+//! Helpers shared by the integration tests: running the binary, writing
+//! and listing files, scene text to IR and to pixels in-process, and the
+//! corpus copied beside a wood texture.
 
 #![allow(dead_code)] // each test file uses its own subset
 
 use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 use std::time::Instant;
 
 use raytracer::commands::load_bytes;
 use raytracer::ir;
 use raytracer::render::{self, Counters, Image, Options};
+
+/// The `raytracer` binary under test.
+pub fn bin() -> &'static str {
+    env!("CARGO_BIN_EXE_raytracer")
+}
+
+/// The binary with `args`, diagnostics at their default width (no
+/// `$COLUMNS`). `output()` closes its stdin.
+pub fn command(args: &[&str]) -> Command {
+    let mut command = Command::new(bin());
+    command.args(args).env_remove("COLUMNS");
+    command
+}
+
+/// Run the binary with `args` and collect its output.
+pub fn run(args: &[&str]) -> Output {
+    command(args).output().expect("run raytracer")
+}
+
+/// Write `text` to `dir/name` and return the path as a string.
+pub fn write(dir: &Path, name: &str, text: impl AsRef<[u8]>) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write file");
+    path.display().to_string()
+}
+
+/// The names in `dir`, sorted (no `.raytracer-*.tmp` may be among them).
+pub fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("read folder")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
 
 /// The scene text checked and lowered (textures resolve against `dir`),
 /// optionally at another resolution. Panics with the diagnostics when the
