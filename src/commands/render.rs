@@ -4,10 +4,10 @@
 //!
 //! Everything that can be refused cheaply is refused before any work: an
 //! unknown output extension, an output that is the scene file (or, once
-//! the scene is loaded, one of its textures), a folder, or in a folder where
-//! no file can be created, a `--spp` that is not a square. The scene's warnings go to stderr (not with
-//! `--quiet`); its errors go to stderr and the command exits 1 without
-//! touching OUT.
+//! the scene is loaded, one of its textures), a folder, or in a folder
+//! where no file can be created, a `--spp` that is not a square. The
+//! scene's warnings go to stderr (not with `--quiet`); its errors go to
+//! stderr and the command exits 1 without touching OUT.
 
 use std::io::IsTerminal;
 use std::path::Path;
@@ -110,25 +110,24 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
         })?;
 
     let loaded = load(&args.scene)?;
-    let Some(checked) = &loaded.checked else {
+    let show_diagnostics = || {
+        let stderr = std::io::stderr();
         eprint!(
             "{}",
             loaded
                 .report
-                .render_human(terminal_width(), use_color(&std::io::stderr()))
+                .render_human(terminal_width(), use_color(&stderr))
         );
+    };
+    let Some(checked) = &loaded.checked else {
+        show_diagnostics();
         return Ok(Outcome::SceneErrors);
     };
     for out in &outputs {
         output::check_not_input(out, checked.textures.values().map(|t| Path::new(&t.path)))?;
     }
     if !args.quiet && loaded.report.warning_count() > 0 {
-        eprint!(
-            "{}",
-            loaded
-                .report
-                .render_human(terminal_width(), use_color(&std::io::stderr()))
-        );
+        show_diagnostics();
     }
 
     let lowering = Instant::now();
