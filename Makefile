@@ -4,7 +4,7 @@
 CARGO ?= cargo
 BIN := target/release/raytracer
 
-.PHONY: all build test lint fmt run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean
+.PHONY: all build test run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean
 
 all: raytracer
 
