@@ -108,7 +108,7 @@ enum Prim<R: Real> {
 
 impl<R: Real> Prim<R> {
     /// [`Shape::hit`] of the primitive with IR index `id`.
-    #[inline]
+    #[inline(always)]
     fn hit(&self, shapes: &[Shape<R>], id: u32, ray: &Ray<R>, t_max: R) -> Option<R> {
         let from_here = ray.from == Some(id);
         match self {
