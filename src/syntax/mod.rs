@@ -331,8 +331,10 @@ impl<'a> Cursor<'a> {
             }
             self.rest = rest;
         }
-        let exact = values.drain(..).collect();
+        let mut exact = Vec::with_capacity(values.len());
+        exact.append(&mut values);
         self.scratch = values;
+        let exact = exact.into_boxed_slice();
         exact
     }
 
