@@ -334,8 +334,7 @@ impl<'a> Cursor<'a> {
         let mut exact = Vec::with_capacity(values.len());
         exact.append(&mut values);
         self.scratch = values;
-        let exact = exact.into_boxed_slice();
-        exact
+        exact.into_boxed_slice()
     }
 
     /// Convert a numeric-looking word, reporting why it is not a number.
