@@ -9,18 +9,35 @@
 use std::fmt;
 use std::ops::{Deref, DerefMut};
 
-/// A half-open byte range `start..end` into the source text.
+/// A half-open byte range `start..end` into the source text, stored as
+/// `u32` (8 bytes, not 16: a scene's syntax tree holds about twenty spans
+/// per object). Scenes are at most `limits::MAX_SCENE_BYTES` (256 MiB), so
+/// every offset fits; a larger one would saturate at `u32::MAX`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Span {
-    pub start: usize,
-    pub end: usize,
+    start: u32,
+    end: u32,
 }
 
 impl Span {
     /// The span `start..end`.
     pub fn new(start: usize, end: usize) -> Self {
         debug_assert!(start <= end, "span start after end");
-        Span { start, end }
+        let narrow = |offset: usize| u32::try_from(offset).unwrap_or(u32::MAX);
+        Span {
+            start: narrow(start),
+            end: narrow(end),
+        }
+    }
+
+    /// The first byte.
+    pub fn start(&self) -> usize {
+        self.start as usize
+    }
+
+    /// One past the last byte.
+    pub fn end(&self) -> usize {
+        self.end as usize
     }
 
     /// An empty span at `offset`, for "expected X here" labels.
@@ -30,7 +47,7 @@ impl Span {
 
     /// Length in bytes.
     pub fn len(&self) -> usize {
-        self.end - self.start
+        self.end() - self.start()
     }
 
     /// True when the span covers no bytes.
@@ -40,13 +57,13 @@ impl Span {
 
     /// The smallest span covering both `self` and `other`.
     pub fn join(self, other: Span) -> Span {
-        Span::new(self.start.min(other.start), self.end.max(other.end))
+        Span::new(self.start().min(other.start()), self.end().max(other.end()))
     }
 }
 
 impl From<Span> for miette::SourceSpan {
     fn from(span: Span) -> Self {
-        (span.start, span.len()).into()
+        (span.start(), span.len()).into()
     }
 }
 

@@ -123,7 +123,7 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
                 },
             };
             CheckError::UnknownAttribute {
-                found: found.clone(),
+                found: found.to_string(),
                 section,
                 span,
                 help,
@@ -210,7 +210,7 @@ fn read_values<'a>(
                     Value::Text(text) => {
                         problems.push(CheckError::NotANumber {
                             name: name.to_string(),
-                            found: text.clone(),
+                            found: text.to_string(),
                             span: value.span.into(),
                         });
                         ok = false;
@@ -221,9 +221,7 @@ fn read_values<'a>(
             ok.then_some(Read::Numbers(numbers))
         }
         Arity::Path => match attribute.values.first().map(|v| (&v.value, v.span)) {
-            Some((Value::Text(text), span)) if ok => {
-                Some(Read::Path(Spanned::new(span, text.as_str())))
-            }
+            Some((Value::Text(text), span)) if ok => Some(Read::Path(Spanned::new(span, &**text))),
             _ => None,
         },
     }

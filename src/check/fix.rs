@@ -72,7 +72,7 @@ pub fn fixes(file: &File) -> Vec<Fix> {
             });
         }
     }
-    fixes.sort_by_key(|f| f.at.start);
+    fixes.sort_by_key(|f| f.at.start());
     fixes
 }
 
@@ -80,10 +80,10 @@ pub fn fixes(file: &File) -> Vec<Fix> {
 /// most once), so they apply back to front without shifting each other.
 pub fn apply(text: &str, fixes: &[Fix]) -> String {
     let mut edits: Vec<&Edit> = fixes.iter().flat_map(|f| &f.edits).collect();
-    edits.sort_by_key(|e| std::cmp::Reverse(e.span.start));
+    edits.sort_by_key(|e| std::cmp::Reverse(e.span.start()));
     let mut out = text.to_string();
     for edit in edits {
-        out.replace_range(edit.span.start..edit.span.end, &edit.replacement);
+        out.replace_range(edit.span.start()..edit.span.end(), &edit.replacement);
     }
     out
 }
@@ -99,7 +99,7 @@ fn single_vector<'a>(
     if matching.next().is_some() {
         return None;
     }
-    match attribute.values.as_slice() {
+    match &*attribute.values {
         [x, y, z] => match (&x.value, &y.value, &z.value) {
             (Value::Number(x), Value::Number(y), Value::Number(z)) => {
                 Some((attribute, [*x, *y, *z]))

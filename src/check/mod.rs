@@ -71,7 +71,16 @@ pub fn check_file(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Ve
         lights: Vec::new(),
     };
     let mut camera: Option<(Span, Option<u32>)> = None;
-    let mut objects = Vec::new();
+    // The objects, sized up front (growing by doubling would copy them),
+    // and whether every one was valid.
+    let object_count = file
+        .sections
+        .iter()
+        .filter(|s| matches!(*s.kind, SectionKind::Sphere | SectionKind::Plane))
+        .count();
+    let mut objects = Vec::with_capacity(object_count);
+    let mut objects_valid = true;
+    cx.spheres.reserve(object_count);
     let mut lights = Vec::new();
     for section in &file.sections {
         match &*section.kind {
@@ -85,8 +94,17 @@ pub fn check_file(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Ve
                     }),
                 }
             }
-            SectionKind::Sphere => objects.push(sections::sphere(section, &mut cx)),
-            SectionKind::Plane => objects.push(sections::plane(section, &mut cx)),
+            SectionKind::Sphere | SectionKind::Plane => {
+                let object = if *section.kind == SectionKind::Sphere {
+                    sections::sphere(section, &mut cx)
+                } else {
+                    sections::plane(section, &mut cx)
+                };
+                match object {
+                    Some(object) => objects.push(object),
+                    None => objects_valid = false,
+                }
+            }
             SectionKind::Light => lights.push(sections::light(section, &mut cx)),
             SectionKind::Unknown(word) => {
                 cx.problems.push(unknown_section(word, section.kind.span))
@@ -105,9 +123,8 @@ pub fn check_file(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Ve
     } = cx;
     let resolution = camera.and_then(|(_, resolution)| resolution);
     let checked = match (problems.clean(), resolution) {
-        (true, Some(resolution)) => objects
-            .into_iter()
-            .collect::<Option<Vec<_>>>()
+        (true, Some(resolution)) => objects_valid
+            .then_some(objects)
             .zip(lights.into_iter().collect::<Option<Vec<_>>>())
             .map(|(objects, lights)| Checked {
                 scene: model::Scene {
@@ -225,7 +242,7 @@ impl Checker<'_> {
     fn text(&self, span: Span) -> String {
         self.source
             .text
-            .get(span.start..span.end)
+            .get(span.start()..span.end())
             .unwrap_or_default()
             .to_string()
     }

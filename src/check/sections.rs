@@ -34,7 +34,7 @@ pub fn camera(section: &Section, cx: &mut Checker<'_>) -> Option<u32> {
         Value::Text(text) => {
             cx.problems.push(CheckError::NotANumber {
                 name: "camera".to_string(),
-                found: text.clone(),
+                found: text.to_string(),
                 span: arg.span.into(),
             });
             return None;

@@ -186,7 +186,7 @@ fn fix_in_place(path: &Path) -> Result<Vec<String>, WriteFixError> {
     Ok(fixes
         .iter()
         .map(|f| {
-            let (line, column) = source.line_col(f.at.start);
+            let (line, column) = source.line_col(f.at.start());
             format!("{name}:{line}:{column}: fixed: {}", f.description)
         })
         .collect())

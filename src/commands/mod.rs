@@ -172,7 +172,11 @@ pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
         (path.display().to_string(), dir)
     };
     let language = Language::of(path, &bytes);
-    Ok(load_source(&name, &dir, &bytes, language, start))
+    let (source, utf8_error) = SourceFile::from_bytes(&name, &dir, &bytes);
+    // The text lives on in `source`: one copy of a large scene, not two,
+    // while its syntax tree and model are built.
+    drop(bytes);
+    Ok(load_source(source, utf8_error, language, start))
 }
 
 /// The bytes of the scene at `path` (`-` is stdin), refusing a file larger
@@ -207,18 +211,22 @@ pub fn read_scene(path: &Path) -> Result<Vec<u8>, ReadSceneError> {
 /// name ends in `.json`), whose texture paths resolve against `dir`;
 /// `start` is when reading began, for the parse timing.
 pub fn load_bytes(name: &str, dir: &Path, bytes: &[u8], start: Instant) -> Loaded {
+    let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
     load_source(
-        name,
-        dir,
-        bytes,
+        source,
+        utf8_error,
         Language::of(Path::new(name), bytes),
         start,
     )
 }
 
-/// [`load_bytes`] in a given language.
-fn load_source(name: &str, dir: &Path, bytes: &[u8], language: Language, start: Instant) -> Loaded {
-    let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
+/// Parse and check decoded scene text in a given language.
+fn load_source(
+    source: SourceFile,
+    utf8_error: Option<syntax::SyntaxError>,
+    language: Language,
+    start: Instant,
+) -> Loaded {
     let mut diagnostics: Vec<BoxedDiagnostic> = Vec::new();
     diagnostics.extend(utf8_error.map(|e| Box::new(e) as BoxedDiagnostic));
     let (file, parse_diagnostics) = parse(language, &source.text);

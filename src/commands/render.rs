@@ -133,6 +133,11 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
     let lowering = Instant::now();
     let scene = ir::lower(checked);
     let lower = lowering.elapsed().as_secs_f64();
+    // The tracer needs only the IR: free the model and the source text
+    // (the warnings are printed) before the render allocates its own.
+    let (parse, check) = (loaded.parse_seconds, loaded.check_seconds);
+    drop(loaded);
+    return_freed_memory();
 
     let options = Options {
         spp: args.spp,
@@ -151,8 +156,8 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
     let stats = Stats {
         counters,
         seconds: Seconds {
-            parse: loaded.parse_seconds,
-            check: loaded.check_seconds,
+            parse,
+            check,
             lower,
             render,
             write,
@@ -184,6 +189,24 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
     }
     Ok(Outcome::Success)
 }
+
+/// Hand the pages the front end freed back to the system. A large scene's
+/// syntax tree is many small allocations that glibc keeps resident after
+/// they are freed, while the tracer's large arrays get fresh pages: for
+/// 100,000 spheres the peak resident set was 122 MB without this call and
+/// 101 MB with it (docs/performance.md).
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+fn return_freed_memory() {
+    // SAFETY: `malloc_trim` only releases free memory of the allocator's
+    // own heaps; it takes no pointers and is thread-safe.
+    unsafe {
+        libc::malloc_trim(0);
+    }
+}
+
+/// Other allocators and systems return freed memory as they see fit.
+#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+fn return_freed_memory() {}
 
 /// Render in the chosen precision, with a progress bar on a terminal.
 fn trace(

@@ -100,8 +100,8 @@ pub fn path(path: &str) -> Result<String, UnprintablePath> {
             path: path.to_string(),
         });
     }
-    let keyword = SectionKind::from_word(path) != SectionKind::Unknown(path.to_string())
-        || AttrName::from_word(path) != AttrName::Unknown(path.to_string());
+    let keyword = !matches!(SectionKind::from_word(path), SectionKind::Unknown(_))
+        || !matches!(AttrName::from_word(path), AttrName::Unknown(_));
     if !path.is_empty() && !keyword && path.chars().all(is_word_char) {
         return Ok(path.to_string());
     }

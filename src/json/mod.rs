@@ -289,7 +289,7 @@ impl Reader {
             // Reported missing above; keep the check pass from saying so too.
             None => self.sections.push(Section {
                 kind: Spanned::new(brace(object), SectionKind::Camera),
-                args: vec![Spanned::new(brace(object), Value::Invalid)],
+                args: Box::new([Spanned::new(brace(object), Value::Invalid)]),
                 attributes: Vec::new(),
                 span: brace(object),
             }),
@@ -319,7 +319,7 @@ impl Reader {
         let key = span_of(&prop.name);
         let mut section = Section {
             kind: Spanned::new(key, SectionKind::Camera),
-            args: Vec::new(),
+            args: Box::default(),
             attributes: Vec::new(),
             span: span_of(prop),
         };
@@ -333,9 +333,7 @@ impl Reader {
             }
             None => None,
         };
-        section
-            .args
-            .push(resolution.unwrap_or(Spanned::new(key, Value::Invalid)));
+        section.args = Box::new([resolution.unwrap_or(Spanned::new(key, Value::Invalid))]);
         self.sections.push(section);
     }
 
@@ -403,7 +401,7 @@ impl Reader {
         }
         self.sections.push(Section {
             kind: Spanned::new(span_of(&type_prop.value), kind),
-            args: Vec::new(),
+            args: Box::default(),
             attributes,
             span: span_of(object),
         });
@@ -422,7 +420,7 @@ impl Reader {
         ];
         self.sections.push(Section {
             kind: Spanned::new(brace(object), SectionKind::Light),
-            args: Vec::new(),
+            args: Box::default(),
             attributes,
             span: span_of(object),
         });
@@ -450,7 +448,7 @@ impl Reader {
         }
         Attribute {
             name: Spanned::new(name_span.unwrap_or(missing), AttrName::Dimension),
-            values,
+            values: values.into(),
             span,
         }
     }
@@ -467,7 +465,7 @@ impl Reader {
             Some(prop) => self.vector(prop, attr, &given.path.child(name)),
             None => Attribute {
                 name: Spanned::new(missing, attr),
-                values: vec![Spanned::new(missing, Value::Invalid); 3],
+                values: vec![Spanned::new(missing, Value::Invalid); 3].into(),
                 span: missing,
             },
         }
@@ -499,7 +497,7 @@ impl Reader {
     fn texture(&mut self, prop: &ObjectProp<'_>, path: &Pointer) -> Option<Attribute> {
         let value = match &prop.value {
             Json::NullKeyword(_) => return None,
-            Json::StringLit(s) => Spanned::new(span_of(s), Value::Text(s.value.to_string())),
+            Json::StringLit(s) => Spanned::new(span_of(s), Value::Text(s.value.as_ref().into())),
             other => {
                 self.wrong_type(
                     other,
@@ -650,7 +648,7 @@ impl Reader {
 fn attribute(prop: &ObjectProp<'_>, name: AttrName, values: Vec<Spanned<Value>>) -> Attribute {
     Attribute {
         name: Spanned::new(span_of(&prop.name), name),
-        values,
+        values: values.into(),
         span: span_of(prop),
     }
 }

@@ -26,7 +26,7 @@ fn builds_the_tree_with_spans_on_the_json_values() {
     let file = parsed.file.unwrap();
     assert_eq!(file, expected);
     let sphere = &file.sections[1];
-    let text = |span: Span| &SPHERE[span.start..span.end];
+    let text = |span: Span| &SPHERE[span.start()..span.end()];
     assert_eq!(text(sphere.kind.span), "\"sphere\"");
     assert_eq!(text(sphere.attributes[0].name.span), "\"radius\"");
     assert_eq!(text(sphere.attributes[0].values[0].span), "1.5");

@@ -98,7 +98,7 @@ impl<R: Real> Shape<R> {
 
 impl<R: Real> Sphere<R> {
     /// [`Shape::hit`] for a sphere.
-    #[inline]
+    #[inline(always)]
     pub fn hit(&self, ray: &Ray<R>, t_max: R, from_here: bool) -> Option<R> {
         let f = ray.origin - self.center;
         let b = f.dot(ray.dir);

@@ -244,7 +244,7 @@ impl<'a> Cursor<'a> {
                     if let Some(last) = stray.last().filter(|_| !reported) {
                         let run = span.join(last.span);
                         self.errors.push(SyntaxError::ValueOutsideSection {
-                            found: self.src[run.start..run.end].to_string(),
+                            found: self.src[run.start()..run.end()].to_string(),
                             span: run.into(),
                         });
                     }
@@ -299,7 +299,7 @@ impl<'a> Cursor<'a> {
     /// Bad numbers and unterminated strings are reported and kept as
     /// [`Value::Invalid`]; the run of values ends at the first word that is neither a number nor a
     /// path.
-    fn values(&mut self, path_allowed: bool) -> Vec<Spanned<Value>> {
+    fn values(&mut self, path_allowed: bool) -> Box<[Spanned<Value>]> {
         // Gathered in a reused buffer and copied out at their exact size:
         // a growing Vec per attribute would keep spare room (and leave the
         // allocator fragmented), most of a large scene's syntax tree.
@@ -307,7 +307,7 @@ impl<'a> Cursor<'a> {
         values.clear();
         while let Some((token, span, rest)) = self.peek() {
             match token {
-                Token::Str(text) => values.push(Spanned::new(span, Value::Text(text))),
+                Token::Str(text) => values.push(Spanned::new(span, Value::Text(text.into()))),
                 Token::UnterminatedStr => {
                     self.errors
                         .push(SyntaxError::UnterminatedString { span: span.into() });
@@ -316,10 +316,10 @@ impl<'a> Cursor<'a> {
                 Token::Word(w)
                     if path_allowed
                         && values.is_empty()
-                        && SectionKind::from_word(w) == SectionKind::Unknown(w.to_string())
-                        && AttrName::from_word(w) == AttrName::Unknown(w.to_string()) =>
+                        && matches!(SectionKind::from_word(w), SectionKind::Unknown(_))
+                        && matches!(AttrName::from_word(w), AttrName::Unknown(_)) =>
                 {
-                    values.push(Spanned::new(span, Value::Text(w.to_string())));
+                    values.push(Spanned::new(span, Value::Text(w.into())));
                 }
                 Token::Word(w) if looks_numeric(w) || is_non_finite_word(w) => {
                     let value = self
@@ -334,7 +334,7 @@ impl<'a> Cursor<'a> {
         let mut exact = Vec::with_capacity(values.len());
         exact.append(&mut values);
         self.scratch = values;
-        exact
+        exact.into_boxed_slice()
     }
 
     /// Convert a numeric-looking word, reporting why it is not a number.

@@ -9,7 +9,7 @@ fn num(n: f64) -> Spanned<Value> {
 fn attr(name: &str, values: Vec<Spanned<Value>>) -> Attribute {
     Attribute {
         name: Spanned::new(0..0, AttrName::from_word(name)),
-        values,
+        values: values.into(),
         span: Span::default(),
     }
 }
@@ -32,7 +32,7 @@ fn parses_the_spec_example() {
     let s = &parsed.file.sections;
     assert_eq!(s.len(), 4);
     assert_eq!(*s[0].kind, SectionKind::Camera);
-    assert_eq!(s[0].args, vec![num(400.0)]);
+    assert_eq!(*s[0].args, [num(400.0)]);
     assert_eq!(
         s[1].attributes,
         vec![
@@ -41,8 +41,8 @@ fn parses_the_spec_example() {
         ]
     );
     assert_eq!(
-        s[2].attributes[0].values,
-        vec![Spanned::new(0..0, Value::Text("wood_tex.ppm".into()))]
+        *s[2].attributes[0].values,
+        [Spanned::new(0..0, Value::Text("wood_tex.ppm".into()))]
     );
     assert_eq!(
         s[3].attributes[1],
@@ -132,7 +132,7 @@ fn numbers_and_comments_at_the_end_of_input() {
     // of input; these would read as `1.` and give a wrong span.
     for (text, value) in [("1.5", 1.5), ("400.5", 400.5), ("-2.25", -2.25)] {
         let parsed = parse(&format!("camera {text}"));
-        assert_eq!(parsed.file.sections[0].args, vec![num(value)], "{text}");
+        assert_eq!(*parsed.file.sections[0].args, [num(value)], "{text}");
     }
     let parsed = parse("light texture \"open");
     assert_eq!(
