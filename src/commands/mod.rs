@@ -88,7 +88,7 @@ pub enum ReadSceneError {
     #[error("cannot read scene `{path}`: expected at most {limit} bytes, found more")]
     #[diagnostic(
         code(io::scene_too_large),
-        help("a scene at the object and light limits fits in a few MiB; is this the scene file?")
+        help("a scene at the object limit takes about 120 MiB; is this the scene file?")
     )]
     TooLarge { path: String, limit: u64 },
 }
