@@ -24,7 +24,7 @@ use glam::DVec3;
 use raytracer::ir::{self, Shape};
 use raytracer::render::geometry::{self, Ray};
 use raytracer::render::real::{Real, Vector};
-use raytracer::render::trace::{texel, AMBIENT};
+use raytracer::render::trace::{sphere_uv, texel, AMBIENT};
 use raytracer::render::{camera_ray, render, Image, Options};
 
 /// How the naive tracer spawns shadow and reflection rays: from the hit
@@ -215,9 +215,7 @@ fn trace<R: Real>(scene: &ir::Scene, naive: Naive, ray: Ray<R>, depth: u32) -> D
     let (outward, uv) = match object.shape {
         Shape::Sphere { center, radius } => {
             let m = (p.wide() - center) / radius;
-            let u = 0.5 + m.z.atan2(m.x) / std::f64::consts::TAU;
-            let v = 0.5 + m.y.clamp(-1.0, 1.0).asin() / std::f64::consts::PI;
-            (R::Vec::of(m).normalize(), (u, v))
+            (R::Vec::of(m).normalize(), sphere_uv(m))
         }
         Shape::Rect {
             center,
@@ -298,22 +296,8 @@ fn closest<R: Real>(
                 textbook(ray, R::Vec::of(center), R::of(radius))
             }
             Shape::Sphere { center, radius } => stable(ray, R::Vec::of(center), R::of(radius)),
-            Shape::Rect {
-                center,
-                normal,
-                right,
-                up,
-                width,
-                height,
-            } => {
-                let rect = geometry::Shape::Rect(geometry::Rect {
-                    center: R::Vec::of(center),
-                    normal: R::Vec::of(normal),
-                    right: R::Vec::of(right),
-                    up: R::Vec::of(up),
-                    half_width: R::of(width / 2.0),
-                    half_height: R::of(height / 2.0),
-                });
+            Shape::Rect { .. } => {
+                let rect = geometry::Shape::<R>::from(&object.shape);
                 // Shift the origin back by t_min so the product's `t > 0`
                 // test becomes `t > ε`.
                 let back = Ray {

@@ -233,7 +233,7 @@ fn saturated(color: DVec3) -> bool {
 }
 
 /// SPEC.md §2's sphere mapping, from the outward unit normal.
-fn sphere_uv(m: DVec3) -> (f64, f64) {
+pub fn sphere_uv(m: DVec3) -> (f64, f64) {
     let u = 0.5 + m.z.atan2(m.x) / std::f64::consts::TAU;
     let v = 0.5 + m.y.clamp(-1.0, 1.0).asin() / std::f64::consts::PI;
     (u, v)

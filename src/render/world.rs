@@ -53,7 +53,11 @@ impl<R: Real> World<R> {
     /// Convert the IR's objects, keeping their order (a primitive's index
     /// is its object's index), and build a hierarchy if `accel` asks for one.
     pub fn new(scene: &ir::Scene, accel: Accel) -> World<R> {
-        let shapes: Vec<Shape<R>> = scene.objects.iter().map(|o| convert(&o.shape)).collect();
+        let shapes: Vec<Shape<R>> = scene
+            .objects
+            .iter()
+            .map(|o| Shape::from(&o.shape))
+            .collect();
         let hierarchy = match accel {
             Accel::Auto => shapes.len() > BRUTE_FORCE_MAX,
             Accel::Bvh => !shapes.is_empty(),
@@ -94,26 +98,29 @@ impl<R: Real> World<R> {
     }
 }
 
-fn convert<R: Real>(shape: &ir::Shape) -> Shape<R> {
-    match *shape {
-        ir::Shape::Sphere { center, radius } => Shape::Sphere(Sphere {
-            center: R::Vec::of(center),
-            radius: R::of(radius),
-        }),
-        ir::Shape::Rect {
-            center,
-            normal,
-            right,
-            up,
-            width,
-            height,
-        } => Shape::Rect(Rect {
-            center: R::Vec::of(center),
-            normal: R::Vec::of(normal),
-            right: R::Vec::of(right),
-            up: R::Vec::of(up),
-            half_width: R::of(width / 2.0),
-            half_height: R::of(height / 2.0),
-        }),
+impl<R: Real> From<&ir::Shape> for Shape<R> {
+    /// The IR's shape in precision `R`.
+    fn from(shape: &ir::Shape) -> Shape<R> {
+        match *shape {
+            ir::Shape::Sphere { center, radius } => Shape::Sphere(Sphere {
+                center: R::Vec::of(center),
+                radius: R::of(radius),
+            }),
+            ir::Shape::Rect {
+                center,
+                normal,
+                right,
+                up,
+                width,
+                height,
+            } => Shape::Rect(Rect {
+                center: R::Vec::of(center),
+                normal: R::Vec::of(normal),
+                right: R::Vec::of(right),
+                up: R::Vec::of(up),
+                half_width: R::of(width / 2.0),
+                half_height: R::of(height / 2.0),
+            }),
+        }
     }
 }
