@@ -28,6 +28,7 @@
 //! beyond the nearest hit so far; [`Bvh::occluded`] stops at the first hit (shadow
 //! rays need any hit, not the nearest).
 
+use arrayvec::ArrayVec;
 use glam::{DVec3, Vec4};
 
 use super::geometry::{Ray, Shape, Sphere};
@@ -239,65 +240,78 @@ impl<R: Real> Bvh<R> {
         let slab = Slab::new(ray);
         let mut best: Option<Hit<R>> = None;
         let mut reach = reach_f32(t_max);
-        // Children still to visit: (index, count, where the ray enters).
-        let mut stack = [(0u32, 0u32, 0f32); STACK];
-        let mut top = 0;
+        // Children still to visit, the nearest on top.
+        let mut stack = ArrayVec::<Child, STACK>::new();
         let mut node = 0usize;
-        loop {
-            let w = &self.nodes[node];
-            let (near, mask) = slab.enter(w, reach);
-            // Push the entered children farthest first, so the nearest
-            // is visited next.
-            let mut lanes = [(0f32, 0usize); 4];
-            let mut hits = 0;
-            for (lane, &entry) in near.iter().enumerate() {
-                if mask & (1 << lane) != 0 {
-                    let mut at = hits;
-                    while at > 0 && lanes[at - 1].0 < entry {
-                        lanes[at] = lanes[at - 1];
-                        at -= 1;
+        // A primitive's `t` does not depend on the limit it is given (only
+        // whether it is returned), so testing against `t_max` and keeping
+        // the nearest, the lower index on a tie, is what a scan finds.
+        let mut test_leaf = |child: Child, reach: &mut f32| {
+            for slot in child.slots() {
+                let id = self.ids[slot];
+                if let Some(t) = self.prims[slot].hit(shapes, id, ray, t_max) {
+                    if best.is_none_or(|hit| t < hit.t || (t == hit.t && id < hit.prim)) {
+                        best = Some(Hit { t, prim: id });
+                        *reach = reach_f32(t);
                     }
-                    lanes[at] = (entry, lane);
-                    hits += 1;
                 }
             }
-            for &(entry, lane) in &lanes[..hits] {
-                stack[top] = (w.index[lane], w.count[lane], entry);
-                top += 1;
+        };
+        loop {
+            let w = &self.nodes[node];
+            let (near, mut mask) = slab.enter(w, reach);
+            // The entered children, nearest first.
+            let mut order = [(0f32, 0usize); 4];
+            let mut hits = 0;
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let entry = near[lane];
+                let mut at = hits;
+                while at > 0 && order[at - 1].0 > entry {
+                    order[at] = order[at - 1];
+                    at -= 1;
+                }
+                order[at] = (entry, lane);
+                hits += 1;
+            }
+            // Leaves nearer than every interior child are tested at once;
+            // the nearest interior child is visited next and the children
+            // beyond it are pushed, farthest first.
+            let mut next = None;
+            for (k, &(entry, lane)) in order[..hits].iter().enumerate() {
+                if entry > reach {
+                    break;
+                }
+                let child = Child::of(w, lane, entry);
+                if !child.is_interior() {
+                    test_leaf(child, &mut reach);
+                    continue;
+                }
+                next = Some(child.index as usize);
+                for &(entry, lane) in order[k + 1..hits].iter().rev() {
+                    stack.push(Child::of(w, lane, entry));
+                }
+                break;
+            }
+            if let Some(next) = next {
+                node = next;
+                continue;
             }
             // Pop the next child the ray enters before the nearest hit:
             // leaves are tested here, an interior child is visited next.
             loop {
-                if top == 0 {
+                let Some(child) = stack.pop() else {
                     return best;
-                }
-                top -= 1;
-                let (index, count, entry) = stack[top];
-                if entry > reach {
+                };
+                if child.entry > reach {
                     continue;
                 }
-                if count == 0 {
-                    node = index as usize;
+                if child.is_interior() {
+                    node = child.index as usize;
                     break;
                 }
-                let first = index as usize;
-                for slot in first..first + count as usize {
-                    let id = self.ids[slot];
-                    // A primitive's `t` does not depend on the limit it is
-                    // given (only whether it is returned), so testing
-                    // against `t_max` and keeping the nearest, the lower
-                    // index on a tie, is what a scan finds.
-                    if let Some(t) = self.prims[slot].hit(shapes, id, ray, t_max) {
-                        let better = match best {
-                            Some(hit) => t < hit.t || (t == hit.t && id < hit.prim),
-                            None => true,
-                        };
-                        if better {
-                            best = Some(Hit { t, prim: id });
-                            reach = reach_f32(t);
-                        }
-                    }
-                }
+                test_leaf(child, &mut reach);
             }
         }
     }
@@ -306,49 +320,79 @@ impl<R: Real> Bvh<R> {
     pub fn occluded(&self, shapes: &[Shape<R>], ray: &Ray<R>, t_max: R) -> bool {
         let slab = Slab::new(ray);
         let reach = reach_f32(t_max);
-        let mut stack = [(0u32, 0u32); STACK];
-        let mut top = 0;
-        let mut node = 0usize;
+        let mut stack = ArrayVec::<u32, STACK>::new();
+        let mut node = 0u32;
         loop {
-            let w = &self.nodes[node];
-            let (_, mask) = slab.enter(w, reach);
-            for lane in 0..4 {
-                if mask & (1 << lane) != 0 {
-                    stack[top] = (w.index[lane], w.count[lane]);
-                    top += 1;
+            let w = &self.nodes[node as usize];
+            let (_, mut mask) = slab.enter(w, reach);
+            // Leaves are tested as they are met, interior children pushed.
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let child = Child::of(w, lane, 0.0);
+                if child.is_interior() {
+                    stack.push(child.index);
+                    continue;
                 }
-            }
-            loop {
-                if top == 0 {
-                    return false;
-                }
-                top -= 1;
-                let (index, count) = stack[top];
-                if count == 0 {
-                    node = index as usize;
-                    break;
-                }
-                let first = index as usize;
-                for slot in first..first + count as usize {
+                for slot in child.slots() {
                     let id = self.ids[slot];
                     if self.prims[slot].hit(shapes, id, ray, t_max).is_some() {
                         return true;
                     }
                 }
             }
+            let Some(next) = stack.pop() else {
+                return false;
+            };
+            node = next;
         }
     }
 }
 
-/// Traversal stacks: a wide node pushes at most four children and pops
-/// one, and the binary hierarchy is at most [`MAX_DEPTH`] deep.
-const STACK: usize = 4 * (MAX_DEPTH + 2);
+/// A child of a wide node met in traversal.
+#[derive(Clone, Copy, Debug)]
+struct Child {
+    /// An interior child's wide node; a leaf's first primitive.
+    index: u32,
+    /// A leaf's primitives; 0 for an interior child.
+    count: u32,
+    /// Where the ray enters its box.
+    entry: f32,
+}
 
-/// `t` as an `f32` no smaller than it (a few steps up covers rounding).
+impl Child {
+    #[inline(always)]
+    fn of(w: &Wide, lane: usize, entry: f32) -> Child {
+        Child {
+            index: w.index[lane],
+            count: w.count[lane],
+            entry,
+        }
+    }
+
+    #[inline(always)]
+    fn is_interior(&self) -> bool {
+        self.count == 0
+    }
+
+    /// A leaf's slots in leaf order.
+    #[inline(always)]
+    fn slots(&self) -> std::ops::Range<usize> {
+        let first = self.index as usize;
+        first..first + self.count as usize
+    }
+}
+
+/// Traversal stacks: a wide node pushes at most three children and
+/// visits one, and the binary hierarchy is at most [`MAX_DEPTH`] deep.
+const STACK: usize = 3 * (MAX_DEPTH + 2);
+
+/// `t` as an `f32` no smaller than it (a few steps up covers rounding),
+/// and finite: an unused lane's box, at +∞, is then never entered.
 #[inline]
 fn reach_f32<R: Real>(t: R) -> f32 {
     let t = t.wide() as f32;
-    t + t * (4.0 * f32::EPSILON)
+    (t + t * (4.0 * f32::EPSILON)).min(f32::MAX)
 }
 
 /// A ray prepared for `f32` box tests: origin and reciprocal direction,
@@ -361,12 +405,12 @@ struct Slab {
 impl Slab {
     fn new<R: Real>(ray: &Ray<R>) -> Slab {
         let (o, d) = (ray.origin.wide(), ray.dir.wide());
-        // A zero component becomes the smallest normal value of its sign:
-        // its reciprocal is finite, so no slab distance is `0 · ∞ = NaN`,
-        // and the ray moves less than any padding.
+        // A component too small for a finite reciprocal (zero included)
+        // becomes the smallest normal value of its sign: no slab distance
+        // is `0 · ∞ = NaN`, and the ray moves less than any padding.
         let component = |c: f64| {
             let c = c as f32;
-            if c == 0.0 {
+            if c.abs() < f32::MIN_POSITIVE {
                 f32::MIN_POSITIVE.copysign(c)
             } else {
                 c
@@ -379,7 +423,10 @@ impl Slab {
     }
 
     /// Where the ray enters each child box of `node`, and a bit mask of
-    /// those it enters within `[0, reach]`.
+    /// those it enters within `[0, reach]`. An unused lane's box lies at
+    /// +∞ on every axis: along an axis the ray follows forwards it is
+    /// entered at +∞, beyond the finite `reach`, and if the ray heads
+    /// backwards along all three it is left at −∞, before 0.
     #[inline(always)]
     fn enter(&self, node: &Wide, reach: f32) -> ([f32; 4], u32) {
         let mut near = Vec4::ZERO;
@@ -390,14 +437,7 @@ impl Slab {
             near = near.max(a.min(b));
             far = far.min(b.max(a));
         }
-        // An unused lane (at +∞) passes when `reach` is infinite: it is
-        // the only child with index and count 0 (the root is no child).
-        let used = [0, 1, 2, 3].map(|lane| node.index[lane] | node.count[lane] != 0);
-        let used = used
-            .iter()
-            .enumerate()
-            .fold(0, |m, (lane, &u)| m | (u32::from(u) << lane));
-        (near.to_array(), near.cmple(far).bitmask() & used)
+        (near.to_array(), near.cmple(far).bitmask())
     }
 }
 
