@@ -160,7 +160,7 @@ fn check_rect<R: Real>(
     let exact_t = (c - o).dot(n) / d.dot(n);
     let local = o + d * exact_t - c;
     let (x, y) = (local.dot(rect.right.wide()), local.dot(rect.up.wide()));
-    match Shape::Rect(rect).hit(&ray, R::infinity(), false) {
+    match Shape::Rect(Box::new(rect)).hit(&ray, R::infinity(), false) {
         Some(t) => {
             let t = t.wide();
             prop_assert!(t > 0.0, "hit behind the origin: t = {t}");

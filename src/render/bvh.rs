@@ -5,9 +5,8 @@
 //! binned centroids (Wald 2007), then collapsed into a 4-wide tree (each
 //! node the boxes of up to four children, tested at once, one SIMD slab
 //! test per axis over four lanes): a ray visits about half as many nodes.
-//! A leaf names a run of primitives, kept in leaf order with the IR index
-//! of each: spheres inline (so a leaf is one cache line or two), other
-//! shapes by their index into the world's list.
+//! Building reorders the world's primitives into leaf order, so a leaf
+//! names a run of slots and its primitives lie side by side in memory.
 //!
 //! The hierarchy must find exactly what testing every primitive finds, so
 //! the image is the same byte for byte:
@@ -31,9 +30,9 @@
 use arrayvec::ArrayVec;
 use glam::{DVec3, Vec4};
 
-use super::geometry::{Ray, Shape, Sphere};
+use super::geometry::{Ray, Shape};
 use super::real::{Real, Vector};
-use super::world::Hit;
+use super::world::{Hit, Prim};
 
 /// Primitives in a leaf at most (unless they cannot be told apart).
 const MAX_LEAF: usize = 4;
@@ -118,34 +117,11 @@ impl Wide {
     };
 }
 
-/// The hierarchy over one scene's primitives.
-pub struct Bvh<R: Real> {
+/// The hierarchy over one scene's primitives, which it lays out in leaf
+/// order: a leaf is a run of slots of the world's list.
+pub struct Bvh {
     /// The 4-wide tree, root first.
     nodes: Vec<Wide>,
-    /// The primitives in leaf order.
-    prims: Vec<Prim<R>>,
-    /// The IR index of each of `prims`.
-    ids: Vec<u32>,
-}
-
-/// A primitive in leaf order.
-#[derive(Clone, Copy, Debug)]
-enum Prim<R: Real> {
-    Sphere(Sphere<R>),
-    /// Any other shape: look it up in the world's list by IR index.
-    Other,
-}
-
-impl<R: Real> Prim<R> {
-    /// [`Shape::hit`] of the primitive with IR index `id`.
-    #[inline(always)]
-    fn hit(&self, shapes: &[Shape<R>], id: u32, ray: &Ray<R>, t_max: R) -> Option<R> {
-        let from_here = ray.from == Some(id);
-        match self {
-            Prim::Sphere(s) => s.hit(ray, t_max, from_here),
-            Prim::Other => shapes[id as usize].hit(ray, t_max, from_here),
-        }
-    }
 }
 
 /// A primitive while building: its padded box (in `f64`) and centroid.
@@ -154,7 +130,8 @@ struct Item {
     lo: DVec3,
     hi: DVec3,
     centroid: DVec3,
-    id: u32,
+    /// Its slot before reordering.
+    slot: u32,
 }
 
 /// A box in `f64` while building.
@@ -181,15 +158,15 @@ impl Aabb {
     }
 }
 
-impl<R: Real> Bvh<R> {
-    /// The hierarchy over `shapes`, whose positions are their IR indices;
-    /// `None` for a scene larger than [`MAX_SCALE`], whose ray origins
-    /// `f32` box tests could not hold.
-    pub fn new(shapes: &[Shape<R>]) -> Option<Bvh<R>> {
-        let boxes: Vec<(DVec3, DVec3)> = shapes
+impl Bvh {
+    /// The hierarchy over `prims`, reordered into its leaf order; `None`
+    /// (and `prims` untouched) for a scene larger than [`MAX_SCALE`],
+    /// whose ray origins `f32` box tests could not hold.
+    pub fn new<R: Real>(prims: &mut Vec<Prim<R>>) -> Option<Bvh> {
+        let boxes: Vec<(DVec3, DVec3)> = prims
             .iter()
-            .map(|shape| {
-                let (lo, hi) = shape.bounds();
+            .map(|prim| {
+                let (lo, hi) = prim.shape.bounds();
                 (lo.wide(), hi.wide())
             })
             .collect();
@@ -204,7 +181,7 @@ impl<R: Real> Bvh<R> {
         let mut items: Vec<Item> = boxes
             .iter()
             .enumerate()
-            .map(|(id, b)| {
+            .map(|(slot, b)| {
                 let (lo, hi) = *b;
                 let own_pad = R::epsilon().wide() * PAD_EPSILONS * scale_of(b);
                 let pad = DVec3::splat(scene_pad + own_pad);
@@ -213,30 +190,28 @@ impl<R: Real> Bvh<R> {
                     lo,
                     hi,
                     centroid: (lo + hi) * 0.5,
-                    id: id as u32,
+                    slot: slot as u32,
                 }
             })
             .collect();
+        drop(boxes);
         let mut nodes = Vec::with_capacity(2 * items.len().div_ceil(2).max(1));
         build(&mut items, 0, 0, &mut nodes);
         let mut wide = Vec::with_capacity(nodes.len() / 2 + 1);
         collapse(&nodes, 0, &mut wide);
-        let nodes = wide;
-        let ids: Vec<u32> = items.iter().map(|item| item.id).collect();
-        let prims = ids
-            .iter()
-            .map(|&id| match shapes[id as usize] {
-                Shape::Sphere(s) => Prim::Sphere(s),
-                Shape::Rect(_) => Prim::Other,
-            })
-            .collect();
-        Some(Bvh { nodes, prims, ids })
+        let mut unordered: Vec<Option<Prim<R>>> = prims.drain(..).map(Some).collect();
+        prims.extend(items.iter().map(|item| {
+            unordered[item.slot as usize]
+                .take()
+                .expect("every slot lies in exactly one leaf")
+        }));
+        Some(Bvh { nodes: wide })
     }
 
-    /// The nearest hit in `(0, t_max)` among `shapes` (the list the
+    /// The nearest hit in `(0, t_max)` among `prims` (the list the
     /// hierarchy was built over); among hits at the same `t`, the primitive
     /// with the lowest IR index.
-    pub fn closest(&self, shapes: &[Shape<R>], ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {
+    pub fn closest<R: Real>(&self, prims: &[Prim<R>], ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {
         let slab = Slab::new(ray);
         let mut best: Option<Hit<R>> = None;
         let mut reach = reach_f32(t_max);
@@ -248,10 +223,12 @@ impl<R: Real> Bvh<R> {
         // the nearest, the lower index on a tie, is what a scan finds.
         let mut test_leaf = |child: Child, reach: &mut f32| {
             for slot in child.slots() {
-                let id = self.ids[slot];
-                if let Some(t) = self.prims[slot].hit(shapes, id, ray, t_max) {
-                    if best.is_none_or(|hit| t < hit.t || (t == hit.t && id < hit.prim)) {
-                        best = Some(Hit { t, prim: id });
+                let prim = &prims[slot as usize];
+                if let Some(t) = hit(prim, slot, ray, t_max) {
+                    if best.is_none_or(|hit| {
+                        t < hit.t || (t == hit.t && prim.id < prims[hit.slot as usize].id)
+                    }) {
+                        best = Some(Hit { t, slot });
                         *reach = reach_f32(t);
                     }
                 }
@@ -316,8 +293,8 @@ impl<R: Real> Bvh<R> {
         }
     }
 
-    /// Whether any of `shapes` lies on the ray in `(0, t_max)`.
-    pub fn occluded(&self, shapes: &[Shape<R>], ray: &Ray<R>, t_max: R) -> bool {
+    /// Whether any of `prims` lies on the ray in `(0, t_max)`.
+    pub fn occluded<R: Real>(&self, prims: &[Prim<R>], ray: &Ray<R>, t_max: R) -> bool {
         let slab = Slab::new(ray);
         let reach = reach_f32(t_max);
         let mut stack = ArrayVec::<u32, STACK>::new();
@@ -335,8 +312,7 @@ impl<R: Real> Bvh<R> {
                     continue;
                 }
                 for slot in child.slots() {
-                    let id = self.ids[slot];
-                    if self.prims[slot].hit(shapes, id, ray, t_max).is_some() {
+                    if hit(&prims[slot as usize], slot, ray, t_max).is_some() {
                         return true;
                     }
                 }
@@ -375,11 +351,21 @@ impl Child {
         self.count == 0
     }
 
-    /// A leaf's slots in leaf order.
+    /// A leaf's slots.
     #[inline(always)]
-    fn slots(&self) -> std::ops::Range<usize> {
-        let first = self.index as usize;
-        first..first + self.count as usize
+    fn slots(&self) -> std::ops::Range<u32> {
+        self.index..self.index + self.count
+    }
+}
+
+/// [`Shape::hit`] of the primitive in `slot`, with the sphere's test
+/// inlined into traversal.
+#[inline(always)]
+fn hit<R: Real>(prim: &Prim<R>, slot: u32, ray: &Ray<R>, t_max: R) -> Option<R> {
+    let from_here = ray.from == Some(slot);
+    match &prim.shape {
+        Shape::Sphere(s) => s.hit(ray, t_max, from_here),
+        rect => rect.hit(ray, t_max, from_here),
     }
 }
 
@@ -607,12 +593,21 @@ fn next_toward_neg_infinity(r: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::geometry::Sphere;
 
-    fn sphere(x: f64, radius: f64) -> Shape<f64> {
-        Shape::Sphere(Sphere {
-            center: DVec3::new(x, 0.0, -5.0),
-            radius,
-        })
+    /// Spheres of radius `radius` at the given `x`, in IR order.
+    fn spheres(xs: &[f64], radius: f64) -> Vec<Prim<f64>> {
+        xs.iter()
+            .enumerate()
+            .map(|(id, &x)| Prim {
+                shape: Shape::Sphere(Sphere {
+                    center: DVec3::new(x, 0.0, -5.0),
+                    radius,
+                }),
+                id: id as u32,
+                material: 0,
+            })
+            .collect()
     }
 
     #[test]
@@ -630,23 +625,24 @@ mod tests {
 
     #[test]
     fn a_scene_beyond_f32_range_gets_no_hierarchy() {
-        assert!(Bvh::new(&[sphere(0.0, 1.0), sphere(1e31, 1.0)]).is_none());
-        assert!(Bvh::new(&[sphere(0.0, 1.0), sphere(1e6, 1.0)]).is_some());
+        assert!(Bvh::new(&mut spheres(&[0.0, 1e31], 1.0)).is_none());
+        assert!(Bvh::new(&mut spheres(&[0.0, 1e6], 1.0)).is_some());
     }
 
     #[test]
     fn rays_along_an_axis_through_box_faces_still_hit() {
         // Direction components exactly zero, origin on the spheres' plane.
-        let shapes: Vec<Shape<f64>> = (0..9).map(|i| sphere(f64::from(i), 0.25)).collect();
-        let bvh = Bvh::new(&shapes).expect("a small scene");
+        let xs: Vec<f64> = (0..9).map(f64::from).collect();
+        let mut prims = spheres(&xs, 0.25);
+        let bvh = Bvh::new(&mut prims).expect("a small scene");
         let ray = Ray {
             origin: DVec3::new(-3.0, 0.0, -5.0),
             dir: DVec3::X,
             from: None,
         };
-        let hit = bvh.closest(&shapes, &ray, f64::INFINITY).expect("a hit");
-        assert_eq!((hit.prim, hit.t), (0, 2.75));
-        assert!(bvh.occluded(&shapes, &ray, 2.8));
-        assert!(!bvh.occluded(&shapes, &ray, 2.7));
+        let hit = bvh.closest(&prims, &ray, f64::INFINITY).expect("a hit");
+        assert_eq!((prims[hit.slot as usize].id, hit.t), (0, 2.75));
+        assert!(bvh.occluded(&prims, &ray, 2.8));
+        assert!(!bvh.occluded(&prims, &ray, 2.7));
     }
 }

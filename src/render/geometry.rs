@@ -21,7 +21,8 @@ use super::real::{Real, Vector};
 pub struct Ray<R: Real> {
     pub origin: R::Vec,
     pub dir: R::Vec,
-    /// The primitive the ray was spawned from, if any.
+    /// The slot of the primitive the ray was spawned from, if any
+    /// ([`super::world::World::prims`]).
     pub from: Option<u32>,
 }
 
@@ -43,11 +44,12 @@ pub struct Rect<R: Real> {
     pub half_height: R,
 }
 
-/// The geometry of a primitive.
-#[derive(Clone, Copy, Debug)]
+/// The geometry of a primitive. A rectangle is boxed so that a shape is
+/// no larger than a sphere and its tag.
+#[derive(Clone, Debug)]
 pub enum Shape<R: Real> {
     Sphere(Sphere<R>),
-    Rect(Rect<R>),
+    Rect(Box<Rect<R>>),
 }
 
 impl<R: Real> Shape<R> {

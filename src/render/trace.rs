@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 
 use super::geometry::{offset_origin, Ray, Shape};
 use super::real::{Real, Vector};
-use super::world::{Accel, Hit, World};
+use super::world::{Accel, Prim, World};
 use crate::ir;
 
 /// The share of a surface's colour that is lit without any light.
@@ -111,11 +111,12 @@ impl<'a, R: Real> Tracer<'a, R> {
             let Some(hit) = self.world.closest(&ray, R::infinity()) else {
                 break;
             };
-            let object = &self.scene.objects[hit.prim as usize];
-            let surface = self.surface(&ray, hit, object);
-            let albedo = self.albedo(object, &surface, counters);
-            color += self.local(&surface, hit.prim, albedo, color, weight, counters) * weight;
-            let k = object.material.reflectivity;
+            let prim = &self.world.prims[hit.slot as usize];
+            let material = &self.world.materials[prim.material as usize];
+            let surface = self.surface(&ray, hit.t, prim, material);
+            let albedo = self.albedo(material, &surface, counters);
+            color += self.local(&surface, hit.slot, albedo, color, weight, counters) * weight;
+            let k = material.reflectivity;
             if k == 0.0 || depth == self.max_depth {
                 break;
             }
@@ -129,7 +130,7 @@ impl<'a, R: Real> Tracer<'a, R> {
             ray = Ray {
                 origin: offset_origin::<R>(surface.point, n, surface.error_scale),
                 dir: (d - n * (R::of(2.0) * d.dot(n))).normalize(),
-                from: Some(hit.prim),
+                from: Some(hit.slot),
             };
             counters.reflection_rays += 1;
         }
@@ -139,10 +140,10 @@ impl<'a, R: Real> Tracer<'a, R> {
 
     /// The hit point (on the surface to rounding), the face-forward normal
     /// and, for textured objects, the texture coordinates.
-    fn surface(&self, ray: &Ray<R>, hit: Hit<R>, object: &ir::Object) -> Surface<R> {
-        let along = ray.origin + ray.dir * hit.t;
-        let textured = object.material.texture.is_some();
-        let shape = &self.world.shapes[hit.prim as usize];
+    fn surface(&self, ray: &Ray<R>, t: R, prim: &Prim<R>, material: &ir::Material) -> Surface<R> {
+        let along = ray.origin + ray.dir * t;
+        let textured = material.texture.is_some();
+        let shape = &prim.shape;
         let (point, normal, uv) = match shape {
             Shape::Sphere(s) => {
                 let outward = (along - s.center).normalize();
@@ -174,13 +175,18 @@ impl<'a, R: Real> Tracer<'a, R> {
     }
 
     /// The surface colour: the texel under the hit, or the material colour.
-    fn albedo(&self, object: &ir::Object, surface: &Surface<R>, counters: &mut Counters) -> DVec3 {
-        match (object.material.texture, surface.uv) {
+    fn albedo(
+        &self,
+        material: &ir::Material,
+        surface: &Surface<R>,
+        counters: &mut Counters,
+    ) -> DVec3 {
+        match (material.texture, surface.uv) {
             (Some(texture), Some((u, v))) => {
                 counters.texture_lookups += 1;
                 texel(&self.scene.textures[texture], u, v)
             }
-            _ => object.material.color,
+            _ => material.color,
         }
     }
 
@@ -189,7 +195,7 @@ impl<'a, R: Real> Tracer<'a, R> {
     fn local(
         &self,
         surface: &Surface<R>,
-        prim: u32,
+        slot: u32,
         albedo: DVec3,
         color: DVec3,
         weight: f64,
@@ -216,7 +222,7 @@ impl<'a, R: Real> Tracer<'a, R> {
             let ray = Ray {
                 origin,
                 dir: to_light * distance.recip(),
-                from: Some(prim),
+                from: Some(slot),
             };
             counters.shadow_rays += 1;
             if !self.world.occluded(&ray, distance * R::SHADOW_REACH) {

@@ -6,6 +6,14 @@
 //! segment" (shadow rays, which stop at the first hit found). Both either
 //! test every primitive or walk a [`Bvh`], as [`Accel`] chooses; the two
 //! give the same answers, so the choice is only about speed.
+//!
+//! Each primitive carries what shading needs (its shape, its object's IR
+//! index and a material index into a table of the scene's distinct
+//! materials), laid out in the hierarchy's leaf order: a hit is shaded
+//! from the record its test just read, not from the IR's objects, which a
+//! large scene's rays would otherwise fetch from memory at random.
+
+use std::collections::HashMap;
 
 use serde::Serialize;
 
@@ -18,8 +26,19 @@ use crate::ir;
 #[derive(Clone, Copy, Debug)]
 pub struct Hit<R: Real> {
     pub t: R,
-    /// Index of the primitive (and of its object in the IR).
-    pub prim: u32,
+    /// The primitive's slot in [`World::prims`].
+    pub slot: u32,
+}
+
+/// A primitive as the tracer holds it: 48 bytes in `f64`, so a leaf of
+/// four spheres is three cache lines and shading reads nothing else.
+#[derive(Clone, Debug)]
+pub struct Prim<R: Real> {
+    pub shape: Shape<R>,
+    /// Its object's index in the IR: ties between hits go to the lower.
+    pub id: u32,
+    /// Its material's index in [`World::materials`].
+    pub material: u32,
 }
 
 /// How rays find the primitives they hit.
@@ -43,43 +62,73 @@ pub const BRUTE_FORCE_MAX: usize = 4;
 
 /// The primitives of a scene in precision `R`.
 pub struct World<R: Real> {
-    /// One shape per IR object, in the IR's order.
-    pub shapes: Vec<Shape<R>>,
+    /// One per IR object: in the IR's order, or in the hierarchy's leaf
+    /// order when there is one (so a leaf's primitives lie side by side).
+    /// A ray's [`Ray::from`] is a slot of this list.
+    pub prims: Vec<Prim<R>>,
+    /// The objects' distinct materials (most scenes have a handful), so
+    /// shading reads a small table rather than the IR object of each hit.
+    pub materials: Vec<ir::Material>,
     /// The hierarchy, when one is used.
-    bvh: Option<Bvh<R>>,
+    bvh: Option<Bvh>,
 }
 
 impl<R: Real> World<R> {
-    /// Convert the IR's objects, keeping their order (a primitive's index
-    /// is its object's index), and build a hierarchy if `accel` asks for one.
+    /// Convert the IR's objects, build a hierarchy if `accel` asks for one
+    /// and lay the primitives out in its leaf order.
     pub fn new(scene: &ir::Scene, accel: Accel) -> World<R> {
-        let shapes: Vec<Shape<R>> = scene
+        let mut materials: Vec<ir::Material> = Vec::new();
+        let mut known: HashMap<MaterialKey, u32> = HashMap::new();
+        let mut prims: Vec<Prim<R>> = scene
             .objects
             .iter()
-            .map(|o| Shape::from(&o.shape))
+            .enumerate()
+            .map(|(id, o)| {
+                let material = *known
+                    .entry(MaterialKey::of(&o.material))
+                    .or_insert_with(|| {
+                        materials.push(o.material.clone());
+                        materials.len() as u32 - 1
+                    });
+                Prim {
+                    shape: Shape::from(&o.shape),
+                    id: id as u32,
+                    material,
+                }
+            })
             .collect();
         let hierarchy = match accel {
-            Accel::Auto => shapes.len() > BRUTE_FORCE_MAX,
-            Accel::Bvh => !shapes.is_empty(),
+            Accel::Auto => prims.len() > BRUTE_FORCE_MAX,
+            Accel::Bvh => !prims.is_empty(),
             Accel::Brute => false,
         };
-        let bvh = hierarchy.then(|| Bvh::new(&shapes)).flatten();
-        World { shapes, bvh }
+        let bvh = if hierarchy {
+            Bvh::new(&mut prims)
+        } else {
+            None
+        };
+        World {
+            prims,
+            materials,
+            bvh,
+        }
     }
 
     /// The nearest hit in `(0, t_max)`; among hits at the same `t`, the
     /// primitive that comes first in the IR.
     pub fn closest(&self, ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {
         if let Some(bvh) = &self.bvh {
-            return bvh.closest(&self.shapes, ray, t_max);
+            return bvh.closest(&self.prims, ray, t_max);
         }
+        // Without a hierarchy the slots are in IR order: the first of
+        // equal hits is kept.
         let mut best: Option<Hit<R>> = None;
         let mut t_max = t_max;
-        for (index, shape) in self.shapes.iter().enumerate() {
-            let index = index as u32;
-            if let Some(t) = shape.hit(ray, t_max, ray.from == Some(index)) {
+        for (slot, prim) in self.prims.iter().enumerate() {
+            let slot = slot as u32;
+            if let Some(t) = prim.shape.hit(ray, t_max, ray.from == Some(slot)) {
                 t_max = t;
-                best = Some(Hit { t, prim: index });
+                best = Some(Hit { t, slot });
             }
         }
         best
@@ -88,13 +137,24 @@ impl<R: Real> World<R> {
     /// Whether anything lies on the ray in `(0, t_max)`.
     pub fn occluded(&self, ray: &Ray<R>, t_max: R) -> bool {
         if let Some(bvh) = &self.bvh {
-            return bvh.occluded(&self.shapes, ray, t_max);
+            return bvh.occluded(&self.prims, ray, t_max);
         }
-        self.shapes.iter().enumerate().any(|(index, shape)| {
-            shape
-                .hit(ray, t_max, ray.from == Some(index as u32))
+        self.prims.iter().enumerate().any(|(slot, prim)| {
+            prim.shape
+                .hit(ray, t_max, ray.from == Some(slot as u32))
                 .is_some()
         })
+    }
+}
+
+/// A material's bits, to find equal materials.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+struct MaterialKey([u64; 4], Option<usize>);
+
+impl MaterialKey {
+    fn of(m: &ir::Material) -> MaterialKey {
+        let [r, g, b] = m.color.to_array().map(f64::to_bits);
+        MaterialKey([r, g, b, m.reflectivity.to_bits()], m.texture)
     }
 }
 
@@ -113,14 +173,14 @@ impl<R: Real> From<&ir::Shape> for Shape<R> {
                 up,
                 width,
                 height,
-            } => Shape::Rect(Rect {
+            } => Shape::Rect(Box::new(Rect {
                 center: R::Vec::of(center),
                 normal: R::Vec::of(normal),
                 right: R::Vec::of(right),
                 up: R::Vec::of(up),
                 half_width: R::of(width / 2.0),
                 half_height: R::of(height / 2.0),
-            }),
+            })),
         }
     }
 }
