@@ -63,31 +63,87 @@ pub fn check(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Vec<Box
 
 /// [`check`] with the diagnostics unboxed, in the order found.
 pub fn check_file(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Vec<CheckError>) {
-    let mut cx = Checker {
-        source,
-        problems: Problems::default(),
-        textures: textures::Textures::new(&source.dir),
-        spheres: Vec::new(),
-        lights: Vec::new(),
-    };
-    let mut camera: Option<(Span, Option<u32>)> = None;
-    // The objects, sized up front (growing by doubling would copy them),
-    // and whether every one was valid.
-    let object_count = file
-        .sections
-        .iter()
-        .filter(|s| matches!(*s.kind, SectionKind::Sphere | SectionKind::Plane))
-        .count();
-    let mut objects = Vec::with_capacity(object_count);
-    let mut objects_valid = true;
-    cx.spheres.reserve(object_count);
-    let mut lights = Vec::new();
+    let mut check = SceneCheck::new(source);
     for section in &file.sections {
+        check.section(section);
+    }
+    check.finish()
+}
+
+/// The check pass fed one section at a time, as the parser yields them:
+/// a caller that drops each section once checked never holds a large
+/// scene's whole syntax tree. Feeding every section of a file and calling
+/// [`SceneCheck::finish`] is [`check_file`].
+pub struct SceneCheck<'a> {
+    cx: Checker<'a>,
+    /// The first camera's keyword and its resolution, if valid.
+    camera: Option<(Span, Option<u32>)>,
+    objects: Vec<model::Object>,
+    /// Whether every object so far was valid.
+    objects_valid: bool,
+    lights: Vec<Option<model::Light>>,
+    /// Objects and lights seen, for the limits.
+    counts: [Count; 2],
+}
+
+/// How many sections of some kinds came, and the first beyond a limit.
+struct Count {
+    what: &'static str,
+    kinds: &'static [SectionKind],
+    limit: usize,
+    found: usize,
+    first_beyond: Option<Span>,
+}
+
+impl<'a> SceneCheck<'a> {
+    /// A check of the scene whose text is `source`.
+    pub fn new(source: &'a SourceFile) -> SceneCheck<'a> {
+        let count = |what, kinds, limit| Count {
+            what,
+            kinds,
+            limit,
+            found: 0,
+            first_beyond: None,
+        };
+        SceneCheck {
+            cx: Checker {
+                source,
+                problems: Problems::default(),
+                textures: textures::Textures::new(&source.dir),
+                spheres: Vec::new(),
+                lights: Vec::new(),
+            },
+            camera: None,
+            objects: Vec::new(),
+            objects_valid: true,
+            lights: Vec::new(),
+            counts: [
+                count(
+                    "spheres and planes",
+                    &[SectionKind::Sphere, SectionKind::Plane],
+                    MAX_OBJECTS,
+                ),
+                count("lights", &[SectionKind::Light], MAX_LIGHTS),
+            ],
+        }
+    }
+
+    /// Check the next section of the file.
+    pub fn section(&mut self, section: &ast::Section) {
+        let cx = &mut self.cx;
+        for count in &mut self.counts {
+            if count.kinds.contains(&*section.kind) {
+                if count.found == count.limit {
+                    count.first_beyond = Some(section.kind.span);
+                }
+                count.found += 1;
+            }
+        }
         match &*section.kind {
             SectionKind::Camera => {
-                let resolution = sections::camera(section, &mut cx);
-                match camera {
-                    None => camera = Some((section.kind.span, resolution)),
+                let resolution = sections::camera(section, cx);
+                match self.camera {
+                    None => self.camera = Some((section.kind.span, resolution)),
                     Some((first, _)) => cx.problems.push(CheckError::RepeatedCamera {
                         first: first.into(),
                         second: section.kind.span.into(),
@@ -96,73 +152,80 @@ pub fn check_file(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Ve
             }
             SectionKind::Sphere | SectionKind::Plane => {
                 let object = if *section.kind == SectionKind::Sphere {
-                    sections::sphere(section, &mut cx)
+                    sections::sphere(section, cx)
                 } else {
-                    sections::plane(section, &mut cx)
+                    sections::plane(section, cx)
                 };
                 match object {
-                    Some(object) => objects.push(object),
-                    None => objects_valid = false,
+                    Some(object) => self.objects.push(object),
+                    None => self.objects_valid = false,
                 }
             }
-            SectionKind::Light => lights.push(sections::light(section, &mut cx)),
+            SectionKind::Light => self.lights.push(sections::light(section, cx)),
             SectionKind::Unknown(word) => {
                 cx.problems.push(unknown_section(word, section.kind.span))
             }
         }
     }
-    if camera.is_none() {
-        cx.problems.push(CheckError::MissingCamera {
-            span: Span::point(0).into(),
-        });
+
+    /// The checks that need the whole file, then the checked scene when
+    /// there were no errors, and every diagnostic in the order found.
+    pub fn finish(self) -> (Option<Checked>, Vec<CheckError>) {
+        let SceneCheck {
+            mut cx,
+            camera,
+            mut objects,
+            objects_valid,
+            lights,
+            counts,
+        } = self;
+        if camera.is_none() {
+            cx.problems.push(CheckError::MissingCamera {
+                span: Span::point(0).into(),
+            });
+        }
+        cx.lights_inside_spheres();
+        for count in counts {
+            count.report(&mut cx.problems);
+        }
+        let Checker {
+            problems, textures, ..
+        } = cx;
+        let resolution = camera.and_then(|(_, resolution)| resolution);
+        let checked = match (problems.clean(), resolution) {
+            (true, Some(resolution)) => objects_valid
+                .then(|| {
+                    objects.shrink_to_fit();
+                    objects
+                })
+                .zip(lights.into_iter().collect::<Option<Vec<_>>>())
+                .map(|(objects, lights)| Checked {
+                    scene: model::Scene {
+                        format: model::FORMAT.to_string(),
+                        camera: model::Camera { resolution },
+                        objects,
+                        lights,
+                    },
+                    textures: textures.into_loaded(),
+                }),
+            _ => None,
+        };
+        (checked, problems.list)
     }
-    cx.lights_inside_spheres();
-    too_many(file, &mut cx.problems);
-    let Checker {
-        problems, textures, ..
-    } = cx;
-    let resolution = camera.and_then(|(_, resolution)| resolution);
-    let checked = match (problems.clean(), resolution) {
-        (true, Some(resolution)) => objects_valid
-            .then_some(objects)
-            .zip(lights.into_iter().collect::<Option<Vec<_>>>())
-            .map(|(objects, lights)| Checked {
-                scene: model::Scene {
-                    format: model::FORMAT.to_string(),
-                    camera: model::Camera { resolution },
-                    objects,
-                    lights,
-                },
-                textures: textures.into_loaded(),
-            }),
-        _ => None,
-    };
-    (checked, problems.list)
 }
 
-/// Report the first object and the first light beyond [`MAX_OBJECTS`] and
-/// [`MAX_LIGHTS`].
-fn too_many(file: &ast::File, problems: &mut Problems) {
-    let limits = [
-        (
-            "spheres and planes",
-            &[SectionKind::Sphere, SectionKind::Plane][..],
-            MAX_OBJECTS,
-        ),
-        ("lights", &[SectionKind::Light][..], MAX_LIGHTS),
-    ];
-    for (what, kinds, limit) in limits {
-        let mut sections = file.sections.iter().filter(|s| kinds.contains(&*s.kind));
-        let found = sections.clone().count();
-        if let Some(first) = sections.nth(limit) {
+impl Count {
+    /// Report the first section beyond the limit, if one came.
+    fn report(self, problems: &mut Problems) {
+        if let Some(first) = self.first_beyond {
             problems.push(CheckError::TooManyObjects {
-                what,
-                limit,
-                found,
-                span: first.kind.span.into(),
+                what: self.what,
+                limit: self.limit,
+                found: self.found,
+                span: first.into(),
                 help: format!(
                     "the limit bounds memory and time (docs/reliability.md): remove at least {} of them",
-                    found - limit
+                    self.found - self.limit
                 ),
             });
         }

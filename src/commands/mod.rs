@@ -8,7 +8,7 @@ pub mod render;
 use std::io::Read;
 use std::path::Path;
 use std::process::ExitCode;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use miette::Diagnostic;
 
@@ -136,14 +136,6 @@ impl Language {
 /// (`None` when there is nothing to check: a JSON text that is not a scene
 /// of this format), with every problem found on the way.
 pub fn parse(language: Language, text: &str) -> (Option<ast::File>, Vec<BoxedDiagnostic>) {
-    fn boxed<D: miette::Diagnostic + Send + Sync + 'static>(
-        errors: Vec<D>,
-    ) -> Vec<BoxedDiagnostic> {
-        errors
-            .into_iter()
-            .map(|e| Box::new(e) as BoxedDiagnostic)
-            .collect()
-    }
     match language {
         Language::Text => {
             let parsed = syntax::parse(text);
@@ -154,6 +146,14 @@ pub fn parse(language: Language, text: &str) -> (Option<ast::File>, Vec<BoxedDia
             (parsed.file, boxed(parsed.errors))
         }
     }
+}
+
+/// Diagnostics of one type, boxed to be reported together.
+fn boxed<D: miette::Diagnostic + Send + Sync + 'static>(errors: Vec<D>) -> Vec<BoxedDiagnostic> {
+    errors
+        .into_iter()
+        .map(|e| Box::new(e) as BoxedDiagnostic)
+        .collect()
 }
 
 /// Read `path` (`-` is stdin), parse it as scene text or JSON (see
@@ -220,7 +220,11 @@ pub fn load_bytes(name: &str, dir: &Path, bytes: &[u8], start: Instant) -> Loade
     )
 }
 
-/// Parse and check decoded scene text in a given language.
+/// Parse and check decoded scene text in a given language. Scene text is
+/// checked a section at a time as it is parsed, each section dropped once
+/// checked: a scene of 100,000 spheres never holds its whole syntax tree
+/// (docs/performance.md). The diagnostics come in the same order as from
+/// [`parse`] then [`checker::check`]: syntax errors, then the check's.
 fn load_source(
     source: SourceFile,
     utf8_error: Option<syntax::SyntaxError>,
@@ -229,21 +233,43 @@ fn load_source(
 ) -> Loaded {
     let mut diagnostics: Vec<BoxedDiagnostic> = Vec::new();
     diagnostics.extend(utf8_error.map(|e| Box::new(e) as BoxedDiagnostic));
-    let (file, parse_diagnostics) = parse(language, &source.text);
-    diagnostics.extend(parse_diagnostics);
-    let parse_seconds = start.elapsed().as_secs_f64();
-    let start = Instant::now();
-    let checked = file.and_then(|file| {
-        let (checked, check_diagnostics) = checker::check(&file, &source);
-        diagnostics.extend(check_diagnostics);
-        checked
-    });
+    let mut checking = Duration::ZERO;
+    let checked = match language {
+        Language::Text => {
+            let mut check = checker::SceneCheck::new(&source);
+            let mut sections = syntax::sections(&source.text);
+            for section in sections.by_ref() {
+                let started = Instant::now();
+                check.section(&section);
+                checking += started.elapsed();
+            }
+            diagnostics.extend(boxed(sections.into_errors()));
+            let started = Instant::now();
+            let (checked, problems) = check.finish();
+            diagnostics.extend(boxed(problems));
+            checking += started.elapsed();
+            checked
+        }
+        Language::Json => {
+            let (file, parse_diagnostics) = parse(language, &source.text);
+            diagnostics.extend(parse_diagnostics);
+            let started = Instant::now();
+            let checked = file.and_then(|file| {
+                let (checked, check_diagnostics) = checker::check(&file, &source);
+                diagnostics.extend(check_diagnostics);
+                checked
+            });
+            checking += started.elapsed();
+            checked
+        }
+    };
+    let parsing = start.elapsed().saturating_sub(checking);
     let report = Report::new(source, diagnostics);
     let checked = checked.filter(|_| report.error_count() == 0);
     Loaded {
         report,
         checked,
-        parse_seconds,
-        check_seconds: start.elapsed().as_secs_f64(),
+        parse_seconds: parsing.as_secs_f64(),
+        check_seconds: checking.as_secs_f64(),
     }
 }

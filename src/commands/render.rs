@@ -17,7 +17,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use miette::Diagnostic;
 use serde::Serialize;
 
-use super::{load, Failure, Outcome};
+use super::{load, Failure, Loaded, Outcome};
 use crate::cli::{Precision, RenderArgs};
 use crate::diagnostic::{terminal_width, use_color};
 use crate::ir::{self, Effects};
@@ -109,35 +109,38 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
             reason: e.to_string(),
         })?;
 
-    let loaded = load(&args.scene)?;
+    let Loaded {
+        report,
+        checked,
+        parse_seconds: parse,
+        check_seconds: check,
+    } = load(&args.scene)?;
     let show_diagnostics = || {
         let stderr = std::io::stderr();
         eprint!(
             "{}",
-            loaded
-                .report
-                .render_human(terminal_width(), use_color(&stderr))
+            report.render_human(terminal_width(), use_color(&stderr))
         );
     };
-    let Some(checked) = &loaded.checked else {
+    let Some(checked) = checked else {
         show_diagnostics();
         return Ok(Outcome::SceneErrors);
     };
     for out in &outputs {
         output::check_not_input(out, checked.textures.values().map(|t| Path::new(&t.path)))?;
     }
-    if !args.quiet && loaded.report.warning_count() > 0 {
+    if !args.quiet && report.warning_count() > 0 {
         show_diagnostics();
     }
-
+    // Each phase frees what the next does not need: the source text once
+    // the warnings are printed, the model once it is lowered. A large
+    // scene's peak memory is then the larger of model plus IR and IR plus
+    // the tracer's own (docs/performance.md).
+    drop(report);
     let lowering = Instant::now();
-    let scene = ir::lower(checked);
+    let scene = ir::lower(&checked);
     let lower = lowering.elapsed().as_secs_f64();
-    // The tracer needs only the IR: free the model and the source text
-    // (the warnings are printed) before the render allocates its own.
-    let (parse, check) = (loaded.parse_seconds, loaded.check_seconds);
-    drop(loaded);
-    return_freed_memory();
+    drop(checked);
 
     let options = Options {
         spp: args.spp,
@@ -189,24 +192,6 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
     }
     Ok(Outcome::Success)
 }
-
-/// Hand the pages the front end freed back to the system. A large scene's
-/// syntax tree is many small allocations that glibc keeps resident after
-/// they are freed, while the tracer's large arrays get fresh pages: for
-/// 100,000 spheres the peak resident set was 122 MB without this call and
-/// 101 MB with it (docs/performance.md).
-#[cfg(all(target_os = "linux", target_env = "gnu"))]
-fn return_freed_memory() {
-    // SAFETY: `malloc_trim` only releases free memory of the allocator's
-    // own heaps; it takes no pointers and is thread-safe.
-    unsafe {
-        libc::malloc_trim(0);
-    }
-}
-
-/// Other allocators and systems return freed memory as they see fit.
-#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
-fn return_freed_memory() {}
 
 /// Render in the chosen precision, with a progress bar on a terminal.
 fn trace(

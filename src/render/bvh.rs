@@ -162,28 +162,28 @@ impl Bvh {
     /// The hierarchy over `prims`, reordered into its leaf order; `None`
     /// (and `prims` untouched) for a scene larger than [`MAX_SCALE`],
     /// whose ray origins `f32` box tests could not hold.
-    pub fn new<R: Real>(prims: &mut Vec<Prim<R>>) -> Option<Bvh> {
-        let boxes: Vec<(DVec3, DVec3)> = prims
-            .iter()
-            .map(|prim| {
-                let (lo, hi) = prim.shape.bounds();
-                (lo.wide(), hi.wide())
-            })
-            .collect();
-        let scale_of = |(lo, hi): &(DVec3, DVec3)| {
-            (lo.abs().max(hi.abs()).max_element() + (hi - *lo).max_element()).max(1.0)
+    pub fn new<R: Real>(prims: &mut [Prim<R>]) -> Option<Bvh> {
+        let bounds = |prim: &Prim<R>| {
+            let (lo, hi) = prim.shape.bounds();
+            (lo.wide(), hi.wide())
         };
-        let scene_scale = boxes.iter().map(scale_of).fold(1.0, f64::max);
+        let scale_of = |(lo, hi): (DVec3, DVec3)| {
+            (lo.abs().max(hi.abs()).max_element() + (hi - lo).max_element()).max(1.0)
+        };
+        let scene_scale = prims
+            .iter()
+            .map(|prim| scale_of(bounds(prim)))
+            .fold(1.0, f64::max);
         if scene_scale > MAX_SCALE {
             return None;
         }
         let scene_pad = f64::from(f32::EPSILON) * PAD_F32_EPSILONS * scene_scale;
-        let mut items: Vec<Item> = boxes
+        let mut items: Vec<Item> = prims
             .iter()
             .enumerate()
-            .map(|(slot, b)| {
-                let (lo, hi) = *b;
-                let own_pad = R::epsilon().wide() * PAD_EPSILONS * scale_of(b);
+            .map(|(slot, prim)| {
+                let (lo, hi) = bounds(prim);
+                let own_pad = R::epsilon().wide() * PAD_EPSILONS * scale_of((lo, hi));
                 let pad = DVec3::splat(scene_pad + own_pad);
                 let (lo, hi) = (lo - pad, hi + pad);
                 Item {
@@ -194,17 +194,12 @@ impl Bvh {
                 }
             })
             .collect();
-        drop(boxes);
         let mut nodes = Vec::with_capacity(2 * items.len().div_ceil(2).max(1));
         build(&mut items, 0, 0, &mut nodes);
         let mut wide = Vec::with_capacity(nodes.len() / 2 + 1);
         collapse(&nodes, 0, &mut wide);
-        let mut unordered: Vec<Option<Prim<R>>> = prims.drain(..).map(Some).collect();
-        prims.extend(items.iter().map(|item| {
-            unordered[item.slot as usize]
-                .take()
-                .expect("every slot lies in exactly one leaf")
-        }));
+        drop(nodes);
+        into_leaf_order(prims, &mut items);
         Some(Bvh { nodes: wide })
     }
 
@@ -427,6 +422,25 @@ impl Slab {
     }
 }
 
+/// Move `prims` into leaf order, in place: slot `k` receives the
+/// primitive that was in `items[k].slot`. Follows each cycle of the
+/// permutation, marking the items it has placed.
+fn into_leaf_order<R: Real>(prims: &mut [Prim<R>], items: &mut [Item]) {
+    const PLACED: u32 = u32::MAX;
+    for start in 0..items.len() {
+        let mut k = start;
+        while items[k].slot != PLACED {
+            let from = items[k].slot as usize;
+            items[k].slot = PLACED;
+            if from == start {
+                break;
+            }
+            prims.swap(k, from);
+            k = from;
+        }
+    }
+}
+
 /// Collapse the binary subtree at `root` into wide nodes appended to
 /// `wide`: starting from `root` alone, the interior child with the largest
 /// box is replaced by its two children until there are four or all are
@@ -621,6 +635,26 @@ mod tests {
             assert!(f64::from(lo[axis]) <= b.lo[axis], "{axis}");
             assert!(f64::from(hi[axis]) >= b.hi[axis], "{axis}");
         }
+    }
+
+    #[test]
+    fn leaf_order_follows_every_cycle() {
+        // Slot k receives the primitive from `from[k]`: cycles of 1, 2 and 4.
+        let from = [0, 2, 1, 4, 5, 6, 3];
+        let xs: Vec<f64> = (0..from.len()).map(|i| i as f64).collect();
+        let mut prims = spheres(&xs, 0.25);
+        let mut items: Vec<Item> = from
+            .iter()
+            .map(|&slot| Item {
+                lo: DVec3::ZERO,
+                hi: DVec3::ZERO,
+                centroid: DVec3::ZERO,
+                slot,
+            })
+            .collect();
+        into_leaf_order(&mut prims, &mut items);
+        let ids: Vec<u32> = prims.iter().map(|p| p.id).collect();
+        assert_eq!(ids, from);
     }
 
     #[test]

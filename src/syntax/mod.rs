@@ -34,16 +34,48 @@ pub struct Parsed {
 /// Parse scene text. Never fails and never panics: problems are returned in
 /// [`Parsed::errors`] and the tree holds everything that could be read.
 pub fn parse(text: &str) -> Parsed {
-    let mut cursor = Cursor {
-        src: text,
-        rest: text,
-        errors: Vec::new(),
-        scratch: Vec::new(),
+    let mut sections = sections(text);
+    let file = File {
+        sections: sections.by_ref().collect(),
     };
-    let file = cursor.file();
     Parsed {
         file,
-        errors: cursor.errors,
+        errors: sections.into_errors(),
+    }
+}
+
+/// Parse scene text one section at a time: the sections [`parse`] puts in
+/// its tree, in order, so a caller can check each and drop it (a large
+/// scene's tree then never exists whole). The syntax errors come after the
+/// last section, from [`Sections::into_errors`].
+pub fn sections(text: &str) -> Sections<'_> {
+    Sections {
+        cursor: Cursor {
+            src: text,
+            rest: text,
+            errors: Vec::new(),
+            scratch: Vec::new(),
+        },
+    }
+}
+
+/// The sections of a text, parsed as they are asked for.
+pub struct Sections<'a> {
+    cursor: Cursor<'a>,
+}
+
+impl Sections<'_> {
+    /// Every syntax error met so far (all of them, once the sections ran out).
+    pub fn into_errors(self) -> Vec<SyntaxError> {
+        self.cursor.errors
+    }
+}
+
+impl Iterator for Sections<'_> {
+    type Item = Section;
+
+    fn next(&mut self) -> Option<Section> {
+        self.cursor.file()
     }
 }
 
@@ -228,13 +260,13 @@ impl<'a> Cursor<'a> {
 
     /// `file = trivia , { section } ;`
     ///
-    /// Values before the first section are reported once per run of them.
-    fn file(&mut self) -> File {
-        let mut sections = Vec::new();
+    /// One step of the rule: the next section, or `None` at the end of the
+    /// input. Values before a section are reported once per run of them.
+    fn file(&mut self) -> Option<Section> {
         while let Some((token, span, _)) = self.peek() {
             match token {
                 Token::Word(w) if !looks_numeric(w) && !is_non_finite_word(w) => {
-                    sections.push(self.section());
+                    return Some(self.section());
                 }
                 // A number or string: `values` consumes at least this token.
                 _ => {
@@ -251,7 +283,7 @@ impl<'a> Cursor<'a> {
                 }
             }
         }
-        File { sections }
+        None
     }
 
     /// `section = section_keyword , { value } , { attribute } ;`
