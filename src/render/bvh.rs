@@ -28,7 +28,7 @@
 //! rays need any hit, not the nearest).
 
 use arrayvec::ArrayVec;
-use glam::{DVec3, Vec4};
+use glam::{DVec3, UVec3, Vec3A, Vec4};
 
 use super::geometry::{Ray, Shape};
 use super::real::{Real, Vector};
@@ -68,10 +68,9 @@ struct Node {
 
 impl Node {
     fn leaf(b: Aabb, first: u32, count: u32) -> Node {
-        let (lo, hi) = to_f32_box(b);
         Node {
-            lo: [lo[0], lo[1], lo[2], f32::from_bits(first)],
-            hi: [hi[0], hi[1], hi[2], f32::from_bits(count)],
+            lo: b.lo.extend(f32::from_bits(first)).to_array(),
+            hi: b.hi.extend(f32::from_bits(count)).to_array(),
         }
     }
 
@@ -126,36 +125,40 @@ pub struct Bvh {
     nodes: Vec<Wide>,
 }
 
-/// A primitive while building: its padded box (in `f64`) and centroid.
+/// A primitive while building: its padded box, rounded outwards to `f32`
+/// (so every node's box, their union, is the union's rounding: `f32`
+/// arithmetic while building loses nothing), and centroid.
 #[derive(Clone, Copy)]
 struct Item {
-    lo: DVec3,
-    hi: DVec3,
-    centroid: DVec3,
+    lo: Vec3A,
+    hi: Vec3A,
+    centroid: Vec3A,
     /// Its slot before reordering.
     slot: u32,
 }
 
-/// A box in `f64` while building.
+/// A box while building, in `f32` (SIMD lanes).
 #[derive(Clone, Copy)]
 struct Aabb {
-    lo: DVec3,
-    hi: DVec3,
+    lo: Vec3A,
+    hi: Vec3A,
 }
 
 impl Aabb {
     const EMPTY: Aabb = Aabb {
-        lo: DVec3::INFINITY,
-        hi: DVec3::NEG_INFINITY,
+        lo: Vec3A::INFINITY,
+        hi: Vec3A::NEG_INFINITY,
     };
 
-    fn grow(&mut self, lo: DVec3, hi: DVec3) {
+    fn grow(&mut self, lo: Vec3A, hi: Vec3A) {
         self.lo = self.lo.min(lo);
         self.hi = self.hi.max(hi);
     }
 
+    /// The surface area, in `f64` (the extents of a scene of scale
+    /// [`MAX_SCALE`] would overflow a product in `f32`).
     fn area(&self) -> f64 {
-        let e = (self.hi - self.lo).max(DVec3::ZERO);
+        let e = (self.hi - self.lo).max(Vec3A::ZERO).as_dvec3();
         2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
     }
 }
@@ -187,7 +190,7 @@ impl Bvh {
                 let (lo, hi) = bounds(prim);
                 let own_pad = R::epsilon().wide() * PAD_EPSILONS * scale_of((lo, hi));
                 let pad = DVec3::splat(scene_pad + own_pad);
-                let (lo, hi) = (lo - pad, hi + pad);
+                let (lo, hi) = to_f32_box(lo - pad, hi + pad);
                 Item {
                     lo,
                     hi,
@@ -514,15 +517,19 @@ fn best_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usi
     let n = items.len();
     let extent = centroids.hi - centroids.lo;
     // Bins per axis, filled in one pass; an axis along which all centroids
-    // share one coordinate has nothing to split and is skipped.
-    let scale = (DVec3::splat(BINS as f64) / extent).to_array();
-    let bin_of = |item: &Item, axis: usize| {
-        (((item.centroid[axis] - centroids.lo[axis]) * scale[axis]) as usize).min(BINS - 1)
+    // share one coordinate has nothing to split and is skipped. The bin
+    // of each axis at once (`as` saturates: a NaN or negative is bin 0).
+    let scale = Vec3A::splat(BINS as f32) / extent;
+    let bins_of = |item: &Item| {
+        ((item.centroid - centroids.lo) * scale)
+            .as_uvec3()
+            .min(UVec3::splat(BINS as u32 - 1))
+            .to_array()
     };
     let mut bins = [[(Aabb::EMPTY, 0usize); BINS]; 3];
     for item in items.iter() {
-        for (axis, axis_bins) in bins.iter_mut().enumerate() {
-            let bin = &mut axis_bins[bin_of(item, axis)];
+        for (axis_bins, bin) in bins.iter_mut().zip(bins_of(item)) {
+            let bin = &mut axis_bins[bin as usize];
             bin.0.grow(item.lo, item.hi);
             bin.1 += 1;
         }
@@ -563,7 +570,7 @@ fn best_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usi
     }
     let mut split = 0;
     for i in 0..n {
-        if bin_of(&items[i], axis) < bin {
+        if (bins_of(&items[i])[axis] as usize) < bin {
             items.swap(i, split);
             split += 1;
         }
@@ -571,8 +578,8 @@ fn best_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usi
     Some(split)
 }
 
-/// A building box in `f32`, rounded outwards: min and max corners.
-fn to_f32_box(b: Aabb) -> ([f32; 3], [f32; 3]) {
+/// A box in `f32`, rounded outwards: min and max corners.
+fn to_f32_box(lo: DVec3, hi: DVec3) -> (Vec3A, Vec3A) {
     let down = |x: f64| {
         let r = x as f32;
         if f64::from(r) > x {
@@ -590,8 +597,8 @@ fn to_f32_box(b: Aabb) -> ([f32; 3], [f32; 3]) {
         }
     };
     (
-        [down(b.lo.x), down(b.lo.y), down(b.lo.z)],
-        [up(b.hi.x), up(b.hi.y), up(b.hi.z)],
+        Vec3A::new(down(lo.x), down(lo.y), down(lo.z)),
+        Vec3A::new(up(hi.x), up(hi.y), up(hi.z)),
     )
 }
 
@@ -628,14 +635,11 @@ mod tests {
 
     #[test]
     fn boxes_are_rounded_outwards() {
-        let b = Aabb {
-            lo: DVec3::new(0.1, -0.1, -1e-50),
-            hi: DVec3::new(0.3, -0.3, 1e-50),
-        };
-        let (lo, hi) = to_f32_box(b);
+        let (lo64, hi64) = (DVec3::new(0.1, -0.1, -1e-50), DVec3::new(0.3, -0.3, 1e-50));
+        let (lo, hi) = to_f32_box(lo64, hi64);
         for axis in 0..3 {
-            assert!(f64::from(lo[axis]) <= b.lo[axis], "{axis}");
-            assert!(f64::from(hi[axis]) >= b.hi[axis], "{axis}");
+            assert!(f64::from(lo[axis]) <= lo64[axis], "{axis}");
+            assert!(f64::from(hi[axis]) >= hi64[axis], "{axis}");
         }
     }
 
@@ -648,9 +652,9 @@ mod tests {
         let mut items: Vec<Item> = from
             .iter()
             .map(|&slot| Item {
-                lo: DVec3::ZERO,
-                hi: DVec3::ZERO,
-                centroid: DVec3::ZERO,
+                lo: Vec3A::ZERO,
+                hi: Vec3A::ZERO,
+                centroid: Vec3A::ZERO,
                 slot,
             })
             .collect();
