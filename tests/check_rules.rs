@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use raytracer::check::{check_file, CheckError, Checked};
+use raytracer::check::{check_file, CheckError, Checked, SceneCheck};
 use raytracer::diagnostic::SourceFile;
 use raytracer::model::Shape;
 use raytracer::syntax::parse;
@@ -263,4 +263,43 @@ fn textures_load_relative_to_the_scene_folder() {
     assert_eq!(scene("\"missing one.ppm\"").1, ["scene::texture_not_found"]);
     assert_eq!(scene("bad.ppm").1, ["scene::texture_not_an_image"]);
     assert_eq!(scene(".").1, ["scene::texture_not_a_file"]);
+}
+
+#[test]
+fn checking_section_by_section_as_parsed_equals_checking_the_tree() {
+    // What the commands do (each section checked as the parser yields it,
+    // then dropped) against parsing the whole tree first: the same
+    // diagnostics in the same order, and the same scene.
+    let texts = [
+        "camera 4\nsphere dimension 1 center 0 0 -5 color 0.5 0.5 0.5\nlight location 0 5 0 color 1 1 1",
+        "camera 0\nsphere dimension 0\n centre 0 0 -5\nsphere\ncamera 4\nsphre\nlight location 0 0 -5 color 2 0 0\nsphere dimension 1 center 0 0 -5\n1 2 3",
+    ];
+    for (text, problems) in texts.into_iter().zip([0, 8]) {
+        let (source, _) = SourceFile::from_bytes("scene.txt", Path::new("."), text.as_bytes());
+        let parsed = parse(text);
+        let (tree_scene, tree_problems) = check_file(&parsed.file, &source);
+        let mut sections = raytracer::syntax::sections(text);
+        let mut check = SceneCheck::new(&source);
+        for section in sections.by_ref() {
+            check.section(&section);
+        }
+        let syntax_errors = sections.into_errors();
+        let (streamed_scene, streamed_problems) = check.finish();
+        assert_eq!(
+            syntax_errors.len() + tree_problems.len(),
+            problems,
+            "{text}: {syntax_errors:?} {tree_problems:?}"
+        );
+        assert_eq!(tree_scene.is_some(), problems == 0);
+        assert_eq!(format!("{syntax_errors:?}"), format!("{:?}", parsed.errors));
+        assert_eq!(
+            format!("{streamed_problems:?}"),
+            format!("{tree_problems:?}")
+        );
+        assert_eq!(
+            streamed_scene.map(|c| c.scene),
+            tree_scene.map(|c| c.scene),
+            "{text}"
+        );
+    }
 }

@@ -1,7 +1,10 @@
 //! The check pass: validates the AST against every rule of SPEC.md §1 and
 //! builds the scene model.
 //!
-//! Every problem in the file is reported in one run. The shared attribute
+//! Every problem in the file is reported in one run. [`SceneCheck`] takes
+//! the sections one at a time, so the commands check each section as the
+//! parser yields it and never hold a large scene's whole syntax tree;
+//! [`check`] runs it over a parsed [`ast::File`]. The shared attribute
 //! checks live in [`attributes`] (driven by the [`schema`] table), each
 //! section kind's own rules in [`sections`], vector geometry and the headup
 //! thresholds in [`geometry`], texture loading in [`textures`], and the

@@ -237,6 +237,18 @@ impl Bvh {
         loop {
             let w = &self.nodes[node];
             let (near, mut mask) = slab.enter(w, reach);
+            // One child entered (the common case deep in the tree): no
+            // ordering to do.
+            if mask.is_power_of_two() {
+                let lane = mask.trailing_zeros() as usize;
+                let child = Child::of(w, lane, near[lane]);
+                if child.is_interior() {
+                    node = child.index as usize;
+                    continue;
+                }
+                test_leaf(child, &mut reach);
+                mask = 0;
+            }
             // The entered children, nearest first.
             let mut order = [(0f32, 0usize); 4];
             let mut hits = 0;

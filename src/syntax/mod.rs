@@ -6,6 +6,9 @@
 //! those token parsers, records every syntax error it meets, skips the bad
 //! token and carries on, so one run reports every problem in the file.
 //!
+//! [`parse`] returns the whole tree; [`sections`] yields it a section at a
+//! time, for a caller that checks each and lets it go.
+//!
 //! Spans are byte offsets into the parsed text, computed with nom's
 //! [`Offset`] trait from the remaining input (as kdl-rs does).
 
