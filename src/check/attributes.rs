@@ -180,22 +180,30 @@ fn read_values<'a>(
     problems: &mut Problems,
 ) -> Option<Read<'a>> {
     let name = attribute.name.as_str();
-    let (expected_count, expected) = match spec.arity {
-        Arity::Numbers(1) => (1, "1 value".to_string()),
-        Arity::Numbers(n) => (n, format!("{n} values")),
-        Arity::Path => (1, "1 path".to_string()),
+    let expected_count = match spec.arity {
+        Arity::Numbers(n) => n,
+        Arity::Path => 1,
     };
     let mut ok = true;
-    if let Some(problem) = count_problem(
-        name,
-        &expected,
-        expected_count,
-        attribute.name.span,
-        &attribute.values,
-        &format!("write `{name} {}`", spec.placeholder),
-    ) {
-        problems.push(problem);
-        ok = false;
+    // The texts are built only for a wrong count: a large scene has
+    // millions of attributes.
+    if attribute.values.len() != expected_count {
+        let expected = match spec.arity {
+            Arity::Numbers(1) => "1 value".to_string(),
+            Arity::Numbers(n) => format!("{n} values"),
+            Arity::Path => "1 path".to_string(),
+        };
+        if let Some(problem) = count_problem(
+            name,
+            &expected,
+            expected_count,
+            attribute.name.span,
+            &attribute.values,
+            &format!("write `{name} {}`", spec.placeholder),
+        ) {
+            problems.push(problem);
+            ok = false;
+        }
     }
     if attribute.values.iter().any(|v| v.value == Value::Invalid) {
         problems.mark_incomplete();

@@ -29,6 +29,7 @@
 
 use arrayvec::ArrayVec;
 use glam::{DVec3, UVec3, Vec3A, Vec4};
+use rayon::prelude::*;
 
 use super::geometry::{Ray, Shape};
 use super::real::{Real, Vector};
@@ -167,7 +168,7 @@ impl Bvh {
     /// The hierarchy over `prims`, reordered into its leaf order; `None`
     /// (and `prims` untouched) for a scene larger than [`MAX_SCALE`],
     /// whose ray origins `f32` box tests could not hold.
-    pub fn new<R: Real>(prims: &mut [Prim<R>]) -> Option<Bvh> {
+    pub fn new<R: Real>(prims: &mut Vec<Prim<R>>) -> Option<Bvh> {
         let bounds = |prim: &Prim<R>| {
             let (lo, hi) = prim.shape.bounds();
             (lo.wide(), hi.wide())
@@ -176,15 +177,15 @@ impl Bvh {
             (lo.abs().max(hi.abs()).max_element() + (hi - lo).max_element()).max(1.0)
         };
         let scene_scale = prims
-            .iter()
+            .par_iter()
             .map(|prim| scale_of(bounds(prim)))
-            .fold(1.0, f64::max);
+            .reduce(|| 1.0, f64::max);
         if scene_scale > MAX_SCALE {
             return None;
         }
         let scene_pad = f64::from(f32::EPSILON) * PAD_F32_EPSILONS * scene_scale;
         let mut items: Vec<Item> = prims
-            .iter()
+            .par_iter()
             .enumerate()
             .map(|(slot, prim)| {
                 let (lo, hi) = bounds(prim);
@@ -204,7 +205,15 @@ impl Bvh {
         let mut wide = Vec::with_capacity(nodes.len() / 2 + 1);
         collapse(&nodes, 0, &mut wide);
         drop(nodes);
-        into_leaf_order(prims, &mut items);
+        // Gathered in leaf order: independent reads, unlike moving the
+        // primitives along the permutation's cycles in place, whose
+        // chained cache misses took a fifth of the build for 10⁶ spheres.
+        let order: Vec<u32> = items.iter().map(|item| item.slot).collect();
+        drop(items);
+        *prims = order
+            .par_iter()
+            .map(|&slot| prims[slot as usize].clone())
+            .collect();
         Some(Bvh { nodes: wide })
     }
 
@@ -439,25 +448,6 @@ impl Slab {
     }
 }
 
-/// Move `prims` into leaf order, in place: slot `k` receives the
-/// primitive that was in `items[k].slot`. Follows each cycle of the
-/// permutation, marking the items it has placed.
-fn into_leaf_order<R: Real>(prims: &mut [Prim<R>], items: &mut [Item]) {
-    const PLACED: u32 = u32::MAX;
-    for start in 0..items.len() {
-        let mut k = start;
-        while items[k].slot != PLACED {
-            let from = items[k].slot as usize;
-            items[k].slot = PLACED;
-            if from == start {
-                break;
-            }
-            prims.swap(k, from);
-            k = from;
-        }
-    }
-}
-
 /// Collapse the binary subtree at `root` into wide nodes appended to
 /// `wide`: starting from `root` alone, the interior child with the largest
 /// box is replaced by its two children until there are four or all are
@@ -501,6 +491,10 @@ fn collapse(nodes: &[Node], root: usize, wide: &mut Vec<Wide>) -> usize {
 
 /// Build the subtree over `items` (which start at leaf slot `offset`) into
 /// `nodes`, reordering `items` into leaf order; returns the root's index.
+/// With more than one thread in the current rayon pool, the two halves of
+/// a node over [`PARALLEL_MIN`] items or more near the root are built at
+/// once, each into its own list, appended in order: the tree is the same
+/// for any number of threads.
 fn build(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<Node>) -> usize {
     let mut bounds = Aabb::EMPTY;
     let mut centroids = Aabb::EMPTY;
@@ -516,11 +510,45 @@ fn build(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<Node>)
     let Some(split) = best_split(items, &bounds, &centroids) else {
         return index;
     };
+    // Enough subtrees to keep every thread busy, each large enough to pay
+    // for its own list (which is copied once more per parallel level).
+    let threads = rayon::current_num_threads();
+    let parallel = threads > 1 && items.len() >= PARALLEL_MIN && (1 << depth) < 4 * threads;
     let (left, right) = items.split_at_mut(split);
-    build(left, offset, depth + 1, nodes);
-    let second = build(right, offset + split, depth + 1, nodes);
+    let second = if parallel {
+        let subtree = |items: &mut [Item], offset| {
+            let mut nodes = Vec::new();
+            build(items, offset, depth + 1, &mut nodes);
+            nodes
+        };
+        let (left, right) =
+            rayon::join(|| subtree(left, offset), || subtree(right, offset + split));
+        append(nodes, left);
+        let second = nodes.len();
+        append(nodes, right);
+        second
+    } else {
+        build(left, offset, depth + 1, nodes);
+        build(right, offset + split, depth + 1, nodes)
+    };
     nodes[index].make_interior(second as u32);
     index
+}
+
+/// Nodes over at least this many primitives build their halves in
+/// parallel: below it a half takes well under a millisecond.
+const PARALLEL_MIN: usize = 4096;
+
+/// Append a subtree built into its own list, moving its interior nodes'
+/// child indices to where it lands.
+fn append(nodes: &mut Vec<Node>, subtree: Vec<Node>) {
+    let base = nodes.len();
+    nodes.extend(subtree.into_iter().map(|mut node| {
+        if node.count() == 0 {
+            node.make_interior((node.index() + base) as u32);
+        }
+        node
+    }));
 }
 
 /// Partition `items` along the cheapest binned SAH split and return the
@@ -656,23 +684,26 @@ mod tests {
     }
 
     #[test]
-    fn leaf_order_follows_every_cycle() {
-        // Slot k receives the primitive from `from[k]`: cycles of 1, 2 and 4.
-        let from = [0, 2, 1, 4, 5, 6, 3];
-        let xs: Vec<f64> = (0..from.len()).map(|i| i as f64).collect();
-        let mut prims = spheres(&xs, 0.25);
-        let mut items: Vec<Item> = from
-            .iter()
-            .map(|&slot| Item {
-                lo: Vec3A::ZERO,
-                hi: Vec3A::ZERO,
-                centroid: Vec3A::ZERO,
-                slot,
-            })
+    fn the_tree_is_the_same_built_on_one_thread_or_several() {
+        // Enough spheres for parallel levels; a hash spreads them out.
+        let xs: Vec<f64> = (0..3 * PARALLEL_MIN as u64)
+            .map(|i| (i.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as f64 / 1e3)
             .collect();
-        into_leaf_order(&mut prims, &mut items);
-        let ids: Vec<u32> = prims.iter().map(|p| p.id).collect();
-        assert_eq!(ids, from);
+        let built = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("a thread pool");
+            let mut prims = spheres(&xs, 0.25);
+            let bvh = pool
+                .install(|| Bvh::new(&mut prims))
+                .expect("a small scene");
+            let ids: Vec<u32> = prims.iter().map(|p| p.id).collect();
+            (format!("{:?}", bvh.nodes), ids)
+        };
+        let (nodes, ids) = built(1);
+        assert!(nodes.len() > 1000 && ids.len() == xs.len());
+        assert!(built(4) == (nodes, ids), "a parallel build differs");
     }
 
     #[test]
