@@ -254,9 +254,11 @@ pub fn texel(texture: &ir::Texture, u: f64, v: f64) -> DVec3 {
         "texture lookup at ({u}, {v})"
     );
     let (w, h) = (texture.width as usize, texture.height as usize);
-    // `as usize` saturates: negative values (and NaN) become 0.
-    let x = ((u * w as f64).floor() as usize).min(w - 1);
-    let y = (((1.0 - v) * h as f64).floor() as usize).min(h - 1);
+    // `as usize` truncates, which is the floor for values ≥ 0, and
+    // saturates: negative values (and NaN) become 0. (`floor` itself is a
+    // libm call on baseline x86-64.)
+    let x = ((u * w as f64) as usize).min(w - 1);
+    let y = (((1.0 - v) * h as f64) as usize).min(h - 1);
     let [r, g, b] = texture.texels[y * w + x];
     DVec3::new(f64::from(r), f64::from(g), f64::from(b))
 }
