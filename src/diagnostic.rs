@@ -23,6 +23,14 @@ use crate::syntax::SyntaxError;
 /// A diagnostic of any stage, boxed so syntax and check problems share a list.
 pub type BoxedDiagnostic = Box<dyn Diagnostic + Send + Sync + 'static>;
 
+/// Diagnostics of one type, boxed to be reported with others.
+pub fn boxed<D: Diagnostic + Send + Sync + 'static>(diagnostics: Vec<D>) -> Vec<BoxedDiagnostic> {
+    diagnostics
+        .into_iter()
+        .map(|d| Box::new(d) as BoxedDiagnostic)
+        .collect()
+}
+
 /// Scene text with the name to show for it and the folder texture paths
 /// resolve against.
 #[derive(Clone, Debug)]

@@ -23,7 +23,7 @@ mod textures;
 use std::collections::BTreeMap;
 
 use crate::ast::{self, SectionKind};
-use crate::diagnostic::{BoxedDiagnostic, SourceFile};
+use crate::diagnostic::{boxed, BoxedDiagnostic, SourceFile};
 use crate::ir::{Effects, Texture};
 use crate::limits::{MAX_LIGHTS, MAX_OBJECTS};
 use crate::model;
@@ -57,11 +57,7 @@ impl Checked {
 /// and every diagnostic (errors and warnings) either way.
 pub fn check(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Vec<BoxedDiagnostic>) {
     let (checked, problems) = check_file(file, source);
-    let boxed = problems
-        .into_iter()
-        .map(|p| Box::new(p) as BoxedDiagnostic)
-        .collect();
-    (checked, boxed)
+    (checked, boxed(problems))
 }
 
 /// [`check`] with the diagnostics unboxed, in the order found.

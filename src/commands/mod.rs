@@ -15,7 +15,7 @@ use miette::Diagnostic;
 use crate::ast;
 use crate::check::Checked;
 use crate::cli::{Cli, Command};
-use crate::diagnostic::{io_reason, BoxedDiagnostic, Report, SourceFile};
+use crate::diagnostic::{boxed, io_reason, BoxedDiagnostic, Report, SourceFile};
 use crate::limits::MAX_SCENE_BYTES;
 use crate::{check as checker, json, syntax};
 
@@ -146,14 +146,6 @@ pub fn parse(language: Language, text: &str) -> (Option<ast::File>, Vec<BoxedDia
             (parsed.file, boxed(parsed.errors))
         }
     }
-}
-
-/// Diagnostics of one type, boxed to be reported together.
-fn boxed<D: miette::Diagnostic + Send + Sync + 'static>(errors: Vec<D>) -> Vec<BoxedDiagnostic> {
-    errors
-        .into_iter()
-        .map(|e| Box::new(e) as BoxedDiagnostic)
-        .collect()
 }
 
 /// Read `path` (`-` is stdin), parse it as scene text or JSON (see
