@@ -31,7 +31,7 @@ use arrayvec::ArrayVec;
 use glam::{DVec3, UVec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
-use super::geometry::{Ray, Shape};
+use super::geometry::Ray;
 use super::real::{Real, Vector};
 use super::world::{Hit, Prim};
 
@@ -233,7 +233,7 @@ impl Bvh {
         let mut test_leaf = |child: Child, reach: &mut f32| {
             for slot in child.slots() {
                 let prim = &prims[slot as usize];
-                if let Some(t) = hit(prim, slot, ray, t_max) {
+                if let Some(t) = prim.hit(slot, ray, t_max) {
                     if best.is_none_or(|hit| {
                         t < hit.t || (t == hit.t && prim.id < prims[hit.slot as usize].id)
                     }) {
@@ -333,7 +333,7 @@ impl Bvh {
                     continue;
                 }
                 for slot in child.slots() {
-                    if hit(&prims[slot as usize], slot, ray, t_max).is_some() {
+                    if prims[slot as usize].hit(slot, ray, t_max).is_some() {
                         return true;
                     }
                 }
@@ -376,17 +376,6 @@ impl Child {
     #[inline(always)]
     fn slots(&self) -> std::ops::Range<u32> {
         self.index..self.index + self.count
-    }
-}
-
-/// [`Shape::hit`] of the primitive in `slot`, with the sphere's test
-/// inlined into traversal.
-#[inline(always)]
-fn hit<R: Real>(prim: &Prim<R>, slot: u32, ray: &Ray<R>, t_max: R) -> Option<R> {
-    let from_here = ray.from == Some(slot);
-    match &prim.shape {
-        Shape::Sphere(s) => s.hit(ray, t_max, from_here),
-        rect => rect.hit(ray, t_max, from_here),
     }
 }
 
@@ -656,7 +645,7 @@ fn next_toward_neg_infinity(r: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::geometry::Sphere;
+    use crate::render::geometry::{Shape, Sphere};
 
     /// Spheres of radius `radius` at the given `x`, in IR order.
     fn spheres(xs: &[f64], radius: f64) -> Vec<Prim<f64>> {

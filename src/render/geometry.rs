@@ -55,7 +55,7 @@ pub enum Shape<R: Real> {
 impl<R: Real> Shape<R> {
     /// The smallest `t` in `(0, t_max)` where `ray` meets the surface;
     /// `from_here` says the ray was spawned from this very primitive.
-    #[inline]
+    #[inline(always)]
     pub fn hit(&self, ray: &Ray<R>, t_max: R, from_here: bool) -> Option<R> {
         match self {
             Shape::Sphere(s) => s.hit(ray, t_max, from_here),

@@ -60,6 +60,15 @@ pub enum Accel {
 /// little faster and at 101 five times (docs/performance.md).
 pub const BRUTE_FORCE_MAX: usize = 4;
 
+impl<R: Real> Prim<R> {
+    /// [`Shape::hit`] of this primitive, which lies in `slot`: inlined, so
+    /// the sphere test sits in the traversal loops.
+    #[inline(always)]
+    pub fn hit(&self, slot: u32, ray: &Ray<R>, t_max: R) -> Option<R> {
+        self.shape.hit(ray, t_max, ray.from == Some(slot))
+    }
+}
+
 /// The primitives of a scene in precision `R`.
 pub struct World<R: Real> {
     /// One per IR object: in the IR's order, or in the hierarchy's leaf
@@ -126,7 +135,7 @@ impl<R: Real> World<R> {
         let mut t_max = t_max;
         for (slot, prim) in self.prims.iter().enumerate() {
             let slot = slot as u32;
-            if let Some(t) = prim.shape.hit(ray, t_max, ray.from == Some(slot)) {
+            if let Some(t) = prim.hit(slot, ray, t_max) {
                 t_max = t;
                 best = Some(Hit { t, slot });
             }
@@ -139,11 +148,10 @@ impl<R: Real> World<R> {
         if let Some(bvh) = &self.bvh {
             return bvh.occluded(&self.prims, ray, t_max);
         }
-        self.prims.iter().enumerate().any(|(slot, prim)| {
-            prim.shape
-                .hit(ray, t_max, ray.from == Some(slot as u32))
-                .is_some()
-        })
+        self.prims
+            .iter()
+            .enumerate()
+            .any(|(slot, prim)| prim.hit(slot as u32, ray, t_max).is_some())
     }
 }
 
