@@ -1,7 +1,5 @@
-//! Every real course scene in `../shared/corpus/field` checks (warnings
+//! Every real course scene in `tests/corpus/field` checks (warnings
 //! allowed), except the one whose headup is parallel to its normal.
-//! `RAYTRACER_CORPUS` overrides where the corpus is (for git worktrees that
-//! do not have `shared/` beside them).
 
 mod support;
 

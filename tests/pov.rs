@@ -24,7 +24,7 @@ use raytracer::commands::load;
 use raytracer::convert::scene_text::to_scene_text;
 use raytracer::model::{Material, Scene};
 
-const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/corpus/field");
+const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");
 const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
 const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";
 /// The coverage images' width and height.
@@ -60,8 +60,7 @@ fn run(command: &mut Command) {
 
 /// Every checkable scene text in the corpus and scenes/.
 fn scenes() -> Vec<PathBuf> {
-    let corpus =
-        std::env::var_os("RAYTRACER_CORPUS").map_or_else(|| PathBuf::from(CORPUS), PathBuf::from);
+    let corpus = PathBuf::from(CORPUS);
     assert!(
         corpus.is_dir(),
         "the scene corpus is missing: {}",

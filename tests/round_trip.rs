@@ -18,7 +18,7 @@ use raytracer::convert::json::{schema, to_json};
 use raytracer::convert::scene_text::to_scene_text;
 use raytracer::model::{self, Camera, Light, Material, Object, Scene, Shape};
 
-const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/corpus/field");
+const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");
 const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
 /// An error by SPEC: its headup is parallel to its normal.
 const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";
@@ -82,11 +82,10 @@ fn round_trip(scene: &Scene, dir: &Path, stem: &str) -> String {
 
 /// `dir` with the corpus and scenes/ copied in, and a texture beside them.
 fn corpus_copy(dir: &Path) -> Vec<PathBuf> {
-    let corpus =
-        std::env::var_os("RAYTRACER_CORPUS").map_or_else(|| PathBuf::from(CORPUS), PathBuf::from);
+    let corpus = PathBuf::from(CORPUS);
     assert!(
         corpus.is_dir(),
-        "the scene corpus is missing: expected {} (set RAYTRACER_CORPUS)",
+        "the scene corpus is missing: expected {}",
         corpus.display()
     );
     let mut scenes = Vec::new();

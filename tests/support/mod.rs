@@ -85,16 +85,14 @@ pub fn quantized(c: [f64; 3]) -> [u8; 3] {
     c.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8)
 }
 
-/// The course corpus (`../shared/corpus/field`, or `$RAYTRACER_CORPUS`).
+/// The course corpus, kept in the repository (`tests/corpus/field`, whose
+/// `SOURCE.txt` says where each file comes from).
 pub fn corpus_dir() -> PathBuf {
-    std::env::var_os("RAYTRACER_CORPUS").map_or_else(
-        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/field"),
-        PathBuf::from,
-    )
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus/field")
 }
 
 /// The corpus scene files copied into a temporary folder with the
-/// project's `wood_tex.ppm` beside them.
+/// corpus's `wood_tex.ppm` beside them.
 pub fn corpus_copy() -> (tempfile::TempDir, Vec<PathBuf>) {
     let source = corpus_dir();
     assert!(
@@ -106,7 +104,9 @@ pub fn corpus_copy() -> (tempfile::TempDir, Vec<PathBuf>) {
     let mut scenes = Vec::new();
     for entry in std::fs::read_dir(&source).expect("read corpus") {
         let path = entry.expect("entry").path();
-        if path.file_name().is_some_and(|n| n == "SOURCE.txt") {
+        let name = path.file_name().expect("name").to_string_lossy();
+        let is_scene = name.ends_with(".txt") || name.ends_with(".scene");
+        if !is_scene || name == "SOURCE.txt" {
             continue;
         }
         let copy = dir.path().join(path.file_name().expect("name"));
@@ -114,7 +114,10 @@ pub fn corpus_copy() -> (tempfile::TempDir, Vec<PathBuf>) {
         scenes.push(copy);
     }
     scenes.sort();
-    let wood = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/wood_tex.ppm");
-    std::fs::copy(wood, dir.path().join("wood_tex.ppm")).expect("copy texture");
+    std::fs::copy(
+        source.join("wood_tex.ppm"),
+        dir.path().join("wood_tex.ppm"),
+    )
+    .expect("copy texture");
     (dir, scenes)
 }
