@@ -353,7 +353,7 @@ fn load(path: &Path, resolution: u32) -> Result<ir::Scene, Box<dyn std::error::E
     let bytes = std::fs::read(path)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let loaded =
-        raytracer::commands::load_bytes(&path.display().to_string(), dir, &bytes, Instant::now());
+        raytracer::frontend::load_bytes(&path.display().to_string(), dir, &bytes, Instant::now());
     let mut checked = loaded
         .checked
         .ok_or_else(|| format!("`{}` has errors", path.display()))?;

@@ -68,7 +68,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 fn hard_scene(name: &str) -> ir::Scene {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard");
     let bytes = std::fs::read(dir.join(name)).expect("scenes/hard/ is part of the repository");
-    let loaded = raytracer::commands::load_bytes(name, &dir, &bytes, Instant::now());
+    let loaded = raytracer::frontend::load_bytes(name, &dir, &bytes, Instant::now());
     ir::lower(
         loaded
             .checked

@@ -17,7 +17,7 @@ use miette::{
 };
 use serde::Serialize;
 
-use crate::span::Span;
+use crate::span::{floor_char_boundary, Span};
 use crate::syntax::SyntaxError;
 
 /// A diagnostic of any stage, boxed so syntax and check problems share a list.
@@ -74,14 +74,6 @@ impl SourceFile {
     fn named(&self) -> NamedSource<Arc<str>> {
         NamedSource::new(&self.name, self.text.clone())
     }
-}
-
-fn floor_char_boundary(text: &str, mut offset: usize) -> usize {
-    offset = offset.min(text.len());
-    while !text.is_char_boundary(offset) {
-        offset -= 1;
-    }
-    offset
 }
 
 /// One source file and every diagnostic reported against it, sorted by

@@ -8,7 +8,9 @@
 //! [`ir`] (model → render IR; lowering cannot fail) →
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
-//! POV-Ray. [`commands`] runs them for the command line defined in [`cli`].
+//! POV-Ray. [`frontend`] drives the stages from bytes to a checked scene
+//! for every caller; [`commands`] runs them for the command line defined in
+//! [`cli`], and nothing below that layer imports it.
 
 pub mod ast;
 pub mod check;
@@ -16,6 +18,7 @@ pub mod cli;
 pub mod commands;
 pub mod convert;
 pub mod diagnostic;
+pub mod frontend;
 pub mod ir;
 pub mod json;
 pub mod limits;

@@ -73,6 +73,16 @@ impl From<std::ops::Range<usize>> for Span {
     }
 }
 
+/// The largest character boundary of `text` at or before `offset` (clamped
+/// to the text), so a byte offset from a span or a parser can slice it.
+pub(crate) fn floor_char_boundary(text: &str, offset: usize) -> usize {
+    let mut offset = offset.min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    offset
+}
+
 /// A value together with the source span it was parsed from.
 ///
 /// Equality, ordering-free hashing and `Debug` look only at the value, so two

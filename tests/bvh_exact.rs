@@ -8,7 +8,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use raytracer::commands::load_bytes;
+use raytracer::frontend::load_bytes;
 use raytracer::ir;
 use raytracer::render::{render, Accel, Options};
 

@@ -3,7 +3,7 @@
 
 mod support;
 
-use raytracer::commands::load;
+use raytracer::frontend::load;
 use support::corpus_copy;
 
 const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";

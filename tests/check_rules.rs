@@ -3,10 +3,20 @@
 
 use std::path::Path;
 
-use raytracer::check::{check_file, CheckError, Checked, SceneCheck};
+use raytracer::ast::File;
+use raytracer::check::{CheckError, Checked, SceneCheck};
 use raytracer::diagnostic::SourceFile;
 use raytracer::model::Shape;
 use raytracer::syntax::parse;
+
+/// The check pass over every section of a parsed file.
+fn check_file(file: &File, source: &SourceFile) -> (Option<Checked>, Vec<CheckError>) {
+    let mut check = SceneCheck::new(source);
+    for section in &file.sections {
+        check.section(section);
+    }
+    check.finish()
+}
 
 /// Parse and check `text` as if it were a file in `dir`.
 fn check_in(dir: &Path, text: &str) -> (Option<Checked>, Vec<String>) {

@@ -3,12 +3,12 @@
 //! diagnostic format and, when they check, every `convert` target.
 
 use std::path::Path;
+use std::time::Instant;
 
 use proptest::prelude::*;
-use raytracer::check::{check, check_file, fix};
-use raytracer::commands::{self, Language};
+use raytracer::check::fix;
 use raytracer::convert::{json, pov, scene_text};
-use raytracer::diagnostic::{BoxedDiagnostic, Report, SourceFile};
+use raytracer::frontend::{self, load_bytes, Language};
 use raytracer::syntax::parse;
 
 /// Scenes to mutate: the SPEC example and a few fixtures that reach deep
@@ -61,21 +61,11 @@ const INTERESTING: &[char] = &[
 /// Run everything the `check` command runs on `bytes`.
 fn front_end(bytes: &[u8]) {
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ui/scene"));
-    let (source, utf8_error) = SourceFile::from_bytes("fuzz.txt", dir, bytes);
-    let parsed = parse(&source.text);
-    let (_, problems) = check_file(&parsed.file, &source);
-    let fixed = fix::apply(&source.text, &fix::fixes(&parsed.file));
+    let loaded = load_bytes("fuzz.txt", dir, bytes, Instant::now());
+    let report = &loaded.report;
+    let parsed = parse(&report.source.text);
+    let fixed = fix::apply(&report.source.text, &fix::fixes(&parsed.file));
     let _ = parse(&fixed);
-    let mut diagnostics: Vec<BoxedDiagnostic> = Vec::new();
-    diagnostics.extend(utf8_error.map(|e| Box::new(e) as BoxedDiagnostic));
-    diagnostics.extend(
-        parsed
-            .errors
-            .into_iter()
-            .map(|e| Box::new(e) as BoxedDiagnostic),
-    );
-    diagnostics.extend(problems.into_iter().map(|e| Box::new(e) as BoxedDiagnostic));
-    let report = Report::new(source, diagnostics);
     let _ = report.render_human(80, false);
     let _ = report.render_short();
     let _ = serde_json::to_string(&report.entries().collect::<Vec<_>>());
@@ -98,19 +88,16 @@ const JSON_SEEDS: [&str; 4] = [
 /// checks.
 fn json_front_end(bytes: &[u8]) {
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ui/scene"));
-    let (source, _) = SourceFile::from_bytes("fuzz.json", dir, bytes);
-    let (file, mut diagnostics) = commands::parse(Language::Json, &source.text);
-    if let Some(file) = file {
-        let _ = fix::apply(&source.text, &fix::fixes(&file));
-        let (checked, problems) = check(&file, &source);
-        diagnostics.extend(problems);
-        if let Some(checked) = checked {
-            let _ = json::to_json(&checked.scene);
-            let _ = scene_text::to_scene_text(&checked.scene);
-            let _ = pov::to_pov(&checked);
-        }
+    let loaded = load_bytes("fuzz.json", dir, bytes, Instant::now());
+    let report = &loaded.report;
+    if let (Some(file), _) = frontend::parse(Language::Json, &report.source.text) {
+        let _ = fix::apply(&report.source.text, &fix::fixes(&file));
     }
-    let report = Report::new(source, diagnostics);
+    if let Some(checked) = &loaded.checked {
+        let _ = json::to_json(&checked.scene);
+        let _ = scene_text::to_scene_text(&checked.scene);
+        let _ = pov::to_pov(checked);
+    }
     let _ = report.render_human(80, false);
     let _ = report.render_short();
 }

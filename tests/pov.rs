@@ -20,8 +20,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use raytracer::commands::load;
 use raytracer::convert::scene_text::to_scene_text;
+use raytracer::frontend::load;
 use raytracer::model::{Material, Scene};
 
 const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");

@@ -1,5 +1,5 @@
 //! Round trips between scene text and JSON, through the real front end
-//! (`commands::load`, so files, folders and textures are as for the CLI):
+//! (`frontend::load`, so files, folders and textures are as for the CLI):
 //!
 //! - every corpus scene and every file in scenes/ prints as canonical text
 //!   and as JSON that both load back to the same model, bit for bit;
@@ -13,9 +13,9 @@ use std::path::{Path, PathBuf};
 
 use proptest::prelude::*;
 use raytracer::check::geometry;
-use raytracer::commands::load;
 use raytracer::convert::json::{schema, to_json};
 use raytracer::convert::scene_text::to_scene_text;
+use raytracer::frontend::load;
 use raytracer::model::{self, Camera, Light, Material, Object, Scene, Shape};
 
 const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");

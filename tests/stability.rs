@@ -34,7 +34,7 @@ use reference::{assert_renders_match_reference, Expected, Reference};
 fn hard_scene(name: &str) -> ir::Scene {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard");
     let bytes = std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let loaded = raytracer::commands::load_bytes(name, &dir, &bytes, Instant::now());
+    let loaded = raytracer::frontend::load_bytes(name, &dir, &bytes, Instant::now());
     let checked = loaded.checked.unwrap_or_else(|| {
         panic!(
             "{name} has errors:\n{}",

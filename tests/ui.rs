@@ -12,7 +12,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use raytracer::check::CheckError;
-use raytracer::commands::load;
+use raytracer::frontend::load;
 use raytracer::json::JsonError;
 use raytracer::syntax::SyntaxError;
 

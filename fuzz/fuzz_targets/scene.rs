@@ -12,7 +12,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use libfuzzer_sys::fuzz_target;
-use raytracer::commands::load_bytes;
+use raytracer::frontend::load_bytes;
 use raytracer::{ir, render};
 
 fuzz_target!(|bytes: &[u8]| {

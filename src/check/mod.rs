@@ -2,9 +2,8 @@
 //! builds the scene model.
 //!
 //! Every problem in the file is reported in one run. [`SceneCheck`] takes
-//! the sections one at a time, so the commands check each section as the
-//! parser yields it and never hold a large scene's whole syntax tree;
-//! [`check`] runs it over a parsed [`ast::File`]. The shared attribute
+//! the sections one at a time, so the front end checks each section as the
+//! parser yields it and never holds a large scene's whole syntax tree. The shared attribute
 //! checks live in [`attributes`] (driven by the [`schema`] table), each
 //! section kind's own rules in [`sections`], vector geometry and the headup
 //! thresholds in [`geometry`], texture loading in [`textures`], and the
@@ -23,7 +22,7 @@ mod textures;
 use std::collections::BTreeMap;
 
 use crate::ast::{self, SectionKind};
-use crate::diagnostic::{boxed, BoxedDiagnostic, SourceFile};
+use crate::diagnostic::SourceFile;
 use crate::ir::{Effects, Texture};
 use crate::limits::{MAX_LIGHTS, MAX_OBJECTS};
 use crate::model;
@@ -53,26 +52,10 @@ impl Checked {
     }
 }
 
-/// Check a parsed file. Returns the checked scene when it has no errors,
-/// and every diagnostic (errors and warnings) either way.
-pub fn check(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Vec<BoxedDiagnostic>) {
-    let (checked, problems) = check_file(file, source);
-    (checked, boxed(problems))
-}
-
-/// [`check`] with the diagnostics unboxed, in the order found.
-pub fn check_file(file: &ast::File, source: &SourceFile) -> (Option<Checked>, Vec<CheckError>) {
-    let mut check = SceneCheck::new(source);
-    for section in &file.sections {
-        check.section(section);
-    }
-    check.finish()
-}
-
-/// The check pass fed one section at a time, as the parser yields them:
-/// a caller that drops each section once checked never holds a large
-/// scene's whole syntax tree. Feeding every section of a file and calling
-/// [`SceneCheck::finish`] is [`check_file`].
+/// The check pass, the one way in: fed one section at a time, as the
+/// parser (or the JSON reader) yields them, so a caller that drops each
+/// section once checked never holds a large scene's whole syntax tree.
+/// [`crate::frontend`] drives it for every command.
 pub struct SceneCheck<'a> {
     cx: Checker<'a>,
     /// The first camera's keyword and its resolution, if valid.

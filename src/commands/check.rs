@@ -16,10 +16,11 @@ use std::path::Path;
 
 use miette::Diagnostic;
 
-use super::{load, parse, read_scene, Failure, Language, Loaded, Outcome, ReadSceneError};
+use super::{Failure, Outcome};
 use crate::check::fix;
 use crate::cli::{CheckArgs, Format};
 use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic, SourceFile};
+use crate::frontend::{load, parse, read_scene, Language, Loaded, ReadSceneError};
 use crate::output;
 
 /// Run `raytracer check`.

@@ -9,10 +9,11 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::{load, Failure, Outcome};
+use super::{Failure, Outcome};
 use crate::cli::{ConvertArgs, Target};
 use crate::convert::{json, pov, scene_text};
 use crate::diagnostic::{terminal_width, use_color};
+use crate::frontend::load;
 use crate::output::{check_not_input, write_atomically};
 
 /// `-o PATH` could not be written.

@@ -17,9 +17,10 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use miette::Diagnostic;
 use serde::Serialize;
 
-use super::{load, Failure, Loaded, Outcome};
+use super::{Failure, Outcome};
 use crate::cli::{Precision, RenderArgs};
 use crate::diagnostic::{terminal_width, use_color};
+use crate::frontend::{load, Loaded};
 use crate::ir::{self, Effects};
 use crate::output::{self, Format};
 use crate::render::{self, Counters, Image, Options};

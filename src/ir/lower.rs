@@ -103,7 +103,7 @@ mod tests {
     use std::time::Instant;
 
     use super::*;
-    use crate::commands::load_bytes;
+    use crate::frontend::load_bytes;
 
     fn lowered(text: &str, dir: &Path) -> Scene {
         let loaded = load_bytes("t.txt", dir, text.as_bytes(), Instant::now());

@@ -24,7 +24,7 @@ use jsonc_parser::{CollectOptions, ParseOptions};
 use crate::ast::{AttrName, Attribute, File, Section, SectionKind, Value};
 use crate::diagnostic::lowercase_first;
 use crate::model;
-use crate::span::{Span, Spanned};
+use crate::span::{floor_char_boundary, Span, Spanned};
 use crate::suggest;
 pub use errors::JsonError;
 
@@ -38,24 +38,44 @@ pub struct Parsed {
     pub errors: Vec<JsonError>,
 }
 
-/// Read a JSON scene. Never fails and never panics: problems are returned in
-/// [`Parsed::errors`] and the tree holds everything that could be read.
+/// Read a JSON scene into a whole tree. Never fails and never panics:
+/// problems are returned in [`Parsed::errors`] and the tree holds everything
+/// that could be read.
 pub fn parse(text: &str) -> Parsed {
+    let mut sections = Vec::new();
+    let read = read(text, |section| sections.push(section));
+    Parsed {
+        file: read.is_scene.then_some(File { sections }),
+        errors: read.errors,
+    }
+}
+
+/// What [`read`] found besides the sections it handed on.
+#[derive(Debug)]
+pub struct Read {
+    /// False when there is no scene to check: the text is not JSON, not an
+    /// object, or of another format version. No section was handed on then.
+    pub is_scene: bool,
+    pub errors: Vec<JsonError>,
+}
+
+/// Read a JSON scene, handing each section to `each` as soon as it is
+/// built (the camera, then the objects, then the lights), so a caller can
+/// check it and drop it as it does for scene text.
+pub fn read(text: &str, mut each: impl FnMut(Section)) -> Read {
     let mut reader = Reader {
         errors: Vec::new(),
-        sections: Vec::new(),
+        each: &mut each,
     };
-    let read = match syntax_tree(text) {
+    let is_scene = match syntax_tree(text) {
         Ok(root) => reader.root(&root),
         Err(error) => {
             reader.errors.push(error);
             false
         }
     };
-    Parsed {
-        file: read.then_some(File {
-            sections: reader.sections,
-        }),
+    Read {
+        is_scene,
         errors: reader.errors,
     }
 }
@@ -115,14 +135,6 @@ fn serde_json_error(text: &str, error: &serde_json::Error) -> JsonError {
         message: message.to_string(),
         span: Span::new(start, end).into(),
     }
-}
-
-fn floor_char_boundary(text: &str, mut offset: usize) -> usize {
-    offset = offset.min(text.len());
-    while !text.is_char_boundary(offset) {
-        offset -= 1;
-    }
-    offset
 }
 
 /// A JSON Pointer (RFC 6901) to a value, for messages.
@@ -243,13 +255,13 @@ impl<'v, 'a> Fields<'v, 'a> {
     }
 }
 
-/// The reading state: problems found and sections built so far.
-struct Reader {
+/// The reading state: problems found so far, and where built sections go.
+struct Reader<'s> {
     errors: Vec<JsonError>,
-    sections: Vec<Section>,
+    each: &'s mut dyn FnMut(Section),
 }
 
-impl Reader {
+impl Reader<'_> {
     /// The whole document: `{"format", "camera", "objects", "lights"}`.
     /// False when it is no scene of this format at all.
     fn root(&mut self, root: &Json<'_>) -> bool {
@@ -287,7 +299,7 @@ impl Reader {
         match fields.get("camera") {
             Some(camera) => self.camera(camera, &path.child("camera")),
             // Reported missing above; keep the check pass from saying so too.
-            None => self.sections.push(Section {
+            None => (self.each)(Section {
                 kind: Spanned::new(brace(object), SectionKind::Camera),
                 args: Box::new([Spanned::new(brace(object), Value::Invalid)]),
                 attributes: Vec::new(),
@@ -334,7 +346,7 @@ impl Reader {
             None => None,
         };
         section.args = Box::new([resolution.unwrap_or(Spanned::new(key, Value::Invalid))]);
-        self.sections.push(section);
+        (self.each)(section);
     }
 
     /// One element of `objects`: a sphere or a plane, by its `type`.
@@ -399,7 +411,7 @@ impl Reader {
         if let Some(texture) = given.get("texture") {
             attributes.extend(self.texture(texture, &path.child("texture")));
         }
-        self.sections.push(Section {
+        (self.each)(Section {
             kind: Spanned::new(span_of(&type_prop.value), kind),
             args: Box::default(),
             attributes,
@@ -418,7 +430,7 @@ impl Reader {
             self.vector_attribute(&given, "location", AttrName::Location, brace(object)),
             self.vector_attribute(&given, "color", AttrName::Color, brace(object)),
         ];
-        self.sections.push(Section {
+        (self.each)(Section {
             kind: Spanned::new(brace(object), SectionKind::Light),
             args: Box::default(),
             attributes,

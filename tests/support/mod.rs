@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Instant;
 
-use raytracer::commands::load_bytes;
+use raytracer::frontend::load_bytes;
 use raytracer::ir;
 use raytracer::render::{self, Counters, Image, Options};
 
@@ -114,10 +114,7 @@ pub fn corpus_copy() -> (tempfile::TempDir, Vec<PathBuf>) {
         scenes.push(copy);
     }
     scenes.sort();
-    std::fs::copy(
-        source.join("wood_tex.ppm"),
-        dir.path().join("wood_tex.ppm"),
-    )
-    .expect("copy texture");
+    std::fs::copy(source.join("wood_tex.ppm"), dir.path().join("wood_tex.ppm"))
+        .expect("copy texture");
     (dir, scenes)
 }

@@ -1,0 +1,287 @@
+//! The front end as a library: from a scene's bytes (scene text or JSON) to
+//! its checked scene and every diagnostic, for every command, test, fuzz
+//! target and example.
+//!
+//! [`load`] reads a file (or stdin) and [`load_bytes`] takes bytes already
+//! in memory; both decode the text, pick the [`Language`], and stream the
+//! sections the parser (or the JSON reader) yields through the one check
+//! pass, [`SceneCheck`], a batch at a time: neither language ever holds a
+//! large scene's whole syntax tree. [`parse`] stops after parsing, for
+//! callers that want the tree itself. Nothing here knows about the command
+//! line.
+
+mod read;
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+pub use read::{read_scene, ReadSceneError};
+
+use crate::ast::{self, Section};
+use crate::check::{Checked, SceneCheck};
+use crate::diagnostic::{boxed, io_reason, BoxedDiagnostic, Report, SourceFile};
+use crate::{json, syntax};
+
+/// A scene run through the front end: every diagnostic, and the checked
+/// scene when there were no errors.
+pub struct Loaded {
+    pub report: Report,
+    pub checked: Option<Checked>,
+    /// Seconds spent reading and parsing the file.
+    pub parse_seconds: f64,
+    /// Seconds spent in the check pass (including texture decoding).
+    pub check_seconds: f64,
+}
+
+/// The languages a scene can be written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Language {
+    /// The scene language of docs/language.md.
+    Text,
+    /// The JSON layout of [`crate::model::Scene`].
+    Json,
+}
+
+impl Language {
+    /// JSON for a path ending in `.json` (any case), and for stdin whose
+    /// first non-blank character is `{` (which no scene file starts with);
+    /// scene text otherwise.
+    pub fn of(path: &Path, bytes: &[u8]) -> Language {
+        let json = if path == Path::new("-") {
+            bytes.trim_ascii_start().starts_with(b"{")
+        } else {
+            path.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        };
+        if json {
+            Language::Json
+        } else {
+            Language::Text
+        }
+    }
+}
+
+/// Parse `text` in `language` into a whole syntax tree (`None` when there
+/// is nothing to check: a JSON text that is not a scene of this format),
+/// with every problem found on the way. The commands do not build the whole
+/// tree; this is for callers that want it.
+pub fn parse(language: Language, text: &str) -> (Option<ast::File>, Vec<BoxedDiagnostic>) {
+    match language {
+        Language::Text => {
+            let parsed = syntax::parse(text);
+            (Some(parsed.file), boxed(parsed.errors))
+        }
+        Language::Json => {
+            let parsed = json::parse(text);
+            (parsed.file, boxed(parsed.errors))
+        }
+    }
+}
+
+/// Read `path` (`-` is stdin), parse it as scene text or JSON (see
+/// [`Language::of`]) and check it.
+pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
+    let start = Instant::now();
+    let bytes = read_scene(path)?;
+    let (name, dir) = if path == Path::new("-") {
+        let cwd = std::env::current_dir().map_err(|source| ReadSceneError::Io {
+            path: path.display().to_string(),
+            reason: io_reason(&source),
+        })?;
+        ("<stdin>".to_string(), cwd)
+    } else {
+        let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+        (path.display().to_string(), dir)
+    };
+    let language = Language::of(path, &bytes);
+    let (source, utf8_error) = SourceFile::from_bytes(&name, &dir, &bytes);
+    // The text lives on in `source`: one copy of a large scene, not two,
+    // while its sections are checked.
+    drop(bytes);
+    Ok(load_source(source, utf8_error, language, start))
+}
+
+/// Parse and check scene bytes named `name` (scene text, or JSON when the
+/// name ends in `.json`), whose texture paths resolve against `dir`;
+/// `start` is when reading began, for the parse timing.
+pub fn load_bytes(name: &str, dir: &Path, bytes: &[u8], start: Instant) -> Loaded {
+    load_bytes_as(
+        Language::of(Path::new(name), bytes),
+        name,
+        dir,
+        bytes,
+        start,
+    )
+}
+
+/// [`load_bytes`] in an explicit language, whatever the name says.
+pub fn load_bytes_as(
+    language: Language,
+    name: &str,
+    dir: &Path,
+    bytes: &[u8],
+    start: Instant,
+) -> Loaded {
+    let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
+    load_source(source, utf8_error, language, start)
+}
+
+/// Sections parsed before they are checked (and dropped).
+const CHECK_BATCH: usize = 1024;
+
+/// The check pass fed a batch of sections at a time, so the clock is read
+/// twice a batch, not twice a section (a million readings cost 1 % of the
+/// time).
+struct Batches<'a> {
+    check: SceneCheck<'a>,
+    batch: Vec<Section>,
+    checking: Duration,
+}
+
+impl<'a> Batches<'a> {
+    fn new(source: &'a SourceFile) -> Batches<'a> {
+        Batches {
+            check: SceneCheck::new(source),
+            batch: Vec::with_capacity(CHECK_BATCH),
+            checking: Duration::ZERO,
+        }
+    }
+
+    fn push(&mut self, section: Section) {
+        self.batch.push(section);
+        if self.batch.len() == CHECK_BATCH {
+            self.flush();
+        }
+    }
+
+    fn flush(&mut self) {
+        let started = Instant::now();
+        for section in self.batch.drain(..) {
+            self.check.section(&section);
+        }
+        self.checking += started.elapsed();
+    }
+
+    /// The whole-file checks; the checked scene and the check's
+    /// diagnostics, and the time spent checking.
+    fn finish(mut self) -> (Option<Checked>, Vec<BoxedDiagnostic>, Duration) {
+        self.flush();
+        let started = Instant::now();
+        let (checked, problems) = self.check.finish();
+        let checking = self.checking + started.elapsed();
+        (checked, boxed(problems), checking)
+    }
+}
+
+/// Parse and check decoded scene text in a given language, each section
+/// checked as the parser yields it and dropped once checked: a scene of
+/// 100,000 spheres never holds its whole syntax tree (docs/performance.md).
+/// The diagnostics come in the same order as from [`parse`] then the check
+/// pass: syntax (or JSON) errors, then the check's.
+fn load_source(
+    source: SourceFile,
+    utf8_error: Option<syntax::SyntaxError>,
+    language: Language,
+    start: Instant,
+) -> Loaded {
+    let mut diagnostics: Vec<BoxedDiagnostic> = Vec::new();
+    diagnostics.extend(utf8_error.map(|e| Box::new(e) as BoxedDiagnostic));
+    let mut batches = Batches::new(&source);
+    let is_scene = match language {
+        Language::Text => {
+            let mut sections = syntax::sections(&source.text);
+            for section in sections.by_ref() {
+                batches.push(section);
+            }
+            diagnostics.extend(boxed(sections.into_errors()));
+            true
+        }
+        Language::Json => {
+            let read = json::read(&source.text, |section| batches.push(section));
+            diagnostics.extend(boxed(read.errors));
+            read.is_scene
+        }
+    };
+    let (checked, checking) = if is_scene {
+        let (checked, problems, checking) = batches.finish();
+        diagnostics.extend(problems);
+        (checked, checking)
+    } else {
+        (None, batches.checking)
+    };
+    let parsing = start.elapsed().saturating_sub(checking);
+    let report = Report::new(source, diagnostics);
+    let checked = checked.filter(|_| report.error_count() == 0);
+    Loaded {
+        report,
+        checked,
+        parse_seconds: parsing.as_secs_f64(),
+        check_seconds: checking.as_secs_f64(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What [`load_bytes`] reports, as `code@offset` strings, and whether
+    /// the scene checked.
+    fn streamed(name: &str, text: &str) -> (Vec<String>, bool) {
+        let loaded = load_bytes(name, Path::new("."), text.as_bytes(), Instant::now());
+        let codes = loaded.report.entries().map(|e| coded(&e)).collect();
+        (codes, loaded.checked.is_some())
+    }
+
+    /// The whole tree parsed first, then checked section by section.
+    fn whole(name: &str, text: &str) -> (Vec<String>, bool) {
+        let (source, _) = SourceFile::from_bytes(name, Path::new("."), text.as_bytes());
+        let language = Language::of(Path::new(name), text.as_bytes());
+        let (file, mut diagnostics) = parse(language, text);
+        let mut checked = None;
+        if let Some(file) = file {
+            let mut check = SceneCheck::new(&source);
+            for section in &file.sections {
+                check.section(section);
+            }
+            let (scene, problems) = check.finish();
+            diagnostics.extend(boxed(problems));
+            checked = scene;
+        }
+        let report = Report::new(source, diagnostics);
+        let codes = report.entries().map(|e| coded(&e)).collect();
+        (codes, checked.is_some() && report.error_count() == 0)
+    }
+
+    fn coded(entry: &crate::diagnostic::JsonDiagnostic) -> String {
+        let at = entry.labels.first().map_or(0, |l| l.byte_offset);
+        format!("{}@{at}", entry.code)
+    }
+
+    #[test]
+    fn streaming_either_language_equals_checking_the_whole_tree() {
+        for (name, text, problems) in [
+            ("a.txt", "camera 4\nsphere dimension 1 center 0 0 -5", 0),
+            ("b.txt", "camera 0\nsphere dimension 0\nsphre\n1 2 3", 4),
+            (
+                "c.json",
+                r#"{"format": "raytracer-scene/1", "camera": {"resolution": 4},
+                  "objects": [{"type": "sphere", "center": [0, 0, -5], "radius": 1}],
+                  "lights": [{"location": [0, 0, -5], "color": [2, 0, 0]}]}"#,
+                2,
+            ),
+            (
+                "d.json",
+                r#"{"format": "raytracer-scene/1", "camera": {"resolution": 0},
+                  "objects": [{"type": "sphear"}, {"type": "plane", "center": [0, 0, -5],
+                  "width": 1, "height": 1, "normal": [0, 0, 0], "headup": [0, 1, 0]}]}"#,
+                3,
+            ),
+            ("e.json", r#"{"format": "raytracer-scene/9"}"#, 1),
+            ("f.json", "[1, 2]", 1),
+        ] {
+            let streamed = streamed(name, text);
+            assert_eq!(streamed, whole(name, text), "{name}");
+            assert_eq!(streamed.0.len(), problems, "{name}: {:?}", streamed.0);
+        }
+    }
+}

@@ -1,0 +1,58 @@
+//! Reading a scene's bytes from a file or stdin, bounded by
+//! [`MAX_SCENE_BYTES`] so an endless input cannot exhaust memory.
+
+use std::io::Read;
+use std::path::Path;
+
+use miette::Diagnostic;
+
+use crate::diagnostic::io_reason;
+use crate::limits::MAX_SCENE_BYTES;
+
+/// The scene file could not be read.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+pub enum ReadSceneError {
+    /// Opening or reading failed.
+    #[error("cannot read scene `{path}`: {reason}")]
+    #[diagnostic(code(io::read_scene))]
+    Io {
+        path: String,
+        /// The I/O error, as [`io_reason`] words it.
+        reason: String,
+    },
+    /// The file is larger than [`MAX_SCENE_BYTES`]; only that much was read.
+    #[error("cannot read scene `{path}`: expected at most {limit} bytes, found more")]
+    #[diagnostic(
+        code(io::scene_too_large),
+        help("a scene at the object limit takes about 120 MiB; is this the scene file?")
+    )]
+    TooLarge { path: String, limit: u64 },
+}
+
+/// The bytes of the scene at `path` (`-` is stdin), refusing a file larger
+/// than [`MAX_SCENE_BYTES`] after reading one byte more than that, so an
+/// endless input (`/dev/zero`, a pipe) cannot exhaust memory.
+pub fn read_scene(path: &Path) -> Result<Vec<u8>, ReadSceneError> {
+    let shown = path.display().to_string();
+    let read_error = |source| ReadSceneError::Io {
+        path: shown.clone(),
+        reason: io_reason(&source),
+    };
+    let input: Box<dyn Read> = if path == Path::new("-") {
+        Box::new(std::io::stdin().lock())
+    } else {
+        Box::new(std::fs::File::open(path).map_err(read_error)?)
+    };
+    let mut bytes = Vec::new();
+    input
+        .take(MAX_SCENE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(read_error)?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(ReadSceneError::TooLarge {
+            path: shown,
+            limit: MAX_SCENE_BYTES,
+        });
+    }
+    Ok(bytes)
+}
