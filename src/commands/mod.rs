@@ -1,5 +1,5 @@
 //! The three commands and what they share: mapping outcomes to the exit
-//! codes of SPEC.md §3. Each command loads its scenes through
+//! codes of docs/cli.md. Each command loads its scenes through
 //! [`crate::frontend`] and only handles arguments and printing.
 
 pub mod check;
