@@ -358,7 +358,7 @@ fn load(path: &Path, resolution: u32) -> Result<ir::Scene, Box<dyn std::error::E
         .checked
         .ok_or_else(|| format!("`{}` has errors", path.display()))?;
     checked.scene.camera.resolution = resolution;
-    Ok(ir::lower(&checked))
+    Ok(ir::lower(checked))
 }
 
 /// Render once for the image and counters, then time `batches` batches of

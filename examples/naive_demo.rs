@@ -69,12 +69,7 @@ fn hard_scene(name: &str) -> ir::Scene {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard");
     let bytes = std::fs::read(dir.join(name)).expect("scenes/hard/ is part of the repository");
     let loaded = raytracer::frontend::load_bytes(name, &dir, &bytes, Instant::now());
-    ir::lower(
-        loaded
-            .checked
-            .as_ref()
-            .expect("the hard scenes check clean"),
-    )
+    ir::lower(loaded.checked.expect("the hard scenes check clean"))
 }
 
 /// A far sphere of radius/distance 10^-exponent, a 64 px window of a

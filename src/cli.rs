@@ -8,6 +8,8 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+#[cfg(doc)]
+use crate::render::world::BRUTE_FORCE_MAX;
 use crate::render::Accel;
 
 /// Render and check scenes of the raytracer scene language.
@@ -31,6 +33,29 @@ pub enum Command {
     Check(CheckArgs),
     /// Convert a scene to JSON, canonical scene text, or POV-Ray.
     Convert(ConvertArgs),
+}
+
+/// `--accel`: the renderer's [`Accel`] as the command line spells it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum AccelArg {
+    /// A hierarchy when the scene has more than [`BRUTE_FORCE_MAX`]
+    /// primitives, else testing them all.
+    #[default]
+    Auto,
+    /// Always a bounding volume hierarchy.
+    Bvh,
+    /// Always test every primitive.
+    Brute,
+}
+
+impl From<AccelArg> for Accel {
+    fn from(arg: AccelArg) -> Accel {
+        match arg {
+            AccelArg::Auto => Accel::Auto,
+            AccelArg::Bvh => Accel::Bvh,
+            AccelArg::Brute => Accel::Brute,
+        }
+    }
 }
 
 /// Floating-point precision of the tracer.
@@ -65,8 +90,8 @@ pub struct RenderArgs {
     pub no_skip: bool,
     /// How rays find primitives: a hierarchy above a few primitives
     /// (`auto`), always (`bvh`) or never (`brute`). The image is the same.
-    #[arg(long, value_enum, default_value_t = Accel::Auto)]
-    pub accel: Accel,
+    #[arg(long, value_enum, default_value_t = AccelArg::Auto)]
+    pub accel: AccelArg,
     /// Print ray counts and stage timings to stderr.
     #[arg(long)]
     pub stats: bool,

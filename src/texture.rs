@@ -1,4 +1,5 @@
-//! Loading texture images into [`crate::ir::Texture`].
+//! Texture images: the decoded [`Texture`] (what the check pass loads and
+//! the IR carries) and loading one from a file.
 //!
 //! Only a regular file is opened: the path's type is checked before opening
 //! (a folder, a FIFO or a device is refused without touching it, so a FIFO
@@ -15,10 +16,33 @@ use std::fs::File;
 use std::io::{BufRead, BufReader, Seek};
 use std::path::Path;
 
-use image::{DynamicImage, ImageDecoder, ImageReader, Limits};
+use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits};
+use serde::{Deserialize, Serialize};
 
-use crate::ir::Texture;
 use crate::limits::{MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
+
+/// A decoded image, row 0 at the top, channels scaled to [0, 1].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Texture {
+    /// The resolved path it was loaded from, for messages.
+    pub path: String,
+    /// What the file decoded as (whatever its name says).
+    pub format: TextureFormat,
+    pub width: u32,
+    pub height: u32,
+    /// `width × height` texels, row-major.
+    pub texels: Vec<[f32; 3]>,
+}
+
+/// The file formats a texture decodes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TextureFormat {
+    /// PPM, P3 or P6.
+    Ppm,
+    Png,
+    Jpeg,
+}
 
 /// The most bytes a decoder may allocate for one texture: the largest
 /// accepted texture at 16-bit RGBA, with room for the decoder's own buffers.
@@ -71,25 +95,33 @@ pub fn load(path: &Path, max_texels: u64) -> Result<Texture, TextureError> {
     if !file.metadata().map_err(io)?.is_file() {
         return Err(TextureError::NotAFile { path: shown });
     }
-    let (width, height, texels) =
-        decode(BufReader::new(file), max_texels).map_err(|error| match error {
-            DecodeError::Image(image::ImageError::IoError(source)) => io(source),
-            DecodeError::Image(source) => TextureError::Decode {
-                path: shown.clone(),
-                source,
-            },
-            DecodeError::TooLarge { width, height } => TextureError::TooLarge {
-                path: shown.clone(),
-                width,
-                height,
-            },
-        })?;
+    let decoded = decode_image(BufReader::new(file), max_texels).map_err(|error| match error {
+        DecodeError::Image(image::ImageError::IoError(source)) => io(source),
+        DecodeError::Image(source) => TextureError::Decode {
+            path: shown.clone(),
+            source,
+        },
+        DecodeError::TooLarge { width, height } => TextureError::TooLarge {
+            path: shown.clone(),
+            width,
+            height,
+        },
+    })?;
     Ok(Texture {
         path: shown,
-        width,
-        height,
-        texels,
+        format: decoded.format,
+        width: decoded.width,
+        height: decoded.height,
+        texels: decoded.texels,
     })
+}
+
+/// An image decoded by [`decode_image`].
+struct Decoded {
+    format: TextureFormat,
+    width: u32,
+    height: u32,
+    texels: Vec<[f32; 3]>,
 }
 
 /// Decode image bytes to RGB texels in [0, 1], row 0 at the top:
@@ -100,9 +132,19 @@ pub fn decode(
     reader: impl BufRead + Seek,
     max_texels: u64,
 ) -> Result<(u32, u32, Vec<[f32; 3]>), DecodeError> {
+    decode_image(reader, max_texels).map(|d| (d.width, d.height, d.texels))
+}
+
+/// [`decode`], with the format the bytes were recognised as.
+fn decode_image(reader: impl BufRead + Seek, max_texels: u64) -> Result<Decoded, DecodeError> {
     let mut reader = ImageReader::new(reader)
         .with_guessed_format()
         .map_err(image::ImageError::IoError)?;
+    let format = match reader.format() {
+        Some(ImageFormat::Png) => TextureFormat::Png,
+        Some(ImageFormat::Jpeg) => TextureFormat::Jpeg,
+        _ => TextureFormat::Ppm,
+    };
     let mut limits = Limits::default();
     limits.max_alloc = Some(MAX_DECODER_BYTES);
     reader.limits(limits);
@@ -112,7 +154,12 @@ pub fn decode(
         return Err(DecodeError::TooLarge { width, height });
     }
     let rgb = DynamicImage::from_decoder(decoder)?.into_rgb32f();
-    Ok((width, height, rgb.pixels().map(|p| p.0).collect()))
+    Ok(Decoded {
+        format,
+        width,
+        height,
+        texels: rgb.pixels().map(|p| p.0).collect(),
+    })
 }
 
 /// True when a `width × height` texture is within the side limit and has

@@ -16,7 +16,7 @@ fn lower(text: &str) -> ir::Scene {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     let loaded = load_bytes("test.txt", &dir, text.as_bytes(), Instant::now());
     let checked = loaded.checked.expect("the test scene checks");
-    ir::lower(&checked)
+    ir::lower(checked)
 }
 
 fn assert_same(name: &str, text: &str) {

@@ -12,10 +12,10 @@
 use std::path::{Path, PathBuf};
 
 use proptest::prelude::*;
-use raytracer::check::geometry;
 use raytracer::convert::json::{schema, to_json};
 use raytracer::convert::scene_text::to_scene_text;
 use raytracer::frontend::load;
+use raytracer::geometry;
 use raytracer::model::{self, Camera, Light, Material, Object, Scene, Shape};
 
 const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");

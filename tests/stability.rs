@@ -41,7 +41,7 @@ fn hard_scene(name: &str) -> ir::Scene {
             loaded.report.render_human(100, false)
         )
     });
-    ir::lower(&checked)
+    ir::lower(checked)
 }
 
 fn render_in<R: Real>(scene: &ir::Scene, options: &Options) -> (Image, Counters) {
@@ -372,6 +372,7 @@ fn random_scene() -> impl Strategy<Value = ir::Scene> {
             lights,
             textures: vec![ir::Texture {
                 path: "checker".into(),
+                format: raytracer::texture::TextureFormat::Ppm,
                 width: 2,
                 height: 2,
                 texels: vec![[0.2; 3], [0.9; 3], [0.9; 3], [0.2; 3]],

@@ -17,10 +17,10 @@ fuzz_target!(|bytes: &[u8]| {
     let report = &loaded.report;
     let _ = report.render_human(80, false);
     let _ = report.render_short();
-    if let Some(checked) = &loaded.checked {
+    if let Some(checked) = loaded.checked {
         let _ = convert::scene_text::to_scene_text(&checked.scene);
         let _ = convert::json::to_json(&checked.scene);
-        let _ = convert::pov::to_pov(checked);
+        let _ = convert::pov::to_pov(&checked);
         let mut scene = ir::lower(checked);
         scene.resolution = scene.resolution.min(4);
         let _ = render::render::<f64>(&scene, &render::Options::default(), &|| {});

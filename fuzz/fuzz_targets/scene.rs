@@ -22,7 +22,7 @@ fuzz_target!(|bytes: &[u8]| {
     let _ = report.render_human(80, false);
     let _ = report.render_short();
     let _ = serde_json::to_string(&report.entries().collect::<Vec<_>>());
-    if let Some(checked) = &loaded.checked {
+    if let Some(checked) = loaded.checked {
         let mut scene = ir::lower(checked);
         scene.resolution = scene.resolution.min(4);
         let options = render::Options::default();

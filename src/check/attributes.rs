@@ -9,8 +9,8 @@ use crate::span::{Span, Spanned};
 use crate::suggest;
 
 use super::errors::CheckError;
-use super::schema::{self, Arity, AttrSpec};
 use super::Problems;
+use crate::language::{self as schema, Arity, AttrSpec};
 
 /// The values of one attribute line that passed the generic checks.
 #[derive(Debug)]

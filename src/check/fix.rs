@@ -15,7 +15,7 @@ use crate::ast::{AttrName, Attribute, File, SectionKind, Value};
 use crate::span::Span;
 
 use super::format;
-use super::geometry::{self, Headup};
+use crate::geometry::{self, Headup};
 
 /// A normal counts as unit length when `| |n| − 1 | ≤ UNIT`: closer than
 /// that, rewriting it would change only rounding digits.

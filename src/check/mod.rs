@@ -4,9 +4,9 @@
 //! Every problem in the file is reported in one run. [`SceneCheck`] takes
 //! the sections one at a time, so the front end checks each section as the
 //! parser yields it and never holds a large scene's whole syntax tree. The shared attribute
-//! checks live in [`attributes`] (driven by the [`schema`] table), each
-//! section kind's own rules in [`sections`], vector geometry and the headup
-//! thresholds in [`geometry`], texture loading in [`textures`], and the
+//! checks live in [`attributes`] (driven by the table in [`crate::language`]), each
+//! section kind's own rules in [`sections`] (with the vector geometry of
+//! [`crate::geometry`]), texture loading in [`textures`], and the
 //! diagnostics themselves in [`errors`]. [`fix`] computes the safe fixes of
 //! `raytracer check --fix`.
 
@@ -14,8 +14,7 @@ mod attributes;
 pub mod errors;
 pub mod fix;
 pub mod format;
-pub mod geometry;
-pub mod schema;
+
 mod sections;
 mod textures;
 
@@ -23,11 +22,12 @@ use std::collections::BTreeMap;
 
 use crate::ast::{self, SectionKind};
 use crate::diagnostic::SourceFile;
-use crate::ir::{Effects, Texture};
+use crate::language;
 use crate::limits::{MAX_LIGHTS, MAX_OBJECTS};
 use crate::model;
 use crate::span::Span;
 use crate::suggest;
+use crate::texture::Texture;
 
 pub use errors::CheckError;
 
@@ -37,19 +37,6 @@ pub use errors::CheckError;
 pub struct Checked {
     pub scene: model::Scene,
     pub textures: BTreeMap<String, Texture>,
-}
-
-impl Checked {
-    /// The effects the scene calls for: shadows when it has lights,
-    /// reflection when an object reflects, textures when one is textured.
-    pub fn effects(&self) -> Effects {
-        let objects = &self.scene.objects;
-        Effects {
-            shadows: !self.scene.lights.is_empty(),
-            reflection: objects.iter().any(|o| o.material.reflectivity > 0.0),
-            textures: objects.iter().any(|o| o.material.texture.is_some()),
-        }
-    }
 }
 
 /// The check pass, the one way in: fed one section at a time, as the
@@ -219,7 +206,7 @@ fn unknown_section(word: &str, span: Span) -> CheckError {
         Some((near, _)) => format!("did you mean `{near}`?"),
         None => format!(
             "a section starts with {}",
-            schema::list_or(&SectionKind::KEYWORDS)
+            language::list_or(&SectionKind::KEYWORDS)
         ),
     };
     CheckError::UnknownSection {

@@ -11,8 +11,8 @@ use crate::span::Spanned;
 use super::attributes::{self, Attributes};
 use super::errors::CheckError;
 use super::format;
-use super::geometry::{self, Headup};
 use super::Checker;
+use crate::geometry::{self, Headup};
 
 /// The camera line: its resolution, when valid.
 pub fn camera(section: &Section, cx: &mut Checker<'_>) -> Option<u32> {

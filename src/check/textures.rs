@@ -8,10 +8,9 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::diagnostic::lowercase_first;
-use crate::ir::Texture;
 use crate::limits::{MAX_SCENE_TEXELS, MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
 use crate::span::Spanned;
-use crate::texture::{self, TextureError};
+use crate::texture::{self, Texture, TextureError};
 
 use super::errors::CheckError;
 

@@ -139,15 +139,14 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
     // the tracer's own (docs/performance.md).
     drop(report);
     let lowering = Instant::now();
-    let scene = ir::lower(&checked);
+    let scene = ir::lower(checked);
     let lower = lowering.elapsed().as_secs_f64();
-    drop(checked);
 
     let options = Options {
         spp: args.spp,
         max_depth: args.max_depth,
         skip: !args.no_skip,
-        accel: args.accel,
+        accel: args.accel.into(),
     };
     let rendering = Instant::now();
     let (image, counters) = pool.install(|| trace(&scene, &options, args.precision, args.quiet));

@@ -20,13 +20,13 @@
 //!   lists the remaining differences.
 
 use std::fmt::Write;
-use std::path::Path;
 
 use glam::DVec3;
 
-use crate::check::geometry;
 use crate::check::Checked;
+use crate::geometry;
 use crate::model::{Material, Shape};
+use crate::texture::TextureFormat;
 
 use super::scene_text::number;
 
@@ -135,16 +135,16 @@ fn material(out: &mut String, material: &Material, pigment: Option<String>) {
 /// written as `path`: the type is what the `image` crate decoded the file
 /// as (so a PPM named `.txt` still loads), else its extension's.
 fn image_map(checked: &Checked, path: &str, map_type: u8) -> String {
-    let decoded = checked.textures.get(path).map(|t| Path::new(&t.path));
-    let format = decoded
-        .and_then(|p| image::ImageReader::open(p).ok())
-        .and_then(|r| r.with_guessed_format().ok())
-        .and_then(|r| r.format())
-        .or_else(|| image::ImageFormat::from_path(path).ok());
+    let format = checked.textures.get(path).map(|t| t.format);
     let kind = match format {
-        Some(image::ImageFormat::Png) => "png",
-        Some(image::ImageFormat::Jpeg) => "jpeg",
-        _ => "ppm",
+        Some(TextureFormat::Png) => "png",
+        Some(TextureFormat::Jpeg) => "jpeg",
+        Some(TextureFormat::Ppm) => "ppm",
+        None => match image::ImageFormat::from_path(path) {
+            Ok(image::ImageFormat::Png) => "png",
+            Ok(image::ImageFormat::Jpeg) => "jpeg",
+            _ => "ppm",
+        },
     };
     let quoted = path.replace('\\', "\\\\").replace('"', "\\\"");
     format!("image_map {{ {kind} \"{quoted}\" map_type {map_type} }}")

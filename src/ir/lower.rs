@@ -2,22 +2,29 @@
 //!
 //! Built in dependency order (the pbrt-v4 way): textures first, each
 //! decoded once however many objects use it, then the materials that index
-//! them, then the shapes with their derived geometry, then the lights; the
-//! [`super::Effects`] summary is the check pass's [`Checked::effects`]. Every input was validated by the check
+//! them, then the shapes with their derived geometry, then the lights, and
+//! the [`Effects`] summary. The checked scene is taken by value: its
+//! decoded textures move into the IR, so peak memory holds their texels
+//! once. Every input was validated by the check
 //! pass, so each step is a total function: there is nothing left to fail.
 
 use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::{Light, Material, Object, Scene, Shape, Texture};
-use crate::check::geometry::{self, Basis};
+use super::{Effects, Light, Material, Object, Scene, Shape, Texture};
 use crate::check::Checked;
+use crate::geometry::{self, Basis};
 use crate::model;
 
-/// Lower a checked scene to the render IR.
-pub fn lower(checked: &Checked) -> Scene {
-    let scene = &checked.scene;
+/// Lower a checked scene to the render IR, moving its decoded textures
+/// (never copying their texels).
+pub fn lower(checked: Checked) -> Scene {
+    let Checked {
+        scene,
+        textures: mut decoded,
+    } = checked;
+    let effects = Effects::of(&scene);
     let mut textures: Vec<Texture> = Vec::new();
     let mut texture_index: BTreeMap<&str, usize> = BTreeMap::new();
     let objects: Vec<Object> = scene
@@ -28,8 +35,7 @@ pub fn lower(checked: &Checked) -> Scene {
                 if let Some(&index) = texture_index.get(path) {
                     return Some(index);
                 }
-                let decoded = checked.textures.get(path)?;
-                textures.push(decoded.clone());
+                textures.push(decoded.remove(path)?);
                 texture_index.insert(path, textures.len() - 1);
                 Some(textures.len() - 1)
             });
@@ -56,7 +62,7 @@ pub fn lower(checked: &Checked) -> Scene {
         objects,
         lights,
         textures,
-        effects: checked.effects(),
+        effects,
     }
 }
 
@@ -107,7 +113,7 @@ mod tests {
 
     fn lowered(text: &str, dir: &Path) -> Scene {
         let loaded = load_bytes("t.txt", dir, text.as_bytes(), Instant::now());
-        lower(&loaded.checked.expect("scene checks"))
+        lower(loaded.checked.expect("scene checks"))
     }
 
     #[test]

@@ -5,7 +5,8 @@
 //! and [`Effects`] records which effects the scene calls for so the tracer
 //! casts no ray it does not need. Built by [`lower`] from a checked
 //! [`crate::model::Scene`]; lowering cannot fail. The IR round-trips through
-//! serde JSON.
+//! serde JSON. Decoded textures are the [`Texture`]s of [`crate::texture`],
+//! moved here from the checked scene.
 
 mod lower;
 
@@ -13,6 +14,17 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 pub use lower::lower;
+
+use crate::check::Checked;
+use crate::model;
+pub use crate::texture::Texture;
+
+impl Checked {
+    /// The effects the checked scene calls for, as its IR will record them.
+    pub fn effects(&self) -> Effects {
+        Effects::of(&self.scene)
+    }
+}
 
 /// A scene ready to render.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -74,18 +86,8 @@ pub struct Light {
     pub color: DVec3,
 }
 
-/// A decoded image, row 0 at the top, channels scaled to [0, 1].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Texture {
-    /// The resolved path it was loaded from, for messages.
-    pub path: String,
-    pub width: u32,
-    pub height: u32,
-    /// `width × height` texels, row-major.
-    pub texels: Vec<[f32; 3]>,
-}
-
 /// The effects a scene calls for; the tracer skips every other kind of work.
+/// Computed here, where the IR is built ([`Effects::of`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Effects {
     /// At least one light: shadow rays are cast.
@@ -97,6 +99,17 @@ pub struct Effects {
 }
 
 impl Effects {
+    /// The effects `scene` calls for: shadows when it has lights,
+    /// reflection when an object reflects, textures when one is textured.
+    pub fn of(scene: &model::Scene) -> Effects {
+        let objects = &scene.objects;
+        Effects {
+            shadows: !scene.lights.is_empty(),
+            reflection: objects.iter().any(|o| o.material.reflectivity > 0.0),
+            textures: objects.iter().any(|o| o.material.texture.is_some()),
+        }
+    }
+
     /// The names of the effects in use, `["shadows", "reflection"]`.
     pub fn names(&self) -> Vec<&'static str> {
         [

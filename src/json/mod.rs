@@ -616,7 +616,7 @@ impl Reader<'_> {
             } else {
                 let help = match suggest::nearest(name, &names) {
                     Some((near, _)) => format!("did you mean `{near}`?"),
-                    None => format!("this object takes {}", crate::check::schema::list(&names)),
+                    None => format!("this object takes {}", crate::language::list(&names)),
                 };
                 self.errors.push(JsonError::UnknownField {
                     found: name.to_string(),
@@ -648,7 +648,7 @@ impl Reader<'_> {
             .map(|f| format!("\"{}\": {}", f.name, f.example))
             .collect();
         self.errors.push(JsonError::MissingField {
-            names: crate::check::schema::list(&names),
+            names: crate::language::list(&names),
             place: given.path.place(),
             span: at.into(),
             help: format!("add `{}` to this object", example.join(", ")),

@@ -32,8 +32,8 @@ use glam::{DVec3, UVec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::geometry::Ray;
+use super::prim::{Hit, Prim};
 use super::real::{Real, Vector};
-use super::world::{Hit, Prim};
 
 /// Primitives in a leaf at most (unless they cannot be told apart).
 const MAX_LEAF: usize = 4;

@@ -9,11 +9,12 @@
 //! threads. Everything is generic over the precision [`Real`].
 //!
 //! [`real`] has the two precisions, [`geometry`] the rays, primitives and
-//! their intersection, [`world`] the primitives of a scene, [`bvh`] the
+//! their intersection, [`world`] the primitives of a scene (each a [`prim::Prim`]), [`bvh`] the
 //! hierarchy that finds them fast, and [`trace`] the integrator.
 
 pub mod bvh;
 pub mod geometry;
+mod prim;
 pub mod real;
 pub mod trace;
 pub mod world;

@@ -271,6 +271,7 @@ mod tests {
     fn texel_lookup_follows_the_spec_and_clamps_edges() {
         let texture = ir::Texture {
             path: "t.ppm".into(),
+            format: crate::texture::TextureFormat::Ppm,
             width: 2,
             height: 2,
             texels: vec![[0.0; 3], [0.25; 3], [0.5; 3], [1.0; 3]],

@@ -19,30 +19,12 @@ use serde::Serialize;
 
 use super::bvh::Bvh;
 use super::geometry::{Ray, Rect, Shape, Sphere};
+pub use super::prim::{Hit, Prim};
 use super::real::{Real, Vector};
 use crate::ir;
 
-/// The nearest hit of a ray.
-#[derive(Clone, Copy, Debug)]
-pub struct Hit<R: Real> {
-    pub t: R,
-    /// The primitive's slot in [`World::prims`].
-    pub slot: u32,
-}
-
-/// A primitive as the tracer holds it: 48 bytes in `f64`, so a leaf of
-/// four spheres is three cache lines and shading reads nothing else.
-#[derive(Clone, Debug)]
-pub struct Prim<R: Real> {
-    pub shape: Shape<R>,
-    /// Its object's index in the IR: ties between hits go to the lower.
-    pub id: u32,
-    /// Its material's index in [`World::materials`].
-    pub material: u32,
-}
-
 /// How rays find the primitives they hit.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Accel {
     /// A hierarchy when the scene has more than [`BRUTE_FORCE_MAX`]
@@ -59,15 +41,6 @@ pub enum Accel {
 /// renders a third faster so, while at 11 the hierarchy was already a
 /// little faster and at 101 five times (docs/performance.md).
 pub const BRUTE_FORCE_MAX: usize = 4;
-
-impl<R: Real> Prim<R> {
-    /// [`Shape::hit`] of this primitive, which lies in `slot`: inlined, so
-    /// the sphere test sits in the traversal loops.
-    #[inline(always)]
-    pub fn hit(&self, slot: u32, ray: &Ray<R>, t_max: R) -> Option<R> {
-        self.shape.hit(ray, t_max, ray.from == Some(slot))
-    }
-}
 
 /// The primitives of a scene in precision `R`.
 pub struct World<R: Real> {

@@ -61,7 +61,7 @@ pub fn lower_in(text: &str, dir: &Path, resolution: Option<u32>) -> ir::Scene {
     if let Some(resolution) = resolution {
         checked.scene.camera.resolution = resolution;
     }
-    ir::lower(&checked)
+    ir::lower(checked)
 }
 
 /// [`lower_in`] for scenes without textures.

@@ -1,6 +1,8 @@
-//! Which attributes each section takes: the attribute table of docs/language.md as
-//! data, so the generic checks (unknown, misplaced, duplicate, count,
-//! missing) need no per-section code.
+//! The scene language as data: which attributes each section takes (the
+//! attribute table of docs/language.md), so the check pass's generic
+//! checks (unknown, misplaced, duplicate, count, missing) need no
+//! per-section code, and the English lists its messages and the JSON
+//! reader's are worded with. Below the check pass and the JSON reader.
 
 use crate::ast::{AttrName, SectionKind};
 

@@ -1,5 +1,6 @@
-//! The vector geometry the check pass needs: robust normalisation, the
-//! headup tests with their thresholds, and a plane's `right`/`up` basis
+//! Vector geometry shared by the check pass, lowering and the POV-Ray
+//! export, below all of them: robust normalisation, the headup tests with
+//! their thresholds, and a plane's `right`/`up` basis
 //! (docs/rendering.md). Vectors are scaled by their largest component before any
 //! squaring, so components near `f64::MAX` or in the subnormal range neither
 //! overflow nor underflow.
