@@ -126,9 +126,14 @@ pub struct CheckArgs {
     /// Exit 1 when there are warnings.
     #[arg(long)]
     pub deny_warnings: bool,
-    /// Apply the safe fixes (project headup, normalise normal) in place.
+    /// Apply the safe fixes the diagnostics carry (such as projecting
+    /// headup onto the plane) in place.
     #[arg(long)]
     pub fix: bool,
+    /// With `--fix`, also apply the unsafe fixes (such as a "did you
+    /// mean" replacement).
+    #[arg(long, requires = "fix")]
+    pub unsafe_fixes: bool,
 }
 
 /// What `convert` writes.

@@ -18,6 +18,7 @@ pub mod cli;
 pub mod commands;
 pub mod convert;
 pub mod diagnostic;
+pub mod fix;
 pub mod frontend;
 pub mod geometry;
 pub mod ir;
