@@ -8,7 +8,8 @@
 //! [`ir`] (model → render IR; lowering cannot fail) →
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
-//! POV-Ray. [`commands`] runs them for the command line defined in [`cli`].
+//! POV-Ray. [`tile`] cuts a frame into parts rendered apart and stitches
+//! them back. [`commands`] runs them for the command line defined in [`cli`].
 
 pub mod ast;
 pub mod check;
@@ -26,3 +27,4 @@ pub mod span;
 pub mod suggest;
 pub mod syntax;
 pub mod texture;
+pub mod tile;

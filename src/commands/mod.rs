@@ -1,9 +1,10 @@
-//! The three commands and what they share: loading a scene through the
+//! The commands and what they share: loading a scene through the
 //! front end, and mapping outcomes to the exit codes of SPEC.md §3.
 
 pub mod check;
 pub mod convert;
 pub mod render;
+pub mod stitch;
 
 use std::io::Read;
 use std::path::Path;
@@ -24,7 +25,8 @@ use crate::{check as checker, json, syntax};
 pub enum Outcome {
     /// Exit 0: done (warnings allowed).
     Success,
-    /// Exit 1: a scene has errors (or warnings, with `--deny-warnings`).
+    /// Exit 1: a scene has errors (or warnings, with `--deny-warnings`), or
+    /// the parts given to `stitch` do not make one frame.
     SceneErrors,
     /// Exit 2: an input could not be read; the command already said why
     /// and still processed the other inputs.
@@ -40,6 +42,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Check(args) => check::run(args),
         Command::Convert(args) => convert::run(args),
+        Command::Stitch(args) => stitch::run(args),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
