@@ -86,6 +86,10 @@ pub enum StitchError {
         height: u32,
     },
 
+    #[error("`{path}` is named twice (tile {band})")]
+    #[diagnostic(code(stitch::named_twice), help("name each tile once"))]
+    NamedTwice { path: String, band: Band },
+
     #[error("`{path}` duplicates `{first}`: both are tile {band}")]
     #[diagnostic(code(stitch::duplicate), help("name each tile once"))]
     Duplicate {
@@ -165,10 +169,15 @@ pub fn problems(parts: &[Part]) -> Vec<StitchError> {
         let rows = (part.info.region.y, part.info.region.height);
         match first_of.get(&rows) {
             Some(first) => {
-                problems.push(StitchError::Duplicate {
-                    path: part.name(),
-                    first: first.name(),
-                    band: part.info.band(),
+                let (path, band) = (part.name(), part.info.band());
+                problems.push(if first.path == part.path {
+                    StitchError::NamedTwice { path, band }
+                } else {
+                    StitchError::Duplicate {
+                        path,
+                        first: first.name(),
+                        band,
+                    }
                 });
                 false
             }
