@@ -5,7 +5,7 @@
 //! diagnostics (the kdl-rs shape: one owner, many related problems) and
 //! renders them in the three formats of `raytracer check`: human (miette's
 //! graphical handler), short (`file:line:col: severity[code]: message`) and
-//! JSON (SPEC.md §3).
+//! JSON (docs/cli.md).
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -154,7 +154,7 @@ impl Report {
             .collect()
     }
 
-    /// The diagnostics in the JSON shape of SPEC.md §3.
+    /// The diagnostics in the JSON shape of docs/cli.md.
     pub fn entries(&self) -> impl Iterator<Item = JsonDiagnostic> + '_ {
         self.diagnostics.iter().map(|d| {
             let d = d.as_ref();

@@ -1,5 +1,5 @@
 //! Hostile and broken inputs, end to end through the binary: each gets a
-//! clear message and the exit code of SPEC.md §3, and none leaves a
+//! clear message and the exit code of docs/cli.md, and none leaves a
 //! partial output file, a temporary file, or a changed input behind.
 //!
 //! Scenes are tiny (resolution at most 64) so the file stays fast. Tests

@@ -11,7 +11,7 @@ use raytracer::convert::{json, pov, scene_text};
 use raytracer::diagnostic::{BoxedDiagnostic, Report, SourceFile};
 use raytracer::syntax::parse;
 
-/// Scenes to mutate: the SPEC example and a few fixtures that reach deep
+/// Scenes to mutate: the language's example and a few fixtures that reach deep
 /// into the checks (textures resolve in tests/ui/scene, where they exist).
 const SEEDS: [&str; 6] = [
     include_str!("ui/scene/color_with_texture.txt"),

@@ -1,4 +1,4 @@
-//! The default render against SPEC.md §2's reference model.
+//! The default render against the render model of docs/rendering.md.
 //!
 //! [`reference`] is an independent float64 evaluation of §2 that also says
 //! which pixels are within a rounding step of a discontinuity (silhouettes,

@@ -1,5 +1,5 @@
 //! `raytracer render` end to end: every corpus scene renders (but the one
-//! the SPEC calls wrong), the statistics prove that only the effects a
+//! docs/language.md calls wrong), the statistics prove that only the effects a
 //! scene calls for are simulated, the image is the same for any number of
 //! threads, and the output is what its extension says.
 

@@ -20,7 +20,7 @@ use raytracer::model::{self, Camera, Light, Material, Object, Scene, Shape};
 
 const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");
 const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
-/// An error by SPEC: its headup is parallel to its normal.
+/// An error by docs/language.md: its headup is parallel to its normal.
 const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";
 /// A 2 × 2 texture for scenes that name `wood_tex.ppm`.
 const WOOD: &str = "P3\n2 2\n255\n160 82 45  139 69 19\n205 133 63  160 82 45\n";

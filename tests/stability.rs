@@ -2,7 +2,7 @@
 //! both precisions and held to an analytic expectation (issue 5).
 //!
 //! Most cases compare every pixel with [`reference`], an independent
-//! float64 evaluation of SPEC.md §2 that also says which pixels are
+//! float64 evaluation of docs/rendering.md's model that also says which pixels are
 //! *ambiguous*: within a relative margin of a discontinuity (a silhouette,
 //! a rectangle's edge, a shadow boundary, a contact, a texel boundary),
 //! where a rounding step may legitimately flip the pixel. Every other pixel

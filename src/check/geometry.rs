@@ -1,6 +1,6 @@
 //! The vector geometry the check pass needs: robust normalisation, the
 //! headup tests with their thresholds, and a plane's `right`/`up` basis
-//! (SPEC.md §2). Vectors are scaled by their largest component before any
+//! (docs/rendering.md). Vectors are scaled by their largest component before any
 //! squaring, so components near `f64::MAX` or in the subnormal range neither
 //! overflow nor underflow.
 
@@ -57,7 +57,7 @@ pub fn classify_headup(normal: [f64; 3], headup: [f64; 3]) -> Option<Headup> {
     Some(Headup::Projected(projected.to_array()))
 }
 
-/// A plane's orthonormal frame (SPEC.md §2): `up` is headup projected onto
+/// A plane's orthonormal frame (docs/rendering.md): `up` is headup projected onto
 /// the plane, `right = up × normal`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Basis {

@@ -1,4 +1,4 @@
-//! The check pass: validates the AST against every rule of SPEC.md §1 and
+//! The check pass: validates the AST against every rule of docs/language.md and
 //! builds the scene model.
 //!
 //! Every problem in the file is reported in one run. [`SceneCheck`] takes

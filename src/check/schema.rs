@@ -1,4 +1,4 @@
-//! Which attributes each section takes: the attribute table of SPEC.md §1 as
+//! Which attributes each section takes: the attribute table of docs/language.md as
 //! data, so the generic checks (unknown, misplaced, duplicate, count,
 //! missing) need no per-section code.
 

@@ -1,5 +1,5 @@
 //! One builder per section kind: each runs the shared attribute checks,
-//! then the range rules and warnings of its own attributes (SPEC.md §1), and
+//! then the range rules and warnings of its own attributes (docs/language.md), and
 //! returns the model value when everything it needs is valid.
 
 use glam::DVec3;

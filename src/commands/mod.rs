@@ -1,5 +1,5 @@
 //! The commands and what they share: loading a scene through the
-//! front end, and mapping outcomes to the exit codes of SPEC.md §3.
+//! front end, and mapping outcomes to the exit codes of docs/cli.md.
 
 pub mod check;
 pub mod convert;
@@ -110,7 +110,7 @@ pub struct Loaded {
 /// The languages a scene can be written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Language {
-    /// The scene language of SPEC.md §1.
+    /// The scene language of docs/language.md.
     Text,
     /// The JSON layout of [`crate::model::Scene`].
     Json,

@@ -1,22 +1,22 @@
 //! POV-Ray 3.7 export (`convert --to pov`): a scene that renders the same
-//! picture as SPEC.md §2, within what POV-Ray can express.
+//! picture as the render model of docs/rendering.md, within what POV-Ray can express.
 //!
 //! - POV-Ray is left-handed with the camera looking down +z, so every point
 //!   and direction has its z negated; x and y are unchanged.
 //! - The camera sits at the origin with `direction <0,0,1>`, `up <0,1,0>`
 //!   and `right <1,0,0>`: POV-Ray's image plane is then z = 1 with x and y
-//!   in [−0.5, 0.5], which is SPEC's z = −1 after the flip.
-//! - A plane becomes a `polygon` through its four corners (SPEC's `right`
+//!   in [−0.5, 0.5], which is the model's z = −1 after the flip.
+//! - A plane becomes a `polygon` through its four corners (the model's `right`
 //!   and `up` from [`geometry::plane_basis`], as the renderer uses).
 //! - Shading is `finish { ambient 0.1 diffuse 1 reflection K }` with
 //!   `ambient_light 1`, no specular and no light fading: POV-Ray then
-//!   computes SPEC's 0.1·C + Σ C⊙I·(N·L̂) + K·reflection. `assumed_gamma 1`
+//!   computes the model's 0.1·C + Σ C⊙I·(N·L̂) + K·reflection. `assumed_gamma 1`
 //!   keeps the arithmetic linear; the output file must be written with
 //!   `File_Gamma=1` (the header comment gives the command line).
 //! - `max_trace_level 9` allows the 8 reflections of `--max-depth 8` after
 //!   the primary ray, and `adc_bailout 0` traces every one of them.
 //! - Textures are `image_map`s placed so that their texel lookup matches
-//!   SPEC's (see [`plane_texture`] and [`sphere_texture`]); docs/formats.md
+//!   the model's (see [`plane_texture`] and [`sphere_texture`]); docs/formats.md
 //!   lists the remaining differences.
 
 use std::fmt::Write;
@@ -151,7 +151,7 @@ fn image_map(checked: &Checked, path: &str, map_type: u8) -> String {
 }
 
 /// A plane's texture: POV-Ray's planar map shows the image on the unit
-/// square of the pattern's x-y plane, image row 0 at y = 1, which is SPEC's
+/// square of the pattern's x-y plane, image row 0 at y = 1, which is the model's
 /// lookup with u = x, v = y. The matrix takes pattern (u, v, w) to the world
 /// point `c + (u − ½)·W·right + (v − ½)·H·up + w·n` (in POV-Ray's frame).
 fn plane_texture(
@@ -178,7 +178,7 @@ fn plane_texture(
 /// A sphere's texture: POV-Ray's spherical map takes u as the angle from +x
 /// towards +z over 2π and v = ½ + asin(y)/π around the pattern origin. With
 /// the pattern's x negated (and z already negated by the frame flip), its
-/// angle is SPEC's atan2(m.z, m.x) + π, so u is SPEC's ½ + atan2/2π and v is
+/// angle is the model's atan2(m.z, m.x) + π, so u is its ½ + atan2/2π and v is
 /// unchanged.
 fn sphere_texture(map: &str, center: [f64; 3]) -> String {
     format!(
@@ -242,7 +242,7 @@ mod tests {
             },
             material: model::Material::default(),
         }]));
-        // up = −z (SPEC) → +z (POV); right = up × n = (1, 0, 0).
+        // up = −z (ours) → +z (POV); right = up × n = (1, 0, 0).
         assert!(
             pov.contains(
                 "polygon {\n  5, <-2, -1, 4>, <2, -1, 4>, <2, -1, 6>, <-2, -1, 6>, <-2, -1, 4>\n"

@@ -2,7 +2,7 @@
 //!
 //! The layout is fixed, so printing is a formatter: the camera line, then
 //! each object in order, then each light, one blank line between sections;
-//! attributes two spaces in, in the order of SPEC.md §1's table (`dimension`,
+//! attributes two spaces in, in the order of the attribute table of docs/language.md (`dimension`,
 //! `center`, `normal`, `headup`, `color`, `reflectivity`, `texture`); a
 //! `color` of `1 1 1` and a `reflectivity` of `0` (the defaults) are left out.
 //!

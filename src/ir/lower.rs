@@ -86,7 +86,7 @@ fn shape(shape: &model::Shape) -> Shape {
     }
 }
 
-/// The plane's frame of SPEC.md §2. The check pass rejects zero and
+/// The plane's frame of docs/rendering.md. The check pass rejects zero and
 /// parallel vectors, so the fallback (the camera's own frame) is never
 /// reached by a checked scene; it keeps lowering total.
 fn frame(normal: [f64; 3], headup: [f64; 3]) -> Basis {

@@ -1,6 +1,6 @@
 //! The tracer: renders a [`crate::ir::Scene`] to 8-bit RGB.
 //!
-//! One camera ray per pixel through its centre (SPEC.md §2), or `spp`
+//! One camera ray per pixel through its centre (docs/rendering.md), or `spp`
 //! stratified samples on a jittered √spp×√spp grid; each sample's colour is
 //! clamped to [0, 1] before the samples are averaged and rounded to 8 bits.
 //! Rows are rendered in parallel on the current rayon pool; every pixel
@@ -50,7 +50,7 @@ pub struct Options {
 }
 
 impl Default for Options {
-    /// SPEC.md §2's reference model.
+    /// The render model of docs/rendering.md.
     fn default() -> Self {
         Options {
             spp: 1,
@@ -173,7 +173,7 @@ fn mean(samples: impl Iterator<Item = DVec3>) -> DVec3 {
     first.map_or(DVec3::ZERO, |first| first + deviation / f64::from(count))
 }
 
-/// SPEC.md §2's output: clamp to [0, 1], then `round(c·255)`, halves up.
+/// The output of docs/rendering.md: clamp to [0, 1], then `round(c·255)`, halves up.
 /// Rounded by hand: `f64::round` is a libm call on baseline x86-64 (4 % of
 /// the sample scene's render); the fraction `x − ⌊x⌋` is exact here.
 fn quantize(color: DVec3) -> [u8; 3] {

@@ -1,4 +1,4 @@
-//! The Whitted integrator: what colour a camera ray sees (SPEC.md §2).
+//! The Whitted integrator: what colour a camera ray sees (docs/rendering.md).
 //!
 //! Local light is `0.1·C + Σ C ⊙ I·max(0, N·L̂)` over the lights a shadow
 //! ray reaches; a reflective surface adds `k ·` the colour along the mirror
@@ -238,7 +238,7 @@ fn saturated(color: DVec3) -> bool {
     color.min_element() >= 1.0
 }
 
-/// SPEC.md §2's sphere mapping, from the outward unit normal.
+/// The sphere mapping of docs/rendering.md, from the outward unit normal.
 pub fn sphere_uv(m: DVec3) -> (f64, f64) {
     let u = 0.5 + m.z.atan2(m.x) / std::f64::consts::TAU;
     let v = 0.5 + m.y.clamp(-1.0, 1.0).asin() / std::f64::consts::PI;

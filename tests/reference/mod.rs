@@ -1,4 +1,4 @@
-//! An independent float64 evaluation of SPEC.md §2 for the stability
+//! An independent float64 evaluation of docs/rendering.md's model for the stability
 //! tests, which also knows where its answer is fragile.
 //!
 //! It shares no code with the tracer except the texel rule. Intersections

@@ -80,7 +80,7 @@ pub fn pixel(image: &Image, i: u32, j: u32) -> [u8; 3] {
     [image.rgb[at], image.rgb[at + 1], image.rgb[at + 2]]
 }
 
-/// `round(clamp(c)·255)` per channel, as SPEC.md §2 writes pixels.
+/// `round(clamp(c)·255)` per channel, as docs/rendering.md writes pixels.
 pub fn quantized(c: [f64; 3]) -> [u8; 3] {
     c.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8)
 }
