@@ -383,3 +383,54 @@ fn bad_tiles_are_usage_errors() {
         failing(&["render", "scene.txt", "t.ppm", "--tile", "1/3"]),
     );
 }
+
+#[test]
+fn forged_metadata_and_outputs_among_the_inputs_are_refused() {
+    let dir = scene_dir();
+    let d = dir.path();
+    let parts = render_tiles(d, "t", 2, &[]);
+    let info = raytracer::tile::file::read_info(&d.join(&parts[0])).expect("a tile");
+    let forge = |name: &str, edit: &dyn Fn(&mut raytracer::tile::TileInfo)| {
+        let mut forged = info.clone();
+        edit(&mut forged);
+        let rgb = vec![0u8; 29 * 14 * 3];
+        let mut bytes = Vec::new();
+        raytracer::tile::file::encode(&forged, &rgb, &mut bytes).expect("encode");
+        std::fs::write(d.join(name), bytes).unwrap();
+    };
+    forge("huge.png", &|i| {
+        i.width = 1 << 30;
+        i.height = 1 << 30;
+    });
+    forge("zero.png", &|i| i.tiles = 0);
+    forge("v2.png", &|i| i.version = 2);
+    for (part, message) in [
+        (
+            "huge.png",
+            "expected a square frame of 1 to 16384 pixels a side, found 1073741824×1073741824",
+        ),
+        (
+            "zero.png",
+            "`zero.png` claims rows 0..14 of a 29-row frame, which is not tile 1/0",
+        ),
+        ("v2.png", "expected tile format version 1, found 2"),
+    ] {
+        let output = run_in(d, &["stitch", "out.png", part, &parts[1]]);
+        assert_eq!(output.status.code(), Some(1), "{part}: {}", stderr(&output));
+        let flat = stderr(&output)
+            .split_whitespace()
+            .filter(|w| *w != "│")
+            .collect::<Vec<_>>()
+            .join(" ");
+        assert!(flat.contains(message), "{part}: {flat}");
+    }
+    let into_a_part = run_in(d, &["stitch", &parts[0], &parts[0], &parts[1]]);
+    assert_eq!(
+        into_a_part.status.code(),
+        Some(2),
+        "{}",
+        stderr(&into_a_part)
+    );
+    assert!(stderr(&into_a_part).contains("io::output_is_input"));
+    assert!(!d.join("out.png").exists());
+}

@@ -15,7 +15,8 @@ use miette::Diagnostic;
 use super::{TileInfo, KEYWORD};
 use crate::diagnostic::io_reason;
 
-/// The largest frame's side, as the check pass allows for the camera.
+/// The largest frame's side: the camera's limit (docs/language.md). A
+/// tile claiming a larger frame is refused before any pixel is allocated.
 const MAX_SIDE: u64 = 16_384;
 
 /// Why a file is not a tile that can be read.
@@ -112,6 +113,13 @@ fn info_of(path: &Path, reader: &png::Reader<BufReader<File>>) -> Result<TileInf
             "expected tile format version {}, found {}",
             super::FORMAT_VERSION,
             info.version
+        )));
+    }
+    let side = u64::from(info.width);
+    if info.width != info.height || !(1..=MAX_SIDE).contains(&side) {
+        return Err(not_a_tile(format!(
+            "expected a square frame of 1 to {MAX_SIDE} pixels a side, found {}×{}",
+            info.width, info.height
         )));
     }
     Ok(info)
