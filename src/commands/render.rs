@@ -8,6 +8,11 @@
 //! where no file can be created, a `--spp` that is not a square. The
 //! scene's warnings go to stderr (not with `--quiet`); its errors go to
 //! stderr and the command exits 1 without touching OUT.
+//!
+//! With `--tile K/N` only that band of rows is traced, through the same row
+//! loop, and written as a tile PNG that records where it belongs
+//! ([`crate::tile`]); a non-PNG OUT is refused before any work, and more
+//! bands than rows once the scene is loaded.
 
 use std::io::IsTerminal;
 use std::ops::Range;
@@ -331,6 +336,15 @@ impl Stats {
             self.precision,
             self.spp,
             self.max_depth,
-        )
+        ) + &self.tile.as_ref().map_or(String::new(), |tile| {
+            let rows = tile.rows();
+            format!(
+                "tile               {} (rows {}..{} of {})\n",
+                tile.band(),
+                rows.start,
+                rows.end,
+                tile.height
+            )
+        })
     }
 }

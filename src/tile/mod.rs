@@ -11,8 +11,8 @@
 //!
 //! A tile records where it belongs in a [`TileInfo`]: the full frame's size,
 //! its region, `K` and `N`, and two hashes that tell whether parts belong
-//! together. The scene hash is SHA-256 of the checked scene's canonical JSON
-//! (`convert --to json`) followed by every texture's decoded texels, so a
+//! together. The scene hash is SHA-256 of the checked scene as JSON
+//! followed by every texture's decoded texels, so a
 //! scene reformatted or rendered from another folder or machine has the
 //! same hash, and one whose texture file changed does not. The options hash
 //! is SHA-256 of [`PixelOptions`] as JSON: every option that can change a
@@ -25,6 +25,7 @@
 pub mod file;
 pub mod stitch;
 
+use std::io::{BufWriter, Write};
 use std::ops::Range;
 use std::str::FromStr;
 
@@ -32,7 +33,6 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::check::Checked;
-use crate::convert::json::to_json;
 use crate::render::Options;
 
 /// The version of the [`TileInfo`] layout; `stitch` accepts only its own.
@@ -105,20 +105,26 @@ pub fn options_hash(options: &serde_json::Value) -> String {
     hex(&Sha256::digest(options.to_string().as_bytes()))
 }
 
-/// The scene hash: SHA-256 of the canonical JSON of the checked scene, then
-/// of each texture's width, height and decoded texels (little-endian), in
-/// the order of their paths, in hex.
+/// The scene hash: SHA-256 of the checked scene as compact JSON (serde's,
+/// in the model's field order), then of each texture's width, height and
+/// decoded texels (little-endian), in the order of their paths, in hex.
+/// Streamed into the hasher: no JSON text or value is built, which for
+/// 100,000 spheres would cost more than rendering a tile.
 pub fn scene_hash(checked: &Checked) -> String {
     let mut hasher = Sha256::new();
-    hasher.update(to_json(&checked.scene).as_bytes());
-    for texture in checked.textures.values() {
-        hasher.update(texture.width.to_le_bytes());
-        hasher.update(texture.height.to_le_bytes());
-        for texel in &texture.texels {
-            for channel in texel {
-                hasher.update(channel.to_le_bytes());
+    {
+        let mut out = BufWriter::with_capacity(1 << 16, &mut hasher);
+        // Writing into a hasher cannot fail, nor can serialising the model
+        // (strings, numbers, arrays, maps with string keys).
+        let _ = serde_json::to_writer(&mut out, &checked.scene);
+        for texture in checked.textures.values() {
+            let _ = out.write_all(&texture.width.to_le_bytes());
+            let _ = out.write_all(&texture.height.to_le_bytes());
+            for channel in texture.texels.iter().flatten() {
+                let _ = out.write_all(&channel.to_le_bytes());
             }
         }
+        let _ = out.flush();
     }
     hex(&hasher.finalize())
 }
