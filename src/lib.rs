@@ -8,7 +8,8 @@
 //! [`ir`] (model → render IR; lowering cannot fail) →
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
-//! POV-Ray. [`frontend`] drives the stages from bytes to a checked scene
+//! POV-Ray. [`tile`] cuts a frame into parts rendered apart and stitches
+//! them back. [`frontend`] drives the stages from bytes to a checked scene
 //! for every caller; [`commands`] runs them for the command line defined in
 //! [`cli`], and nothing below that layer imports it.
 
@@ -32,3 +33,4 @@ pub mod span;
 pub mod suggest;
 pub mod syntax;
 pub mod texture;
+pub mod tile;

@@ -1,10 +1,11 @@
-//! The three commands and what they share: mapping outcomes to the exit
+//! The commands and what they share: mapping outcomes to the exit
 //! codes of docs/cli.md. Each command loads its scenes through
 //! [`crate::frontend`] and only handles arguments and printing.
 
 pub mod check;
 pub mod convert;
 pub mod render;
+pub mod stitch;
 
 use std::process::ExitCode;
 
@@ -17,7 +18,8 @@ use crate::cli::{Cli, Command};
 pub enum Outcome {
     /// Exit 0: done (warnings allowed).
     Success,
-    /// Exit 1: a scene has errors (or warnings, with `--deny-warnings`).
+    /// Exit 1: a scene has errors (or warnings, with `--deny-warnings`), or
+    /// the parts given to `stitch` do not make one frame.
     SceneErrors,
     /// Exit 2: an input could not be read; the command already said why
     /// and still processed the other inputs.
@@ -33,6 +35,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Check(args) => check::run(args),
         Command::Convert(args) => convert::run(args),
+        Command::Stitch(args) => stitch::run(args),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
