@@ -21,7 +21,9 @@ use crate::fix::{Applicability, Fix};
 use crate::span::{floor_char_boundary, Span};
 use crate::syntax::SyntaxError;
 
-/// A diagnostic of any stage, boxed so syntax and check problems share a list.
+/// A diagnostic of any stage, boxed so syntax and check problems share a
+/// list; also how a command fails for a reason not the scene's (usage, I/O or
+/// internal: exit 2).
 pub type BoxedDiagnostic = Box<dyn Diagnostic + Send + Sync + 'static>;
 
 /// Diagnostics of one type, boxed to be reported with others.
@@ -289,9 +291,16 @@ pub fn lowercase_first(message: &str) -> String {
     }
 }
 
-/// An I/O error as a diagnostic's reason: lowercase, and without the paths
+/// An I/O error as a diagnostic's reason, worded the same for a scene, a
+/// texture or an output: "no such file" and "permission denied" for the
+/// common two, else the system's message, lowercase and without the paths
 /// some wrappers append (a temporary file's name is no help to the user).
 pub fn io_reason(error: &std::io::Error) -> String {
+    match error.kind() {
+        std::io::ErrorKind::NotFound => return "no such file".to_string(),
+        std::io::ErrorKind::PermissionDenied => return "permission denied".to_string(),
+        _ => {}
+    }
     let message = match error.raw_os_error() {
         Some(code) => std::io::Error::from_raw_os_error(code).to_string(),
         // `tempfile` words its errors `{reason} at path "{temporary file}"`.

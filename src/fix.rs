@@ -60,6 +60,17 @@ impl Fix {
             }],
         }
     }
+
+    /// [`Fix::replace`], boxed as a diagnostic carries it (a fix is larger
+    /// than most diagnostics).
+    pub fn boxed(
+        message: String,
+        applicability: Applicability,
+        span: Span,
+        content: &str,
+    ) -> Box<Fix> {
+        Box::new(Fix::replace(message, applicability, span, content))
+    }
 }
 
 /// Apply `fixes` to `text`, skipping a fix whose edits overlap one applied

@@ -126,7 +126,7 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
             };
             CheckError::UnknownAttribute {
                 fix: near.map(|near| {
-                    Fix::replace(
+                    Fix::boxed(
                         format!("replaced `{found}` with `{near}`"),
                         Applicability::Unsafe,
                         attribute.name.span,

@@ -26,7 +26,7 @@ pub enum CheckError {
         #[help]
         help: String,
         /// The nearest keyword, when one is close (unsafe).
-        fix: Option<Fix>,
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires on an attribute name that no section takes.
@@ -41,7 +41,7 @@ pub enum CheckError {
         help: String,
         /// The nearest attribute the section takes, when one is close
         /// (unsafe).
-        fix: Option<Fix>,
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires on an attribute of another section type, such as `normal` on a
@@ -326,7 +326,7 @@ pub enum CheckError {
         #[help]
         help: String,
         /// The projection, number by number (safe).
-        fix: Option<Fix>,
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when every point of an object has z ≥ 0, behind the camera at
@@ -388,7 +388,7 @@ impl CheckError {
         match self {
             CheckError::UnknownSection { fix, .. }
             | CheckError::UnknownAttribute { fix, .. }
-            | CheckError::HeadupNotPerpendicular { fix, .. } => fix.as_ref(),
+            | CheckError::HeadupNotPerpendicular { fix, .. } => fix.as_deref(),
             _ => None,
         }
     }

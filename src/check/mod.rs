@@ -213,7 +213,7 @@ fn unknown_section(word: &str, span: Span) -> CheckError {
     CheckError::UnknownSection {
         found: word.to_string(),
         fix: near.map(|near| {
-            Fix::replace(
+            Fix::boxed(
                 format!("replaced `{word}` with `{near}`"),
                 Applicability::Unsafe,
                 span,

@@ -252,7 +252,8 @@ fn orientation(
             fix: attrs
                 .numbers(&AttrName::Headup)
                 .filter(|_| unique)
-                .and_then(|written| projection(written, projected)),
+                .and_then(|written| projection(written, projected))
+                .map(Box::new),
         }),
         Headup::Parallel => {
             cx.problems.push(CheckError::HeadupParallelToNormal {

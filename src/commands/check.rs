@@ -17,15 +17,16 @@ use std::path::Path;
 
 use miette::Diagnostic;
 
-use super::{Failure, Outcome};
+use super::{Outcome, WriteStdoutError};
 use crate::cli::{CheckArgs, Format};
+use crate::diagnostic::BoxedDiagnostic;
 use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic};
 use crate::fix::{self, Applicability};
 use crate::frontend::{load, Loaded, ReadSceneError};
 use crate::output;
 
 /// Run `raytracer check`.
-pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
+pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
     let mut out = Output::new(args.format);
     let mut unreadable = false;
     let mut failed = false;
@@ -132,7 +133,7 @@ impl Output {
         }
     }
 
-    fn finish(self) -> Result<(), Failure> {
+    fn finish(self) -> Result<(), BoxedDiagnostic> {
         let mut stdout = std::io::stdout().lock();
         let written = if self.format == Format::Json {
             serde_json::to_writer_pretty(&mut stdout, &self.json)
@@ -143,7 +144,7 @@ impl Output {
         };
         written
             .and_then(|()| stdout.flush())
-            .map_err(|e| miette::miette!("cannot write to stdout: {e}").into())
+            .map_err(|e| Box::new(WriteStdoutError::from(e)) as BoxedDiagnostic)
     }
 }
 

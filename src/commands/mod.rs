@@ -26,8 +26,22 @@ pub enum Outcome {
     InputErrors,
 }
 
-/// A failure that is not the scene's fault: usage, I/O or internal (exit 2).
-pub type Failure = Box<dyn Diagnostic + Send + Sync + 'static>;
+/// Writing a command's output to stdout failed (a closed pipe, a full disk).
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error("cannot write to stdout: {reason}")]
+#[diagnostic(code(io::write_stdout))]
+pub struct WriteStdoutError {
+    /// The I/O error, as [`crate::diagnostic::io_reason`] words it.
+    pub reason: String,
+}
+
+impl From<std::io::Error> for WriteStdoutError {
+    fn from(error: std::io::Error) -> WriteStdoutError {
+        WriteStdoutError {
+            reason: crate::diagnostic::io_reason(&error),
+        }
+    }
+}
 
 /// Run a parsed command line and return the process exit code.
 pub fn run(cli: Cli) -> ExitCode {

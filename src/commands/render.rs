@@ -23,9 +23,10 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use miette::Diagnostic;
 use serde::{Deserialize, Serialize};
 
-use super::{Failure, Outcome};
+use super::Outcome;
 use crate::check::Checked;
 use crate::cli::{Precision, RenderArgs};
+use crate::diagnostic::BoxedDiagnostic;
 use crate::diagnostic::{terminal_width, use_color};
 use crate::frontend::{load, Loaded};
 use crate::ir::{self, Effects};
@@ -117,7 +118,7 @@ pub struct Stats {
 }
 
 /// Run `raytracer render`.
-pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
+pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
     let start = Instant::now();
     let format = Format::from_path(&args.out)?;
     if args.tile.is_some() && format != Format::Png {

@@ -22,9 +22,10 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 use super::render::Seconds;
-use super::{Failure, Outcome};
+use super::Outcome;
 use crate::cli::StitchArgs;
 use crate::diagnostic::io_reason;
+use crate::diagnostic::BoxedDiagnostic;
 use crate::output::{self, Format};
 use crate::render::Counters;
 use crate::tile::file::{self, ReadTileError};
@@ -119,7 +120,7 @@ struct MergedStats {
 }
 
 /// Run `raytracer stitch`.
-pub fn run(args: StitchArgs) -> Result<Outcome, Failure> {
+pub fn run(args: StitchArgs) -> Result<Outcome, BoxedDiagnostic> {
     let start = Instant::now();
     let format = Format::from_path(&args.out)?;
     let inputs: Vec<&Path> = args
@@ -193,7 +194,7 @@ pub fn run(args: StitchArgs) -> Result<Outcome, Failure> {
 fn report<E: Diagnostic + Send + Sync + 'static>(
     error: E,
     is_io: fn(&E) -> bool,
-) -> Result<bool, Failure> {
+) -> Result<bool, BoxedDiagnostic> {
     if is_io(&error) {
         return Err(Box::new(error));
     }
