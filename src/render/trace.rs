@@ -248,6 +248,11 @@ pub fn sphere_uv(m: DVec3) -> (f64, f64) {
 /// The nearest texel, row 0 at the top: `x = min(⌊u·w⌋, w−1)`,
 /// `y = min(⌊(1−v)·h⌋, h−1)`. Coordinates a rounding step outside [0, 1]
 /// land on the edge texel.
+///
+/// Total for any texture and any coordinates: the loader refuses an image
+/// without texels, but a texture whose texels do not fill `w × h` (which
+/// no loader builds) reads black where they are missing instead of
+/// indexing out of range.
 pub fn texel(texture: &ir::Texture, u: f64, v: f64) -> DVec3 {
     debug_assert!(
         u.is_finite() && v.is_finite(),
@@ -257,10 +262,14 @@ pub fn texel(texture: &ir::Texture, u: f64, v: f64) -> DVec3 {
     // `as usize` truncates, which is the floor for values ≥ 0, and
     // saturates: negative values (and NaN) become 0. (`floor` itself is a
     // libm call on baseline x86-64.)
-    let x = ((u * w as f64) as usize).min(w - 1);
-    let y = (((1.0 - v) * h as f64) as usize).min(h - 1);
-    let [r, g, b] = texture.texels[y * w + x];
-    DVec3::new(f64::from(r), f64::from(g), f64::from(b))
+    let x = ((u * w as f64) as usize).min(w.saturating_sub(1));
+    let y = (((1.0 - v) * h as f64) as usize).min(h.saturating_sub(1));
+    texture
+        .texels
+        .get(y * w + x)
+        .map_or(DVec3::ZERO, |&[r, g, b]| {
+            DVec3::new(f64::from(r), f64::from(g), f64::from(b))
+        })
 }
 
 #[cfg(test)]
