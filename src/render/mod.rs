@@ -94,6 +94,10 @@ pub fn render<R: Real>(
             a += b;
             a
         });
+    let counters = Counters {
+        bvh_nodes: tracer.bvh_nodes(),
+        ..counters
+    };
     (Image { size, rgb }, counters)
 }
 

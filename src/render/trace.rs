@@ -37,6 +37,14 @@ pub struct Counters {
     pub shadow_rays_skipped: u64,
     /// Paths ended early because every channel had reached 1.
     pub paths_saturated: u64,
+    /// Samples whose colour, and texture lookups whose coordinates, were
+    /// NaN or infinite: always 0 (counted in every build, so a release
+    /// test can assert it; tests/stability.rs does).
+    pub non_finite: u64,
+    /// The wide nodes of the hierarchy rays walked, or 0 when every
+    /// primitive was tested (brute force): which acceleration ran. Set once
+    /// per render, not summed.
+    pub bvh_nodes: u64,
 }
 
 impl std::ops::AddAssign for Counters {
@@ -47,6 +55,8 @@ impl std::ops::AddAssign for Counters {
         self.texture_lookups += other.texture_lookups;
         self.shadow_rays_skipped += other.shadow_rays_skipped;
         self.paths_saturated += other.paths_saturated;
+        self.non_finite += other.non_finite;
+        self.bvh_nodes = self.bvh_nodes.max(other.bvh_nodes);
     }
 }
 
@@ -135,7 +145,15 @@ impl<'a, R: Real> Tracer<'a, R> {
             counters.reflection_rays += 1;
         }
         debug_assert!(color.is_finite(), "non-finite colour {color}");
+        if !color.is_finite() {
+            counters.non_finite += 1;
+        }
         color
+    }
+
+    /// The wide nodes of the hierarchy this tracer walks (0: brute force).
+    pub fn bvh_nodes(&self) -> u64 {
+        self.world.bvh_nodes()
     }
 
     /// The hit point (on the surface to rounding), the face-forward normal
@@ -184,6 +202,9 @@ impl<'a, R: Real> Tracer<'a, R> {
         match (material.texture, surface.uv) {
             (Some(texture), Some((u, v))) => {
                 counters.texture_lookups += 1;
+                if !(u.is_finite() && v.is_finite()) {
+                    counters.non_finite += 1;
+                }
                 texel(&self.scene.textures[texture], u, v)
             }
             _ => material.color,
