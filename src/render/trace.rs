@@ -226,7 +226,13 @@ impl<'a, R: Real> Tracer<'a, R> {
         for light in &self.lights {
             let contribution = albedo * light.color;
             let to_light = light.position - surface.point;
-            let cos = surface.normal.dot(to_light.normalize()).wide();
+            let length = to_light.length();
+            if length.is_zero() {
+                // A light at the hit point has no direction to normalise
+                // (it would be NaN): it lights nothing there.
+                continue;
+            }
+            let cos = surface.normal.dot(to_light * length.recip()).wide();
             if self.skip
                 && (cos <= 0.0 || contribution == DVec3::ZERO || saturated(color + local * weight))
             {
@@ -237,7 +243,7 @@ impl<'a, R: Real> Tracer<'a, R> {
             let to_light = light.position - origin;
             let distance = to_light.length();
             if distance.is_zero() {
-                // The light sits on the surface: nothing lies between.
+                // The light sits at the offset origin: nothing lies between.
                 continue;
             }
             let ray = Ray {
@@ -311,6 +317,44 @@ mod tests {
         assert_eq!(texel(&texture, 0.1, 0.1), DVec3::splat(0.5));
         assert_eq!(texel(&texture, 1.0, 0.0), DVec3::splat(1.0));
         assert_eq!(texel(&texture, -1e-17, 1.0 + 1e-17), DVec3::splat(0.0));
+    }
+
+    /// A light exactly at the hit point (the sphere's front pole, which
+    /// the centre ray hits and the reprojection puts exactly at
+    /// `(0, 0, −4)`) is skipped before its direction would be normalised:
+    /// ambient only, no shadow ray, nothing non-finite, in both precisions.
+    #[test]
+    fn a_light_at_distance_zero_is_skipped_not_normalised() {
+        let scene = ir::Scene {
+            resolution: 1,
+            objects: vec![ir::Object {
+                shape: ir::Shape::Sphere {
+                    center: DVec3::new(0.0, 0.0, -5.0),
+                    radius: 1.0,
+                },
+                material: ir::Material {
+                    color: DVec3::new(0.5, 0.25, 1.0),
+                    reflectivity: 0.0,
+                    texture: None,
+                },
+            }],
+            lights: vec![ir::Light {
+                position: DVec3::new(0.0, 0.0, -4.0),
+                color: DVec3::ONE,
+            }],
+            textures: Vec::new(),
+            effects: ir::Effects::default(),
+        };
+        for skip in [true, false] {
+            let mut counters = Counters::default();
+            let ray = crate::render::camera_ray::<f64>(1, 0.5, 0.5);
+            let color = Tracer::<f64>::new(&scene, 8, skip).radiance(ray, &mut counters);
+            assert_eq!(color, DVec3::new(0.5, 0.25, 1.0) * AMBIENT);
+            let ray = crate::render::camera_ray::<f32>(1, 0.5, 0.5);
+            let color32 = Tracer::<f32>::new(&scene, 8, skip).radiance(ray, &mut counters);
+            assert_eq!(color32, color);
+            assert_eq!((counters.shadow_rays, counters.non_finite), (0, 0));
+        }
     }
 
     #[test]
