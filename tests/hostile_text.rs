@@ -222,3 +222,22 @@ fn render_warnings_are_escaped() {
     assert!(stderr.contains("warn\\u{1b}[2J.txt"), "{stderr}");
     assert!(dir.path().join("out.png").is_file());
 }
+
+#[test]
+fn fix_reports_escape_the_file_name() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let name = OsStr::from_bytes(b"fix\x1b]0;x\x07.txt");
+    std::fs::write(
+        dir.path().join(name),
+        "camera 2\nplane\n  dimension 1 1\n  center 0 0 -5\n  normal 0 0 2\n  headup 0 1 0\n",
+    )
+    .expect("write scene");
+    let output = run_in(dir.path(), &["check".as_ref(), "--fix".as_ref(), name]);
+    assert_eq!(output.status.code(), Some(0), "{output:?}");
+    let stdout = String::from_utf8(output.stdout).expect("UTF-8");
+    assert_no_hidden(&stdout);
+    assert!(
+        stdout.contains("fix\\u{1b}]0;x\\u{7}.txt:5:3: fixed: normalised `normal`"),
+        "{stdout}"
+    );
+}
