@@ -17,6 +17,7 @@ pub mod cli;
 pub mod commands;
 pub mod convert;
 pub mod diagnostic;
+pub mod escape;
 pub mod ir;
 pub mod json;
 pub mod limits;

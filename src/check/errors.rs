@@ -370,11 +370,25 @@ pub enum CheckError {
         #[help]
         help: String,
     },
+
+    /// Fires on each Unicode text-direction control (U+202A–U+202E,
+    /// U+2066–U+2069) anywhere in the text, comments included: it can make
+    /// the scene display differently from what it says.
+    #[error("text-direction control {name} in the scene text")]
+    #[diagnostic(code(scene::text_direction_control), severity(Warning))]
+    TextDirectionControl {
+        /// `U+202E (right-to-left override)`.
+        name: String,
+        #[label("reorders the text shown around it")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
 }
 
 impl CheckError {
     /// Every code this enum can produce, for the fixture-coverage test.
-    pub const CODES: [&'static str; 29] = [
+    pub const CODES: [&'static str; 30] = [
         "scene::unknown_section",
         "scene::unknown_attribute",
         "scene::misplaced_attribute",
@@ -404,5 +418,6 @@ impl CheckError {
         "scene::light_inside_sphere",
         "scene::color_with_texture",
         "scene::light_color_above_one",
+        "scene::text_direction_control",
     ];
 }

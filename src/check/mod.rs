@@ -7,7 +7,8 @@
 //! [`check`] runs it over a parsed [`ast::File`]. The shared attribute
 //! checks live in [`attributes`] (driven by the [`schema`] table), each
 //! section kind's own rules in [`sections`], vector geometry and the headup
-//! thresholds in [`geometry`], texture loading in [`textures`], and the
+//! thresholds in [`geometry`], texture loading in [`textures`], the warning
+//! for text-direction controls in [`text_direction`], and the
 //! diagnostics themselves in [`errors`]. [`fix`] computes the safe fixes of
 //! `raytracer check --fix`.
 
@@ -18,6 +19,7 @@ pub mod format;
 pub mod geometry;
 pub mod schema;
 mod sections;
+mod text_direction;
 mod textures;
 
 use std::collections::BTreeMap;
@@ -184,6 +186,9 @@ impl<'a> SceneCheck<'a> {
             });
         }
         cx.lights_inside_spheres();
+        cx.problems
+            .list
+            .extend(text_direction::warnings(&cx.source.text));
         for count in counts {
             count.report(&mut cx.problems);
         }

@@ -20,6 +20,7 @@ use super::{load, parse, read_scene, Failure, Language, Loaded, Outcome, ReadSce
 use crate::check::fix;
 use crate::cli::{CheckArgs, Format};
 use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic, SourceFile};
+use crate::escape::escape;
 use crate::output;
 
 /// Run `raytracer check`.
@@ -33,7 +34,7 @@ pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
                 Ok(fixed) => out.fixed(&fixed),
                 Err(error) => {
                     unreadable = true;
-                    eprintln!("error: {error}");
+                    eprintln!("error: {}", escape(&error.to_string()));
                 }
             }
         }
@@ -99,6 +100,7 @@ impl Output {
     /// stderr when stdout is JSON.
     fn fixed(&self, fixed: &[String]) {
         for line in fixed {
+            let line = escape(line);
             if self.format == Format::Json {
                 eprintln!("{line}");
             } else {
@@ -118,9 +120,9 @@ impl Output {
                 labels: Vec::new(),
             });
         }
-        eprintln!("error: {error}");
+        eprintln!("error: {}", escape(&error.to_string()));
         if let Some(help) = error.help() {
-            eprintln!("  help: {help}");
+            eprintln!("  help: {}", escape(&help.to_string()));
         }
     }
 
@@ -193,11 +195,11 @@ fn fix_in_place(path: &Path) -> Result<Vec<String>, WriteFixError> {
 }
 
 /// `scene.txt: 2 errors, 1 warning`, or for a scene without errors
-/// `scene.txt: ok; effects: shadows, reflection`.
+/// `scene.txt: ok; effects: shadows, reflection` (the name escaped).
 fn summary(loaded: &Loaded) -> String {
     let report = &loaded.report;
     let (errors, warnings) = (report.error_count(), report.warning_count());
-    let name = &report.source.name;
+    let name = escape(&report.source.name);
     let counts = match (errors, warnings) {
         (0, 0) => "ok".to_string(),
         _ => format!(

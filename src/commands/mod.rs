@@ -16,7 +16,7 @@ use miette::Diagnostic;
 use crate::ast;
 use crate::check::Checked;
 use crate::cli::{Cli, Command};
-use crate::diagnostic::{boxed, io_reason, BoxedDiagnostic, Report, SourceFile};
+use crate::diagnostic::{boxed, io_reason, BoxedDiagnostic, Report, Shown, SourceFile};
 use crate::limits::MAX_SCENE_BYTES;
 use crate::{check as checker, json, syntax};
 
@@ -49,7 +49,9 @@ pub fn run(cli: Cli) -> ExitCode {
         Ok(Outcome::SceneErrors) => ExitCode::from(1),
         Ok(Outcome::InputErrors) => ExitCode::from(2),
         Err(failure) => {
-            eprintln!("{:?}", miette::Report::new_boxed(failure));
+            // Paths in the message are escaped like scene text.
+            let shown = Shown::new(failure.as_ref(), None);
+            eprintln!("{:?}", miette::Report::new(shown));
             ExitCode::from(2)
         }
     }
