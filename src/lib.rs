@@ -19,6 +19,7 @@ pub mod cli;
 pub mod commands;
 pub mod convert;
 pub mod diagnostic;
+pub mod escape;
 pub mod fix;
 pub mod frontend;
 pub mod geometry;

@@ -381,6 +381,20 @@ pub enum CheckError {
         #[help]
         help: String,
     },
+
+    /// Fires on each Unicode text-direction control (U+202A–U+202E,
+    /// U+2066–U+2069) anywhere in the text, comments included: it can make
+    /// the scene display differently from what it says.
+    #[error("text-direction control {name} in the scene text")]
+    #[diagnostic(code(scene::text_direction_control), severity(Warning))]
+    TextDirectionControl {
+        /// `U+202E (right-to-left override)`.
+        name: String,
+        #[label("reorders the text shown around it")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
 }
 
 impl CheckError {

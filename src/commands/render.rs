@@ -109,7 +109,10 @@ pub struct Stats {
     pub spp: u32,
     pub max_depth: u32,
     pub skip: bool,
+    /// What was asked for (`auto` chooses by the scene's size).
     pub accel: render::Accel,
+    /// What ran: `bvh` (with `bvh_nodes` nodes) or `brute`.
+    pub accel_used: &'static str,
     pub resolution: u32,
     pub effects: Effects,
     /// With `--tile`: where the tile belongs.
@@ -194,6 +197,11 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
         max_depth: args.max_depth,
         skip: options.skip,
         accel: options.accel,
+        accel_used: if counters.bvh_nodes > 0 {
+            "bvh"
+        } else {
+            "brute"
+        },
         resolution: scene.resolution,
         effects: scene.effects,
         tile,
@@ -342,6 +350,7 @@ impl Stats {
              shadow rays        {} ({} skipped)\n\
              reflection rays    {} ({} paths saturated)\n\
              texture lookups    {}\n\
+             acceleration       {} (--accel {})\n\
              seconds            parse {:.4}, check {:.4}, lower {:.4}, render {:.4}, write {:.4}, total {:.4}\n\
              threads            {} ({}, {} spp, max depth {})\n",
             self.effects.summary(),
@@ -351,6 +360,12 @@ impl Stats {
             c.reflection_rays,
             c.paths_saturated,
             c.texture_lookups,
+            match c.bvh_nodes {
+                0 => "brute force".to_string(),
+                1 => "bvh, 1 node".to_string(),
+                nodes => format!("bvh, {nodes} nodes"),
+            },
+            format!("{:?}", self.accel).to_lowercase(),
             s.parse,
             s.check,
             s.lower,
