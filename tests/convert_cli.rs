@@ -43,6 +43,23 @@ fn converts_to_stdout_and_back() {
 }
 
 #[test]
+fn json_flag_is_short_for_to_json() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.txt"), SCENE).unwrap();
+    let long = raytracer(&["convert", "s.txt", "--to", "json"], dir.path());
+    let short = raytracer(&["convert", "--json", "s.txt"], dir.path());
+    assert_eq!(short.status.code(), Some(0), "{}", text(&short.stderr));
+    assert_eq!(text(&short.stdout), text(&long.stdout));
+
+    let both = raytracer(&["convert", "s.txt", "--json", "--to", "pov"], dir.path());
+    assert_eq!(both.status.code(), Some(2));
+    assert!(text(&both.stderr).contains("cannot be used with"));
+    let neither = raytracer(&["convert", "s.txt"], dir.path());
+    assert_eq!(neither.status.code(), Some(2));
+    assert!(text(&neither.stderr).contains("--to <TO>|--json"));
+}
+
+#[test]
 fn json_scenes_check_and_render_like_scene_text() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("s.txt"), SCENE).unwrap();

@@ -41,7 +41,7 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, Failure> {
     let Some(checked) = &loaded.checked else {
         return Ok(Outcome::SceneErrors);
     };
-    let text = match args.to {
+    let text = match args.target() {
         Target::Json => json::to_json(&checked.scene),
         Target::Scene => {
             scene_text::to_scene_text(&checked.scene).map_err(|e| Box::new(e) as Failure)?
