@@ -92,7 +92,7 @@ pub enum Format {
 
 #[derive(Debug, Args)]
 pub struct CheckArgs {
-    /// Scene files to check (`-` reads stdin).
+    /// Scene files, or folders to search for scenes (`-` reads stdin).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Output format.
@@ -187,8 +187,14 @@ mod tests {
             Ok(_) => panic!("not convert"),
             Err(e) => Err(e.kind()),
         };
-        assert_eq!(target(&["raytracer", "convert", "s.txt", "--json"]), Ok(Target::Json));
-        assert_eq!(target(&["raytracer", "convert", "s.txt", "--to", "pov"]), Ok(Target::Pov));
+        assert_eq!(
+            target(&["raytracer", "convert", "s.txt", "--json"]),
+            Ok(Target::Json)
+        );
+        assert_eq!(
+            target(&["raytracer", "convert", "s.txt", "--to", "pov"]),
+            Ok(Target::Pov)
+        );
         assert_eq!(
             target(&["raytracer", "convert", "s.txt", "--json", "--to", "pov"]),
             Err(clap::error::ErrorKind::ArgumentConflict)

@@ -1,7 +1,8 @@
-//! `raytracer check`: the linter. Checks every scene given, prints every
-//! diagnostic in the chosen format, and exits 0 (clean or warnings only),
-//! 1 (errors, or warnings with `--deny-warnings`) or 2 (a scene could not be
-//! read; the others are still checked).
+//! `raytracer check`: the linter. Checks every scene given or found in the
+//! folders given ([`super::discover`]), prints every diagnostic in the chosen
+//! format (and, over several files, a total line), and exits 0 (clean or
+//! warnings only), 1 (errors, or warnings with `--deny-warnings`) or 2 (a
+//! scene could not be read; the others are still checked).
 //!
 //! Diagnostics are the command's output, so they go to stdout (as for other
 //! linters); only failures that are not the scene's fault go to stderr.
@@ -16,23 +17,32 @@ use std::path::Path;
 
 use miette::Diagnostic;
 
-use super::{load, parse, read_scene, Failure, Language, Loaded, Outcome, ReadSceneError};
+use super::discover::discover;
+use super::{load, parse, read_scene, Failure, Language, Loaded, Outcome};
 use crate::check::fix;
 use crate::cli::{CheckArgs, Format};
-use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic, SourceFile};
+use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic, Report, SourceFile};
 use crate::output;
 
 /// Run `raytracer check`.
 pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
+    let found = discover(&args.scenes);
     let mut out = Output::new(args.format);
-    let mut unreadable = false;
+    let mut totals = Totals {
+        skipped: found.skipped,
+        unreadable: found.errors.len(),
+        ..Totals::default()
+    };
+    for error in &found.errors {
+        out.unreadable(Path::new(&error.path), error);
+    }
     let mut failed = false;
-    for path in &args.scenes {
+    for path in &found.scenes {
         if args.fix {
             match fix_in_place(path) {
                 Ok(fixed) => out.fixed(&fixed),
                 Err(error) => {
-                    unreadable = true;
+                    totals.unreadable += 1;
                     eprintln!("error: {error}");
                 }
             }
@@ -42,16 +52,20 @@ pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
                 let report = &loaded.report;
                 failed |=
                     report.error_count() > 0 || (args.deny_warnings && report.warning_count() > 0);
+                totals.add(report);
                 out.scene(&loaded);
             }
             Err(error) => {
-                unreadable = true;
-                out.unreadable(path, error);
+                totals.unreadable += 1;
+                out.unreadable(path, &error);
             }
         }
     }
+    if found.walked || found.scenes.len() > 1 {
+        out.total(&totals);
+    }
     out.finish()?;
-    if unreadable {
+    if totals.unreadable > 0 {
         // The reasons are already printed; exit 2 without another message.
         return Ok(Outcome::InputErrors);
     }
@@ -60,6 +74,41 @@ pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
     } else {
         Outcome::Success
     })
+}
+
+/// What the closing line of a run over several files counts.
+#[derive(Debug, Default)]
+struct Totals {
+    files: usize,
+    errors: usize,
+    warnings: usize,
+    skipped: usize,
+    unreadable: usize,
+}
+
+impl Totals {
+    fn add(&mut self, report: &Report) {
+        self.files += 1;
+        self.errors += report.error_count();
+        self.warnings += report.warning_count();
+    }
+
+    /// `checked 3 files: 1 error, 2 warnings; 1 file skipped (not a scene)`.
+    fn line(&self) -> String {
+        let mut line = format!(
+            "checked {}: {}, {}",
+            plural(self.files, "file"),
+            plural(self.errors, "error"),
+            plural(self.warnings, "warning")
+        );
+        if self.unreadable > 0 {
+            line += &format!("; {} unreadable", plural(self.unreadable, "file"));
+        }
+        if self.skipped > 0 {
+            line += &format!("; {} skipped (not a scene)", plural(self.skipped, "file"));
+        }
+        line
+    }
 }
 
 /// Where results go, per format.
@@ -107,7 +156,15 @@ impl Output {
         }
     }
 
-    fn unreadable(&mut self, path: &Path, error: ReadSceneError) {
+    /// The closing line of a run over several files or a folder, in the
+    /// formats read by people.
+    fn total(&self, totals: &Totals) {
+        if matches!(self.format, Format::Human | Format::Short) {
+            println!("{}", totals.line());
+        }
+    }
+
+    fn unreadable(&mut self, path: &Path, error: &dyn Diagnostic) {
         if self.format == Format::Json {
             self.json.push(JsonDiagnostic {
                 code: error.code().map(|c| c.to_string()).unwrap_or_default(),
