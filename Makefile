@@ -70,7 +70,8 @@ accuracy:
 
 # Fuzz the front end (docs/reliability.md): `make fuzz` runs each target
 # (scene text, JSON scenes, texture decoding) for FUZZ_SECONDS with one
-# libFuzzer job, growing fuzz/corpus/TARGET from fuzz/seeds/TARGET; a crash
+# libFuzzer job, growing fuzz/corpus/TARGET (git ignores it) from the
+# committed fuzz/seeds/TARGET; a crash
 # lands in fuzz/artifacts/TARGET and fails the target. Needs cargo-fuzz
 # (`cargo install cargo-fuzz`). libFuzzer's instrumentation and ASan use
 # nightly-only rustc flags: RUSTC_BOOTSTRAP=1 allows them on the stable
@@ -87,7 +88,8 @@ fuzz:
 	    || exit 1; \
 	done
 
-# Shrink the fuzz corpora to the inputs that add coverage (commit the result).
+# Shrink the fuzz corpora to the inputs that add coverage (fuzz/corpus/ is
+# not committed: add an input that matters to fuzz/seeds/ by hand).
 fuzz-cmin:
 	cd fuzz && for target in $(FUZZ_TARGETS); do \
 	  RUSTC_BOOTSTRAP=1 $(CARGO) fuzz cmin -O $(FUZZ_FLAGS) $$target corpus/$$target || exit 1; \
