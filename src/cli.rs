@@ -88,6 +88,10 @@ pub enum Format {
     Short,
     /// One JSON array of every diagnostic of every file.
     Json,
+    /// A SARIF 2.1.0 log, for code-scanning services.
+    Sarif,
+    /// GitHub Actions workflow commands (`::error file=…::message`).
+    Github,
 }
 
 #[derive(Debug, Args)]

@@ -8,10 +8,13 @@
 //! [`ir`] (model → render IR; lowering cannot fail) →
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
-//! POV-Ray. [`commands`] runs them for the command line defined in [`cli`].
+//! POV-Ray. [`ci`] lays diagnostics out for CI services (SARIF, GitHub
+//! workflow commands). [`commands`] runs them for the command line defined
+//! in [`cli`].
 
 pub mod ast;
 pub mod check;
+pub mod ci;
 pub mod cli;
 pub mod commands;
 pub mod convert;

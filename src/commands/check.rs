@@ -20,6 +20,7 @@ use miette::Diagnostic;
 use super::discover::discover;
 use super::{load, parse, read_scene, Failure, Language, Loaded, Outcome};
 use crate::check::fix;
+use crate::ci::{self, github, sarif, Finding};
 use crate::cli::{CheckArgs, Format};
 use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic, Report, SourceFile};
 use crate::output;
@@ -117,6 +118,7 @@ struct Output {
     color: bool,
     width: usize,
     json: Vec<JsonDiagnostic>,
+    sarif: Vec<Finding>,
 }
 
 impl Output {
@@ -126,6 +128,7 @@ impl Output {
             color: use_color(&std::io::stdout()),
             width: terminal_width(),
             json: Vec::new(),
+            sarif: Vec::new(),
         }
     }
 
@@ -141,14 +144,20 @@ impl Output {
                 println!("{}", summary(loaded));
             }
             Format::Json => self.json.extend(report.entries()),
+            Format::Sarif => self.sarif.extend(ci::findings(report)),
+            Format::Github => {
+                for finding in ci::findings(report) {
+                    println!("{}", github::command(&finding));
+                }
+            }
         }
     }
 
     /// Say what `--fix` changed: on stdout with the diagnostics, or on
-    /// stderr when stdout is JSON.
+    /// stderr when stdout is for machines.
     fn fixed(&self, fixed: &[String]) {
         for line in fixed {
-            if self.format == Format::Json {
+            if self.format_is_for_machines() {
                 eprintln!("{line}");
             } else {
                 println!("{line}");
@@ -164,16 +173,24 @@ impl Output {
         }
     }
 
+    fn format_is_for_machines(&self) -> bool {
+        matches!(self.format, Format::Json | Format::Sarif | Format::Github)
+    }
+
     fn unreadable(&mut self, path: &Path, error: &dyn Diagnostic) {
-        if self.format == Format::Json {
-            self.json.push(JsonDiagnostic {
-                code: error.code().map(|c| c.to_string()).unwrap_or_default(),
-                severity: "error",
-                message: error.to_string(),
-                help: error.help().map(|h| h.to_string()),
-                file: path.display().to_string(),
-                labels: Vec::new(),
-            });
+        let entry = JsonDiagnostic {
+            code: error.code().map(|c| c.to_string()).unwrap_or_default(),
+            severity: "error",
+            message: error.to_string(),
+            help: error.help().map(|h| h.to_string()),
+            file: path.display().to_string(),
+            labels: Vec::new(),
+        };
+        match self.format {
+            Format::Human | Format::Short => {}
+            Format::Json => self.json.push(entry),
+            Format::Sarif => self.sarif.push(Finding::without_source(entry)),
+            Format::Github => println!("{}", github::command(&Finding::without_source(entry))),
         }
         eprintln!("error: {error}");
         if let Some(help) = error.help() {
@@ -183,17 +200,21 @@ impl Output {
 
     fn finish(self) -> Result<(), Failure> {
         let mut stdout = std::io::stdout().lock();
-        let written = if self.format == Format::Json {
-            serde_json::to_writer_pretty(&mut stdout, &self.json)
-                .map_err(std::io::Error::from)
-                .and_then(|()| writeln!(stdout))
-        } else {
-            Ok(())
+        let written = match self.format {
+            Format::Json => write_json(&mut stdout, &self.json),
+            Format::Sarif => write_json(&mut stdout, &sarif::log(&self.sarif)),
+            Format::Human | Format::Short | Format::Github => Ok(()),
         };
         written
             .and_then(|()| stdout.flush())
             .map_err(|e| miette::miette!("cannot write to stdout: {e}").into())
     }
+}
+
+/// `value` as pretty JSON and a line break.
+fn write_json(out: &mut impl Write, value: &impl serde::Serialize) -> std::io::Result<()> {
+    serde_json::to_writer_pretty(&mut *out, value).map_err(std::io::Error::from)?;
+    writeln!(out)
 }
 
 /// `--fix` could not rewrite a scene file.
