@@ -9,10 +9,13 @@
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
 //! POV-Ray. [`tile`] cuts a frame into parts rendered apart and stitches
-//! them back. [`commands`] runs them for the command line defined in [`cli`].
+//! them back. [`ci`] lays diagnostics out for CI services (SARIF, GitHub
+//! workflow commands). [`commands`] runs them for the command line defined
+//! in [`cli`].
 
 pub mod ast;
 pub mod check;
+pub mod ci;
 pub mod cli;
 pub mod commands;
 pub mod convert;
