@@ -67,6 +67,8 @@ const fn setting(
             max_depth,
             skip,
             accel: Accel::Auto,
+            antialias: raytracer::render::Antialias::Uniform,
+            seed: 0,
         },
     }
 }
@@ -142,6 +144,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             max_depth: REFERENCE_DEPTH,
             skip: true,
             accel: Accel::Auto,
+            ..Options::default()
         };
         let clock = Instant::now();
         let (reference, reference_counters) = render::<f64>(&scene, &reference_options, &|| {});

@@ -41,6 +41,16 @@ pub enum Precision {
     F64,
 }
 
+/// Where the samples of `--spp` go.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Antialias {
+    /// Every pixel takes all of them.
+    #[default]
+    Uniform,
+    /// One sample per pixel, all of them where the first pass finds contrast.
+    Adaptive,
+}
+
 #[derive(Debug, Args)]
 pub struct RenderArgs {
     /// Scene file (`.json` is read as JSON; `-` reads stdin).
@@ -53,6 +63,10 @@ pub struct RenderArgs {
     /// Samples per pixel, stratified on a √N×√N grid (1 = pixel centre).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub spp: u32,
+    /// Which pixels take all `--spp` samples: every one, or only those
+    /// whose first sample differs from a neighbour's by 4/255 or more.
+    #[arg(long, value_enum, default_value_t = Antialias::Uniform)]
+    pub aa: Antialias,
     /// Maximum number of reflections per primary ray.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(0..=64))]
     pub max_depth: u32,

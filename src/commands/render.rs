@@ -18,11 +18,11 @@ use miette::Diagnostic;
 use serde::Serialize;
 
 use super::{load, Failure, Loaded, Outcome};
-use crate::cli::{Precision, RenderArgs};
+use crate::cli::{Antialias, Precision, RenderArgs};
 use crate::diagnostic::{terminal_width, use_color};
 use crate::ir::{self, Effects};
 use crate::output::{self, Format};
-use crate::render::{self, Counters, Image, Options};
+use crate::render::{self, adaptive, Counters, Image, Options};
 
 /// A usage error found after clap: a value clap's parsers cannot judge.
 #[derive(Debug, thiserror::Error, Diagnostic)]
@@ -70,6 +70,7 @@ pub struct Stats {
     pub threads: usize,
     pub precision: &'static str,
     pub spp: u32,
+    pub antialias: &'static str,
     pub max_depth: u32,
     pub skip: bool,
     pub accel: render::Accel,
@@ -144,9 +145,16 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
 
     let options = Options {
         spp: args.spp,
+        antialias: match args.aa {
+            Antialias::Uniform => render::Antialias::Uniform,
+            Antialias::Adaptive => render::Antialias::Adaptive {
+                threshold: adaptive::DEFAULT_THRESHOLD,
+            },
+        },
         max_depth: args.max_depth,
         skip: !args.no_skip,
         accel: args.accel,
+        seed: 0,
     };
     let rendering = Instant::now();
     let (image, counters) = pool.install(|| trace(&scene, &options, args.precision, args.quiet));
@@ -172,6 +180,10 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
             Precision::F64 => "f64",
         },
         spp: args.spp,
+        antialias: match args.aa {
+            Antialias::Uniform => "uniform",
+            Antialias::Adaptive => "adaptive",
+        },
         max_depth: args.max_depth,
         skip: options.skip,
         accel: options.accel,
@@ -221,13 +233,26 @@ fn trace(
 }
 
 impl Stats {
+    /// Which pixels took how many samples.
+    fn sampling(&self) -> String {
+        if self.antialias == "adaptive" {
+            let pixels = u64::from(self.resolution).pow(2);
+            format!(
+                "adaptive: {} of {pixels} pixels took {}, the rest 1",
+                self.counters.pixels_refined, self.spp
+            )
+        } else {
+            format!("uniform: every pixel took {}", self.spp)
+        }
+    }
+
     /// The `--stats` block for stderr.
     fn human(&self) -> String {
         let c = &self.counters;
         let s = &self.seconds;
         format!(
             "effects            {}\n\
-             primary rays       {}\n\
+             primary rays       {} (samples; {})\n\
              shadow rays        {} ({} skipped)\n\
              reflection rays    {} ({} paths saturated)\n\
              texture lookups    {}\n\
@@ -235,6 +260,7 @@ impl Stats {
              threads            {} ({}, {} spp, max depth {})\n",
             self.effects.summary(),
             c.primary_rays,
+            self.sampling(),
             c.shadow_rays,
             c.shadow_rays_skipped,
             c.reflection_rays,

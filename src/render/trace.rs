@@ -37,6 +37,10 @@ pub struct Counters {
     pub shadow_rays_skipped: u64,
     /// Paths ended early because every channel had reached 1.
     pub paths_saturated: u64,
+    /// Pixels adaptive antialiasing gave all their samples (0 with
+    /// uniform sampling, where every pixel has them).
+    #[serde(default)]
+    pub pixels_refined: u64,
 }
 
 impl std::ops::AddAssign for Counters {
@@ -47,6 +51,7 @@ impl std::ops::AddAssign for Counters {
         self.texture_lookups += other.texture_lookups;
         self.shadow_rays_skipped += other.shadow_rays_skipped;
         self.paths_saturated += other.paths_saturated;
+        self.pixels_refined += other.pixels_refined;
     }
 }
 

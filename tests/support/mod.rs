@@ -114,10 +114,7 @@ pub fn corpus_copy() -> (tempfile::TempDir, Vec<PathBuf>) {
         scenes.push(copy);
     }
     scenes.sort();
-    std::fs::copy(
-        source.join("wood_tex.ppm"),
-        dir.path().join("wood_tex.ppm"),
-    )
-    .expect("copy texture");
+    std::fs::copy(source.join("wood_tex.ppm"), dir.path().join("wood_tex.ppm"))
+        .expect("copy texture");
     (dir, scenes)
 }
