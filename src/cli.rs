@@ -31,6 +31,9 @@ pub enum Command {
     Check(CheckArgs),
     /// Convert a scene to JSON, canonical scene text, or POV-Ray.
     Convert(ConvertArgs),
+    /// Measure what accuracy costs for a scene: error and time of each
+    /// setting against a converged reference, as a table with findings.
+    Accuracy(AccuracyArgs),
 }
 
 /// Floating-point precision of the tracer.
@@ -143,13 +146,36 @@ pub struct ConvertArgs {
     pub output: Option<PathBuf>,
 }
 
+#[derive(Debug, Args)]
+pub struct AccuracyArgs {
+    /// Scene file (`.json` is read as JSON; `-` reads stdin).
+    pub scene: PathBuf,
+    /// Render at N×N instead of the scene's own resolution.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub size: Option<u32>,
+    /// Timed repetitions of every setting (interleaved).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub reps: u32,
+    /// Samples per pixel of each of the reference's two halves (a square).
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub reference_spp: u32,
+    /// Also write the plot data (`STEM.sampling.csv`, `STEM.pareto.csv`)
+    /// and the f32 − f64 difference map (`STEM.f32_f64.png`) to DIR.
+    #[arg(long, value_name = "DIR")]
+    pub assets: Option<PathBuf>,
+    /// Worker threads for the reference (timed renders use one).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+}
+
 /// Parse the process arguments, accepting `raytracer SCENE OUT` for
 /// `raytracer render SCENE OUT`.
 pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap::Error> {
     let mut args: Vec<OsString> = args.into_iter().collect();
     let is_subcommand = |a: &OsString| {
         let a = a.to_string_lossy();
-        a.starts_with('-') && a != "-" || matches!(&*a, "render" | "check" | "convert" | "help")
+        a.starts_with('-') && a != "-"
+            || matches!(&*a, "render" | "check" | "convert" | "accuracy" | "help")
     };
     if args.len() > 1 && !is_subcommand(&args[1]) {
         args.insert(1, "render".into());

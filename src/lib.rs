@@ -8,8 +8,10 @@
 //! [`ir`] (model → render IR; lowering cannot fail) →
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
-//! POV-Ray. [`commands`] runs them for the command line defined in [`cli`].
+//! POV-Ray. [`accuracy`] measures what each accuracy setting of the
+//! renderer costs and buys for a scene. [`commands`] runs them for the command line defined in [`cli`].
 
+pub mod accuracy;
 pub mod ast;
 pub mod check;
 pub mod cli;

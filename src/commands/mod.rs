@@ -1,6 +1,7 @@
 //! The three commands and what they share: loading a scene through the
 //! front end, and mapping outcomes to the exit codes of SPEC.md §3.
 
+pub mod accuracy;
 pub mod check;
 pub mod convert;
 pub mod render;
@@ -40,6 +41,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Check(args) => check::run(args),
         Command::Convert(args) => convert::run(args),
+        Command::Accuracy(args) => accuracy::run(args),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
