@@ -8,6 +8,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use crate::render::adaptive::DEFAULT_THRESHOLD;
 use crate::render::Accel;
 
 /// Render and check scenes of the raytracer scene language.
@@ -67,9 +68,13 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub spp: u32,
     /// Which pixels take all `--spp` samples: every one, or only those
-    /// whose first sample differs from a neighbour's by 4/255 or more.
+    /// whose first sample differs from a neighbour's by `--aa-threshold`.
     #[arg(long, value_enum, default_value_t = Antialias::Uniform)]
     pub aa: Antialias,
+    /// The contrast with a neighbour, in steps of 1/255, that refines a
+    /// pixel under `--aa adaptive` (0 refines every pixel).
+    #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "STEPS")]
+    pub aa_threshold: u8,
     /// Maximum number of reflections per primary ray.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(0..=64))]
     pub max_depth: u32,
@@ -163,6 +168,10 @@ pub struct AccuracyArgs {
     /// and the f32 − f64 difference map (`STEM.f32_f64.png`) to DIR.
     #[arg(long, value_name = "DIR")]
     pub assets: Option<PathBuf>,
+    /// The contrast that refines a pixel in the adaptive rows, in steps
+    /// of 1/255.
+    #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "STEPS")]
+    pub aa_threshold: u8,
     /// Worker threads for the reference (timed renders use one).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,

@@ -31,6 +31,8 @@ pub struct Plan {
     pub reps: usize,
     /// Samples per pixel of each half of the reference (a square).
     pub reference_spp: u32,
+    /// The adaptive rows' threshold, in steps of 1/255.
+    pub threshold: u8,
 }
 
 /// The precision of a render.
@@ -69,7 +71,7 @@ impl Kind {
     }
 
     /// The precision and options of this setting.
-    pub fn configure(self) -> (Precision, Options) {
+    pub fn configure(self, threshold: u8) -> (Precision, Options) {
         let default = Options::default();
         match self {
             Kind::Default => (Precision::F64, default),
@@ -93,9 +95,7 @@ impl Kind {
                 Precision::F64,
                 Options {
                     spp,
-                    antialias: Antialias::Adaptive {
-                        threshold: render::adaptive::DEFAULT_THRESHOLD,
-                    },
+                    antialias: Antialias::Adaptive { threshold },
                     ..default
                 },
             ),
@@ -145,6 +145,8 @@ pub struct Reference {
 #[derive(Clone, Debug)]
 pub struct Measurement {
     pub size: u32,
+    /// The adaptive rows' threshold, in steps of 1/255.
+    pub threshold: u8,
     pub reps: usize,
     pub reference: Reference,
     /// In the order of [`Kind::all`]; the default first.
@@ -197,12 +199,15 @@ pub fn measure(
     };
 
     let kinds = Kind::all();
+    // Untimed: the first render of a process pays for cold caches and
+    // page faults, which would fall on the default, the first timed.
+    single.install(|| render(scene, Precision::F64, &Options::default()));
     let mut outputs: Vec<Option<(Radiance, Counters)>> = vec![None; kinds.len()];
     let mut seconds = vec![Vec::new(); kinds.len()];
     for rep in 0..plan.reps.max(1) {
         progress(&format!("repetition {} of {}", rep + 1, plan.reps));
         for (k, kind) in kinds.iter().enumerate() {
-            let (precision, options) = kind.configure();
+            let (precision, options) = kind.configure(plan.threshold);
             let mut output = None;
             let time = single
                 .install(|| seconds_per_run(|| output = Some(render(scene, precision, &options))));
@@ -229,6 +234,7 @@ pub fn measure(
         .collect();
     Measurement {
         size: scene.resolution,
+        threshold: plan.threshold,
         reps: plan.reps.max(1),
         reference,
         rows,

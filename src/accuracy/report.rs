@@ -7,14 +7,16 @@ use std::fmt::Write as _;
 
 use super::error::{compare, difference_map, Error};
 use super::{total_rays, Kind, Measurement, DEEP, DEPTHS, SPPS};
-use crate::render::{adaptive::DEFAULT_THRESHOLD, Image};
+use crate::render::Image;
 
 /// Sampling has converged for this scene once the linear RMSE is at most
 /// this (in 1/255): half an 8-bit step.
 pub const CONVERGED_RMSE: f64 = 0.5;
-/// f32 is enough when it changes at most this share of 8-bit pixels…
+/// f32 is enough when it changes at most this share of 8-bit pixels (a
+/// silhouette pixel that one precision hits and the other misses)…
 pub const F32_CHANGED: f64 = 0.001;
-/// …and no channel by more than this (linear, in 1/255).
+/// …or no channel by more than this (linear, in 1/255: no 8-bit value
+/// moves by more than one step).
 pub const F32_MAX: f64 = 1.0;
 /// Adaptive sampling meets its target at N spp when its RMSE is at most
 /// this multiple of uniform N's…
@@ -35,9 +37,9 @@ pub fn markdown(m: &Measurement, scene: &str) -> String {
         "`{scene}` at {size}×{size}. Reference: f64, depth {DEEP}, the mean of two \
          renders of {spp} spp with independent jitter ({rays} rays, {secs:.1} s); its own \
          RMSE, estimated from its halves, is {own:.3}/255. Times: whole frames on one \
-         thread, {reps} repetitions with the settings interleaved; × is the median \
+         thread (its CPU time), {reps} repetitions with the settings interleaved; × is the median \
          ratio to the default in the same repetition (range in brackets); the default \
-         takes {median:.4} s ({min:.4}–{max:.4}).\n",
+         takes {median:.4} CPU s ({min:.4}–{max:.4}).\n",
         size = m.size,
         spp = r.spp,
         rays = r.rays,
@@ -108,9 +110,34 @@ pub fn numeric(m: &Measurement) -> Error {
     compare(&m.row(Kind::F32).radiance, &m.row(Kind::Default).radiance)
 }
 
-/// The f32 − f64 difference map and its largest difference (in 1/255).
+/// The f32 − f64 difference map, each pixel a block of pixels so the
+/// map is at least [`MAP_SIZE`] a side, and its largest difference (in
+/// 1/255).
 pub fn numeric_map(m: &Measurement) -> (Image, f64) {
-    difference_map(&m.row(Kind::F32).radiance, &m.row(Kind::Default).radiance)
+    let (map, largest) = difference_map(&m.row(Kind::F32).radiance, &m.row(Kind::Default).radiance);
+    (enlarge(&map, MAP_SIZE.div_ceil(map.size.max(1))), largest)
+}
+
+/// The smallest side of a difference map: a 17-pixel scene's is legible.
+pub const MAP_SIZE: u32 = 256;
+
+/// `image` with every pixel repeated `factor` times each way.
+fn enlarge(image: &Image, factor: u32) -> Image {
+    let (size, factor) = (image.size as usize, factor.max(1) as usize);
+    let mut rgb = Vec::with_capacity(image.rgb.len() * factor * factor);
+    for row in image.rgb.chunks_exact(3 * size.max(1)) {
+        let wide: Vec<u8> = row
+            .chunks_exact(3)
+            .flat_map(|pixel| pixel.repeat(factor))
+            .collect();
+        for _ in 0..factor {
+            rgb.extend_from_slice(&wide);
+        }
+    }
+    Image {
+        size: image.size * factor as u32,
+        rgb,
+    }
 }
 
 /// Each measured depth (the default's 8 among them) against depth 64.
@@ -206,8 +233,9 @@ pub fn findings(m: &Measurement) -> Vec<String> {
         ));
     }
     findings.push(format!(
-        "**Adaptive** (threshold {DEFAULT_THRESHOLD}/255) against uniform at the same N; \
+        "**Adaptive** (threshold {}/255) against uniform at the same N; \
          the target is RMSE ≤ {ADAPTIVE_RMSE}× in ≤ {ADAPTIVE_TIME}× the time: {}.",
+        m.threshold,
         comparisons.join("; ")
     ));
 
@@ -225,8 +253,8 @@ pub fn findings(m: &Measurement) -> Vec<String> {
             )
         } else {
             format!(
-                "**f32 is not enough here**: it changes {:.2}% of 8-bit pixels (threshold \
-             {:.1}%) and a channel by up to {:.2}/255 (threshold {F32_MAX}), at ×{f32_time:.2} \
+                "**f32 is not enough here**: it changes {:.2}% of 8-bit pixels (more than \
+             {:.1}%) and a channel by up to {:.2}/255 (more than {F32_MAX}), at ×{f32_time:.2} \
              the time.",
                 100.0 * numeric.changed,
                 100.0 * F32_CHANGED,

@@ -1,21 +1,25 @@
 //! Timing renders so their ratios mean something on a shared machine:
-//! every setting is timed once per repetition, the settings interleaved,
-//! so a slow spell of the machine slows all of them alike; a setting's
+//! a render on one thread is timed by that thread's CPU time, which other
+//! processes disturb far less than the wall clock (they still share its
+//! caches and memory bandwidth); every setting is timed once per
+//! repetition, the settings interleaved, so a slow spell of the machine
+//! slows all of them alike; a setting's
 //! cost is the median over repetitions of its time divided by the
 //! default's time in the same repetition, with the smallest and largest
 //! such ratio as its spread.
 
-use std::time::Instant;
+use cpu_time::ThreadTime;
 
 /// A frame shorter than this is repeated within its measurement, and the
 /// time divided by the count, so a sub-millisecond frame is not timed by
 /// the clock's resolution alone.
 pub const MIN_MEASUREMENT_SECONDS: f64 = 0.02;
 
-/// Seconds per run of `work`, repeated until the runs last at least
-/// [`MIN_MEASUREMENT_SECONDS`].
+/// CPU seconds of the calling thread per run of `work`, repeated until
+/// the runs take at least [`MIN_MEASUREMENT_SECONDS`]. `work` must run on
+/// the calling thread (a one-thread rayon pool's `install` does).
 pub fn seconds_per_run(mut work: impl FnMut()) -> f64 {
-    let start = Instant::now();
+    let start = ThreadTime::now();
     let mut runs = 0u32;
     loop {
         work();

@@ -97,6 +97,7 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, Failure> {
     let plan = Plan {
         reps: args.reps as usize,
         reference_spp: args.reference_spp,
+        threshold: args.aa_threshold,
     };
     let show_progress = stderr.is_terminal();
     let progress = |step: &str| {

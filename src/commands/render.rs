@@ -22,7 +22,7 @@ use crate::cli::{Antialias, Precision, RenderArgs};
 use crate::diagnostic::{terminal_width, use_color};
 use crate::ir::{self, Effects};
 use crate::output::{self, Format};
-use crate::render::{self, adaptive, Counters, Image, Options};
+use crate::render::{self, Counters, Image, Options};
 
 /// A usage error found after clap: a value clap's parsers cannot judge.
 #[derive(Debug, thiserror::Error, Diagnostic)]
@@ -148,7 +148,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
         antialias: match args.aa {
             Antialias::Uniform => render::Antialias::Uniform,
             Antialias::Adaptive => render::Antialias::Adaptive {
-                threshold: adaptive::DEFAULT_THRESHOLD,
+                threshold: args.aa_threshold,
             },
         },
         max_depth: args.max_depth,
