@@ -27,7 +27,7 @@ rm -rf "$ASSETS"
 mkdir -p "$ASSETS"
 
 started=$(date +%s)
-scenes=$(ls scenes/*.txt scenes/hard/*.txt | grep -v '/far_sphere_')
+scenes="$(ls scenes/*.txt) $(ls scenes/hard/*.txt | grep -v '/far_sphere_')"
 for scene in $scenes; do
     name=$(basename "$scene" .txt)
     echo "$scene" >&2

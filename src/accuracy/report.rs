@@ -242,26 +242,16 @@ pub fn findings(m: &Measurement) -> Vec<String> {
     // Precision.
     let numeric = numeric(m);
     let f32_time = m.row(Kind::F32).ratio.median;
-    findings.push(
-        if numeric.changed <= F32_CHANGED && numeric.max <= F32_MAX {
-            format!(
-                "**f32 is enough here**: it changes {:.2}% of 8-bit pixels (≤ {:.1}%) and no \
-             channel by more than {:.3}/255 (≤ {F32_MAX}), at ×{f32_time:.2} the time.",
-                100.0 * numeric.changed,
-                100.0 * F32_CHANGED,
-                numeric.max
-            )
-        } else {
-            format!(
-                "**f32 is not enough here**: it changes {:.2}% of 8-bit pixels (more than \
-             {:.1}%) and a channel by up to {:.2}/255 (more than {F32_MAX}), at ×{f32_time:.2} \
-             the time.",
-                100.0 * numeric.changed,
-                100.0 * F32_CHANGED,
-                numeric.max
-            )
-        },
-    );
+    let enough = numeric.changed <= F32_CHANGED || numeric.max <= F32_MAX;
+    findings.push(format!(
+        "**f32 is {}enough here**: it changes {:.2}% of 8-bit pixels and moves a channel by \
+         up to {:.3}/255, at ×{f32_time:.2} the time (enough means at most {:.1}% of pixels \
+         change, or no channel moves by more than {F32_MAX}/255).",
+        if enough { "" } else { "not " },
+        100.0 * numeric.changed,
+        numeric.max,
+        100.0 * F32_CHANGED,
+    ));
 
     // Depth.
     let split = depth_split(m);
