@@ -9,8 +9,11 @@
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
 //! POV-Ray. [`tile`] cuts a frame into parts rendered apart and stitches
-//! them back. [`commands`] runs them for the command line defined in [`cli`].
+//! them back. [`accuracy`] measures what each accuracy setting of the
+//! renderer costs and buys for a scene. [`commands`] runs them for the
+//! command line defined in [`cli`].
 
+pub mod accuracy;
 pub mod ast;
 pub mod check;
 pub mod cli;

@@ -1,6 +1,7 @@
 //! The commands and what they share: loading a scene through the
 //! front end, and mapping outcomes to the exit codes of docs/cli.md.
 
+pub mod accuracy;
 pub mod check;
 pub mod convert;
 pub mod render;
@@ -43,6 +44,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Check(args) => check::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Stitch(args) => stitch::run(args),
+        Command::Accuracy(args) => accuracy::run(args),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
