@@ -132,11 +132,15 @@ pub enum Format {
     Short,
     /// One JSON array of every diagnostic of every file.
     Json,
+    /// A SARIF 2.1.0 log, for code-scanning services.
+    Sarif,
+    /// GitHub Actions workflow commands (`::error file=…::message`).
+    Github,
 }
 
 #[derive(Debug, Args)]
 pub struct CheckArgs {
-    /// Scene files to check (`-` reads stdin).
+    /// Scene files, or folders to search for scenes (`-` reads stdin).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Output format.
@@ -162,15 +166,27 @@ pub enum Target {
 }
 
 #[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("target").required(true).args(["to", "json"])))]
 pub struct ConvertArgs {
     /// Scene file (`.json` is read as JSON; `-` reads stdin).
     pub scene: PathBuf,
     /// Output language.
     #[arg(long, value_enum)]
-    pub to: Target,
+    pub to: Option<Target>,
+    /// Short for `--to json`.
+    #[arg(long)]
+    pub json: bool,
     /// Write here instead of stdout.
     #[arg(short, long, value_name = "PATH")]
     pub output: Option<PathBuf>,
+}
+
+impl ConvertArgs {
+    /// The output language, from `--to` or `--json` (clap requires exactly
+    /// one of them).
+    pub fn target(&self) -> Target {
+        self.to.unwrap_or(Target::Json)
+    }
 }
 
 #[derive(Debug, Args)]
@@ -237,6 +253,31 @@ mod tests {
     fn flags_are_still_flags() {
         assert!(parse(&["raytracer", "--version"]).is_err_and(|e| e.exit_code() == 0));
         assert!(parse(&["raytracer", "check"]).is_err_and(|e| e.exit_code() == 2));
+    }
+
+    #[test]
+    fn convert_json_is_short_for_to_json() {
+        let target = |args: &[&str]| match parse(args).map(|cli| cli.command) {
+            Ok(Command::Convert(args)) => Ok(args.target()),
+            Ok(_) => panic!("not convert"),
+            Err(e) => Err(e.kind()),
+        };
+        assert_eq!(
+            target(&["raytracer", "convert", "s.txt", "--json"]),
+            Ok(Target::Json)
+        );
+        assert_eq!(
+            target(&["raytracer", "convert", "s.txt", "--to", "pov"]),
+            Ok(Target::Pov)
+        );
+        assert_eq!(
+            target(&["raytracer", "convert", "s.txt", "--json", "--to", "pov"]),
+            Err(clap::error::ErrorKind::ArgumentConflict)
+        );
+        assert_eq!(
+            target(&["raytracer", "convert", "s.txt"]),
+            Err(clap::error::ErrorKind::MissingRequiredArgument)
+        );
     }
 
     #[test]

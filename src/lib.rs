@@ -10,12 +10,14 @@
 //! [`convert`] prints a checked model as JSON, canonical scene text or
 //! POV-Ray. [`tile`] cuts a frame into parts rendered apart and stitches
 //! them back. [`accuracy`] measures what each accuracy setting of the
-//! renderer costs and buys for a scene. [`commands`] runs them for the
-//! command line defined in [`cli`].
+//! renderer costs and buys for a scene. [`ci`] lays diagnostics out for CI
+//! services (SARIF, GitHub workflow commands). [`commands`] runs them for
+//! the command line defined in [`cli`].
 
 pub mod accuracy;
 pub mod ast;
 pub mod check;
+pub mod ci;
 pub mod cli;
 pub mod commands;
 pub mod convert;

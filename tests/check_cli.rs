@@ -134,3 +134,81 @@ fn fix_leaves_files_without_safe_fixes_untouched() {
     assert_eq!(output.status.code(), Some(1));
     assert_eq!(std::fs::read_to_string(&errors).unwrap(), ERRORS);
 }
+
+#[test]
+fn folders_are_walked_in_order_and_non_scenes_skipped() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    // Written out of order: the report must be in name order anyway.
+    write(root, "z_last.scene", ERRORS);
+    write(root, "sub/b.txt", WARNS);
+    write(root, "a.txt", CLEAN);
+    write(
+        root,
+        "README.txt",
+        "Submissions for part 4.\nOne scene per student.\n",
+    );
+    write(root, "package.json", r#"{"name": "submissions"}"#);
+    write(
+        root,
+        "c.json",
+        r#"{"format": "raytracer-scene/1", "camera": {"resolution": 4}}"#,
+    );
+    write(root, "texture.ppm", "P3 1 1 255 0 0 0\n");
+    write(root, ".gitignore", "ignored/\n");
+    write(root, "ignored/broken.txt", ERRORS);
+    write(root, ".hidden/broken.txt", ERRORS);
+
+    let output = check(&["--format", "short", &root.display().to_string()]);
+    assert_eq!(output.status.code(), Some(1));
+    let out = stdout(&output);
+    let summaries: Vec<&str> = out
+        .lines()
+        .filter(|l| !l.contains("]: "))
+        .map(|l| l.strip_prefix(&format!("{}/", root.display())).unwrap_or(l))
+        .collect();
+    assert_eq!(
+        summaries,
+        [
+            "a.txt: ok; effects: shadows, reflection",
+            "c.json: ok; effects: none",
+            "sub/b.txt: 0 errors, 1 warning; effects: none",
+            "z_last.scene: 2 errors, 0 warnings",
+            "checked 4 files: 2 errors, 1 warning; 2 files skipped (not a scene)",
+        ],
+        "{out}"
+    );
+    // The same run twice gives the same bytes.
+    let again = check(&["--format", "short", &root.display().to_string()]);
+    assert_eq!(stdout(&again), out);
+}
+
+#[test]
+fn a_file_named_explicitly_is_always_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let readme = write(dir.path(), "README.txt", "Submissions for part 4.\n");
+    let output = check(&["--format", "short", &readme]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stdout(&output).contains("error[scene::unknown_section]"));
+}
+
+#[test]
+fn a_folder_and_a_file_together_get_one_total() {
+    let dir = tempfile::tempdir().unwrap();
+    let clean = write(dir.path(), "one/clean.txt", CLEAN);
+    write(dir.path(), "two/warns.txt", WARNS);
+    let two = dir.path().join("two").display().to_string();
+    let output = check(&[&clean, &two]);
+    assert_eq!(output.status.code(), Some(0));
+    let out = stdout(&output);
+    assert!(
+        out.ends_with(
+            "warns.txt: 0 errors, 1 warning; effects: none\nchecked 2 files: 0 errors, 1 warning\n"
+        ),
+        "{out}"
+    );
+    let empty = tempfile::tempdir().unwrap();
+    let output = check(&[&empty.path().display().to_string()]);
+    assert_eq!(output.status.code(), Some(0));
+    assert_eq!(stdout(&output), "checked 0 files: 0 errors, 0 warnings\n");
+}

@@ -43,6 +43,23 @@ fn converts_to_stdout_and_back() {
 }
 
 #[test]
+fn json_flag_is_short_for_to_json() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.txt"), SCENE).unwrap();
+    let long = raytracer(&["convert", "s.txt", "--to", "json"], dir.path());
+    let short = raytracer(&["convert", "--json", "s.txt"], dir.path());
+    assert_eq!(short.status.code(), Some(0), "{}", text(&short.stderr));
+    assert_eq!(text(&short.stdout), text(&long.stdout));
+
+    let both = raytracer(&["convert", "s.txt", "--json", "--to", "pov"], dir.path());
+    assert_eq!(both.status.code(), Some(2));
+    assert!(text(&both.stderr).contains("cannot be used with"));
+    let neither = raytracer(&["convert", "s.txt"], dir.path());
+    assert_eq!(neither.status.code(), Some(2));
+    assert!(text(&neither.stderr).contains("--to <TO>|--json"));
+}
+
+#[test]
 fn json_scenes_check_and_render_like_scene_text() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("s.txt"), SCENE).unwrap();
@@ -174,5 +191,123 @@ fn fix_rewrites_json_numbers_in_place() {
         text(&fix.stdout).contains("p.json: ok"),
         "{}",
         text(&fix.stdout)
+    );
+}
+
+/// A textured plane and sphere, naming their texture from a sibling folder.
+const TEXTURED: &str = "camera 16\n\
+    sphere dimension 1 center 0.5 0 -4 texture tex/wood.ppm\n\
+    plane dimension 4 4 center 0 -1 -5 normal 0 1 0 headup 0 0 -1 texture \"tex/wood.ppm\"\n\
+    light location 0 4 0 color 1 1 1\n";
+
+/// `root/scenes/s.txt` naming `root/scenes/tex/wood.ppm`.
+fn textured_tree() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = dir.path().join("scenes");
+    std::fs::create_dir_all(scenes.join("tex")).unwrap();
+    let wood = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/wood_tex.ppm");
+    std::fs::copy(wood, scenes.join("tex/wood.ppm")).unwrap();
+    std::fs::write(scenes.join("s.txt"), TEXTURED).unwrap();
+    dir
+}
+
+fn render_bytes(scene: &Path, cwd: &Path) -> Vec<u8> {
+    let out = cwd.join("rendered.ppm");
+    let scene = scene.display().to_string();
+    let render = raytracer(&["render", &scene, "rendered.ppm", "--quiet"], cwd);
+    assert_eq!(
+        render.status.code(),
+        Some(0),
+        "{scene}: {}",
+        text(&render.stderr)
+    );
+    let bytes = std::fs::read(&out).unwrap();
+    std::fs::remove_file(out).unwrap();
+    bytes
+}
+
+/// The texture paths a converted file names, in order: `texture PATH` or
+/// `texture "PATH"` (scene text), `"texture": "PATH"` (JSON),
+/// `image_map { ppm "PATH" … }` (POV-Ray).
+fn texture_paths(converted: &str) -> Vec<String> {
+    converted
+        .lines()
+        .map(str::trim)
+        .filter_map(|line| {
+            let quoted = |n| line.split('"').nth(n).map(str::to_string);
+            if line.starts_with("\"texture\": ") {
+                quoted(3)
+            } else if line.contains("image_map") {
+                quoted(1)
+            } else {
+                // Not POV-Ray's `texture {` blocks.
+                let path = line.strip_prefix("texture ").filter(|p| *p != "{")?;
+                quoted(1).or_else(|| Some(path.to_string()))
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn converted_scenes_find_their_textures_from_any_folder() {
+    let tree = textured_tree();
+    let root = tree.path();
+    let original = render_bytes(Path::new("scenes/s.txt"), root);
+    for (folder, expected) in [
+        ("out/a/b", "../../../scenes/tex/wood.ppm"),
+        ("", "scenes/tex/wood.ppm"),
+        ("scenes", "tex/wood.ppm"),
+    ] {
+        for (target, name) in [("json", "c.json"), ("scene", "c.txt"), ("pov", "c.pov")] {
+            std::fs::create_dir_all(root.join(folder)).unwrap();
+            let out = Path::new(folder).join(name).display().to_string();
+            let convert = raytracer(
+                &["convert", "scenes/s.txt", "--to", target, "-o", &out],
+                root,
+            );
+            assert_eq!(convert.status.code(), Some(0), "{}", text(&convert.stderr));
+            let written = std::fs::read_to_string(root.join(&out)).unwrap();
+            let paths = texture_paths(&written);
+            assert_eq!(
+                paths,
+                [expected, expected],
+                "{target} in `{folder}`:\n{written}"
+            );
+            assert!(root.join(folder).join(expected).is_file());
+            if target != "pov" {
+                // Rendered from another working directory, the converted
+                // scene is the same picture.
+                assert_eq!(
+                    render_bytes(&root.join(&out), root.join(folder).as_path()),
+                    original,
+                    "{out}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn stdout_paths_are_relative_to_the_working_directory() {
+    let tree = textured_tree();
+    let root = tree.path();
+    let deeper = root.join("scenes/tex");
+    for (cwd, scene, expected) in [
+        (root.to_path_buf(), "scenes/s.txt", "scenes/tex/wood.ppm"),
+        (deeper.clone(), "../s.txt", "wood.ppm"),
+    ] {
+        let convert = raytracer(&["convert", scene, "--to", "scene"], &cwd);
+        assert_eq!(convert.status.code(), Some(0), "{}", text(&convert.stderr));
+        assert_eq!(texture_paths(&text(&convert.stdout)), [expected, expected]);
+    }
+    // Absolute paths stay as written.
+    let absolute = root.join("scenes/tex/wood.ppm").display().to_string();
+    let scene = TEXTURED.replace("tex/wood.ppm", &absolute);
+    std::fs::write(root.join("abs.txt"), scene).unwrap();
+    let convert = raytracer(&["convert", "../../abs.txt", "--json"], &deeper);
+    assert_eq!(convert.status.code(), Some(0), "{}", text(&convert.stderr));
+    assert_eq!(
+        texture_paths(&text(&convert.stdout)),
+        [absolute.clone(), absolute]
     );
 }

@@ -1,7 +1,8 @@
-//! `raytracer check`: the linter. Checks every scene given, prints every
-//! diagnostic in the chosen format, and exits 0 (clean or warnings only),
-//! 1 (errors, or warnings with `--deny-warnings`) or 2 (a scene could not be
-//! read; the others are still checked).
+//! `raytracer check`: the linter. Checks every scene given or found in the
+//! folders given ([`super::discover`]), prints every diagnostic in the chosen
+//! format (and, over several files, a total line), and exits 0 (clean or
+//! warnings only), 1 (errors, or warnings with `--deny-warnings`) or 2 (a
+//! scene could not be read; the others are still checked).
 //!
 //! Diagnostics are the command's output, so they go to stdout (as for other
 //! linters); only failures that are not the scene's fault go to stderr.
@@ -16,24 +17,34 @@ use std::path::Path;
 
 use miette::Diagnostic;
 
-use super::{load, parse, read_scene, Failure, Language, Loaded, Outcome, ReadSceneError};
+use super::discover::discover;
+use super::{load, parse, read_scene, Failure, Language, Loaded, Outcome};
 use crate::check::fix;
+use crate::ci::{self, github, sarif, Finding};
 use crate::cli::{CheckArgs, Format};
-use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic, SourceFile};
+use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic, Report, SourceFile};
 use crate::escape::escape;
 use crate::output;
 
 /// Run `raytracer check`.
 pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
+    let found = discover(&args.scenes);
     let mut out = Output::new(args.format);
-    let mut unreadable = false;
+    let mut totals = Totals {
+        skipped: found.skipped,
+        unreadable: found.errors.len(),
+        ..Totals::default()
+    };
+    for error in &found.errors {
+        out.unreadable(Path::new(&error.path), error);
+    }
     let mut failed = false;
-    for path in &args.scenes {
+    for path in &found.scenes {
         if args.fix {
             match fix_in_place(path) {
                 Ok(fixed) => out.fixed(&fixed),
                 Err(error) => {
-                    unreadable = true;
+                    totals.unreadable += 1;
                     eprintln!("error: {}", escape(&error.to_string()));
                 }
             }
@@ -43,16 +54,20 @@ pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
                 let report = &loaded.report;
                 failed |=
                     report.error_count() > 0 || (args.deny_warnings && report.warning_count() > 0);
+                totals.add(report);
                 out.scene(&loaded);
             }
             Err(error) => {
-                unreadable = true;
-                out.unreadable(path, error);
+                totals.unreadable += 1;
+                out.unreadable(path, &error);
             }
         }
     }
+    if found.walked || found.scenes.len() > 1 {
+        out.total(&totals);
+    }
     out.finish()?;
-    if unreadable {
+    if totals.unreadable > 0 {
         // The reasons are already printed; exit 2 without another message.
         return Ok(Outcome::InputErrors);
     }
@@ -63,12 +78,48 @@ pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
     })
 }
 
+/// What the closing line of a run over several files counts.
+#[derive(Debug, Default)]
+struct Totals {
+    files: usize,
+    errors: usize,
+    warnings: usize,
+    skipped: usize,
+    unreadable: usize,
+}
+
+impl Totals {
+    fn add(&mut self, report: &Report) {
+        self.files += 1;
+        self.errors += report.error_count();
+        self.warnings += report.warning_count();
+    }
+
+    /// `checked 3 files: 1 error, 2 warnings; 1 file skipped (not a scene)`.
+    fn line(&self) -> String {
+        let mut line = format!(
+            "checked {}: {}, {}",
+            plural(self.files, "file"),
+            plural(self.errors, "error"),
+            plural(self.warnings, "warning")
+        );
+        if self.unreadable > 0 {
+            line += &format!("; {} unreadable", plural(self.unreadable, "file"));
+        }
+        if self.skipped > 0 {
+            line += &format!("; {} skipped (not a scene)", plural(self.skipped, "file"));
+        }
+        line
+    }
+}
+
 /// Where results go, per format.
 struct Output {
     format: Format,
     color: bool,
     width: usize,
     json: Vec<JsonDiagnostic>,
+    sarif: Vec<Finding>,
 }
 
 impl Output {
@@ -78,6 +129,7 @@ impl Output {
             color: use_color(&std::io::stdout()),
             width: terminal_width(),
             json: Vec::new(),
+            sarif: Vec::new(),
         }
     }
 
@@ -93,15 +145,21 @@ impl Output {
                 println!("{}", summary(loaded));
             }
             Format::Json => self.json.extend(report.entries()),
+            Format::Sarif => self.sarif.extend(ci::findings(report)),
+            Format::Github => {
+                for finding in ci::findings(report) {
+                    println!("{}", github::command(&finding));
+                }
+            }
         }
     }
 
     /// Say what `--fix` changed: on stdout with the diagnostics, or on
-    /// stderr when stdout is JSON.
+    /// stderr when stdout is for machines.
     fn fixed(&self, fixed: &[String]) {
         for line in fixed {
             let line = escape(line);
-            if self.format == Format::Json {
+            if self.format_is_for_machines() {
                 eprintln!("{line}");
             } else {
                 println!("{line}");
@@ -109,16 +167,32 @@ impl Output {
         }
     }
 
-    fn unreadable(&mut self, path: &Path, error: ReadSceneError) {
-        if self.format == Format::Json {
-            self.json.push(JsonDiagnostic {
-                code: error.code().map(|c| c.to_string()).unwrap_or_default(),
-                severity: "error",
-                message: error.to_string(),
-                help: error.help().map(|h| h.to_string()),
-                file: path.display().to_string(),
-                labels: Vec::new(),
-            });
+    /// The closing line of a run over several files or a folder, in the
+    /// formats read by people.
+    fn total(&self, totals: &Totals) {
+        if matches!(self.format, Format::Human | Format::Short) {
+            println!("{}", totals.line());
+        }
+    }
+
+    fn format_is_for_machines(&self) -> bool {
+        matches!(self.format, Format::Json | Format::Sarif | Format::Github)
+    }
+
+    fn unreadable(&mut self, path: &Path, error: &dyn Diagnostic) {
+        let entry = JsonDiagnostic {
+            code: error.code().map(|c| c.to_string()).unwrap_or_default(),
+            severity: "error",
+            message: error.to_string(),
+            help: error.help().map(|h| h.to_string()),
+            file: path.display().to_string(),
+            labels: Vec::new(),
+        };
+        match self.format {
+            Format::Human | Format::Short => {}
+            Format::Json => self.json.push(entry),
+            Format::Sarif => self.sarif.push(Finding::without_source(entry)),
+            Format::Github => println!("{}", github::command(&Finding::without_source(entry))),
         }
         eprintln!("error: {}", escape(&error.to_string()));
         if let Some(help) = error.help() {
@@ -128,17 +202,21 @@ impl Output {
 
     fn finish(self) -> Result<(), Failure> {
         let mut stdout = std::io::stdout().lock();
-        let written = if self.format == Format::Json {
-            serde_json::to_writer_pretty(&mut stdout, &self.json)
-                .map_err(std::io::Error::from)
-                .and_then(|()| writeln!(stdout))
-        } else {
-            Ok(())
+        let written = match self.format {
+            Format::Json => write_json(&mut stdout, &self.json),
+            Format::Sarif => write_json(&mut stdout, &sarif::log(&self.sarif)),
+            Format::Human | Format::Short | Format::Github => Ok(()),
         };
         written
             .and_then(|()| stdout.flush())
             .map_err(|e| miette::miette!("cannot write to stdout: {e}").into())
     }
+}
+
+/// `value` as pretty JSON and a line break.
+fn write_json(out: &mut impl Write, value: &impl serde::Serialize) -> std::io::Result<()> {
+    serde_json::to_writer_pretty(&mut *out, value).map_err(std::io::Error::from)?;
+    writeln!(out)
 }
 
 /// `--fix` could not rewrite a scene file.

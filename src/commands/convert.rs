@@ -1,6 +1,7 @@
 //! `raytracer convert`: load a scene (text or JSON), and print its checked
 //! model as JSON, canonical scene text or POV-Ray to stdout or, with `-o`,
-//! to a file written whole or not at all.
+//! to a file written whole or not at all. Texture paths are rewritten to
+//! resolve from the output's folder (stdout: the working directory).
 //!
 //! A scene with errors converts to nothing: its diagnostics go to stderr and
 //! the command exits 1 without writing. Warnings go to stderr too, and the
@@ -11,7 +12,7 @@ use std::path::Path;
 
 use super::{load, Failure, Outcome};
 use crate::cli::{ConvertArgs, Target};
-use crate::convert::{json, pov, scene_text};
+use crate::convert::{json, paths, pov, scene_text};
 use crate::diagnostic::{terminal_width, use_color};
 use crate::output::{check_not_input, write_atomically};
 
@@ -38,10 +39,18 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, Failure> {
             report.render_human(terminal_width(), use_color(&stderr))
         );
     }
-    let Some(checked) = &loaded.checked else {
+    let Some(mut checked) = loaded.checked else {
         return Ok(Outcome::SceneErrors);
     };
-    let text = match args.to {
+    // Texture paths resolve from the output's folder (the working directory
+    // for stdout), wherever the scene was.
+    let destination = match args.output.as_deref().and_then(Path::parent) {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        _ => Path::new("."),
+    };
+    paths::rebase_textures(&mut checked, destination);
+    let checked = &checked;
+    let text = match args.target() {
         Target::Json => json::to_json(&checked.scene),
         Target::Scene => {
             scene_text::to_scene_text(&checked.scene).map_err(|e| Box::new(e) as Failure)?

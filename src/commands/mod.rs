@@ -4,6 +4,7 @@
 pub mod accuracy;
 pub mod check;
 pub mod convert;
+pub mod discover;
 pub mod render;
 pub mod stitch;
 

@@ -1,13 +1,15 @@
 //! Printing a checked scene ([`crate::model::Scene`]) in the other
 //! languages `raytracer convert` writes: the versioned JSON layout and its
 //! JSON Schema ([`json`]), canonical scene text ([`scene_text`]) and a
-//! POV-Ray 3.7 scene that renders the same picture ([`pov`]).
+//! POV-Ray 3.7 scene that renders the same picture ([`pov`]). Texture
+//! paths are first rebased onto the output's folder ([`paths`]).
 //!
 //! Reading goes the other way through the front end (scene text through
 //! [`crate::syntax`], JSON through [`crate::json`], both then through the
 //! check pass), so a converted scene is always a checked one.
 
 pub mod json;
+pub mod paths;
 pub mod pov;
 pub mod scene_text;
 

@@ -39,7 +39,7 @@ pub fn to_pov(checked: &Checked) -> String {
     let _ = write!(
         out,
         "// POV-Ray 3.7 scene written by `raytracer convert --to pov`.\n\
-         // Render it from the scene's folder (texture paths are relative to it):\n\
+         // Render it from the folder it was written to (texture paths are relative to it):\n\
          //   povray +I<this file> +O<out>.png +W{n} +H{n} -A File_Gamma=1\n\
          \n\
          #version 3.7;\n\

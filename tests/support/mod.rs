@@ -30,9 +30,11 @@ pub fn run(args: &[&str]) -> Output {
     command(args).output().expect("run raytracer")
 }
 
-/// Write `text` to `dir/name` and return the path as a string.
+/// Write `text` to `dir/name` (creating its folders) and return the path
+/// as a string.
 pub fn write(dir: &Path, name: &str, text: impl AsRef<[u8]>) -> String {
     let path = dir.join(name);
+    std::fs::create_dir_all(path.parent().expect("a folder")).expect("create folders");
     std::fs::write(&path, text).expect("write file");
     path.display().to_string()
 }
