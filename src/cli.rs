@@ -222,7 +222,10 @@ pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap:
     let is_subcommand = |a: &OsString| {
         let a = a.to_string_lossy();
         a.starts_with('-') && a != "-"
-            || matches!(&*a, "render" | "check" | "convert" | "stitch" | "accuracy" | "help")
+            || matches!(
+                &*a,
+                "render" | "check" | "convert" | "stitch" | "accuracy" | "help"
+            )
     };
     if args.len() > 1 && !is_subcommand(&args[1]) {
         args.insert(1, "render".into());
