@@ -57,16 +57,11 @@ bench-scaling:
 	  --title "Render time against sphere count (1000², one thread)" \
 	  --x-label "spheres" --y-label "seconds.render" --log-x --log-y --lines
 
-# What accuracy costs: render scenes/ and scenes/hard/ under each setting
-# (precision, depth, samples, --no-skip) against a high-accuracy reference
-# and write docs/accuracy.md with its plot and images. A few minutes on 2 cores.
-accuracy:
-	$(CARGO) run --release --locked --example accuracy -- docs/accuracy.md docs/accuracy
-	$(CARGO) run --release --locked --example plot -- \
-	  docs/accuracy/error_vs_time.csv docs/accuracy/error_vs_time.png \
-	  --title "Supersampling: error against time (labels: samples per pixel)" \
-	  --x-label "time, × the default render" \
-	  --y-label "RMSE against the reference, 1/255" --log-x --log-y --lines
+# What accuracy costs: `raytracer accuracy` over scenes/ and scenes/hard/
+# (each at its own resolution) with plots, to docs/accuracy.md and
+# docs/accuracy/ (scripts/accuracy.sh). Under 10 minutes on 2 cores.
+accuracy: raytracer
+	scripts/accuracy.sh
 
 # Fuzz the front end (docs/reliability.md): `make fuzz` runs each target
 # (scene text, JSON scenes, texture decoding) for FUZZ_SECONDS of wall

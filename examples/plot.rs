@@ -4,12 +4,15 @@
 //! ```text
 //! cargo run --release --example plot -- DATA.csv OUT.png \
 //!     [--title TEXT] [--x-label TEXT] [--y-label TEXT] \
-//!     [--log-x] [--log-y] [--lines] [--size WIDTHxHEIGHT]
+//!     [--log-x] [--log-y] [--lines] [--size WIDTHxHEIGHT] \
+//!     [--guide SERIES]... [--legend upper-left|upper-right|lower-left|lower-right]
 //! ```
 //!
 //! DATA.csv has a header line, then rows `series,x,y[,label]`: one coloured
 //! series per distinct `series` (in order of first appearance), a point at
-//! (`x`, `y`), and an optional `label` written beside the point. Fields are
+//! (`x`, `y`), and an optional `label` written beside the point. A series
+//! named by `--guide` is a reference line (thin, grey, no markers), not
+//! data. Fields are
 //! split on commas; there is no quoting. `--lines` joins each series' points
 //! in file order. On a log axis, points with a value ≤ 0 cannot be drawn:
 //! they are left out and counted on stderr.
@@ -55,7 +58,37 @@ struct Args {
     /// Image size in pixels, `WIDTHxHEIGHT`.
     #[arg(long, default_value = "900x600", value_parser = parse_size)]
     size: (u32, u32),
+    /// A series drawn as a thin grey guide line without markers.
+    #[arg(long)]
+    guide: Vec<String>,
+    /// Where the legend goes (where the data is not).
+    #[arg(long, value_enum, default_value_t = Corner::UpperRight)]
+    legend: Corner,
 }
+
+/// A corner of the plot area.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Corner {
+    UpperLeft,
+    UpperRight,
+    LowerLeft,
+    LowerRight,
+}
+
+/// Distinct, saturated colours for the data series (Tableau 10), so a
+/// few series per chart stay apart; guides are grey.
+const COLOURS: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
 
 /// One row of the CSV.
 struct Point {
@@ -138,9 +171,19 @@ where
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
         .draw()?;
-    for (index, s) in series.iter().enumerate() {
-        let color = Palette99::pick(index).to_rgba();
+    let mut data_index = 0;
+    for s in series {
         let xy: Vec<(f64, f64)> = s.points.iter().map(|p| (p.x, p.y)).collect();
+        if args.guide.contains(&s.name) {
+            let grey = RGBColor(150, 150, 150);
+            chart
+                .draw_series(LineSeries::new(xy, grey.stroke_width(1)))?
+                .label(s.name.as_str())
+                .legend(move |(x, y)| PathElement::new([(x - 8, y), (x + 8, y)], grey));
+            continue;
+        }
+        let color = COLOURS[data_index % COLOURS.len()].to_rgba();
+        data_index += 1;
         if args.lines {
             chart.draw_series(LineSeries::new(xy.clone(), color.stroke_width(2)))?;
         }
@@ -160,8 +203,15 @@ where
             ))
         }))?;
     }
+    let position = match args.legend {
+        Corner::UpperLeft => SeriesLabelPosition::UpperLeft,
+        Corner::UpperRight => SeriesLabelPosition::UpperRight,
+        Corner::LowerLeft => SeriesLabelPosition::LowerLeft,
+        Corner::LowerRight => SeriesLabelPosition::LowerRight,
+    };
     chart
         .configure_series_labels()
+        .position(position)
         .label_font(("sans-serif", 14))
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use crate::render::adaptive::DEFAULT_THRESHOLD;
 #[cfg(doc)]
 use crate::render::world::BRUTE_FORCE_MAX;
 use crate::render::Accel;
@@ -36,6 +37,9 @@ pub enum Command {
     Convert(ConvertArgs),
     /// Put the tiles of `render --tile` together into one image.
     Stitch(StitchArgs),
+    /// Measure what accuracy costs for a scene: error and time of each
+    /// setting against a converged reference, as a table with findings.
+    Accuracy(AccuracyArgs),
 }
 
 /// `--accel`: the renderer's [`Accel`] as the command line spells it.
@@ -69,6 +73,16 @@ pub enum Precision {
     F64,
 }
 
+/// Where the samples of `--spp` go.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Antialias {
+    /// Every pixel takes all of them.
+    #[default]
+    Uniform,
+    /// One sample per pixel, all of them where the first pass finds contrast.
+    Adaptive,
+}
+
 #[derive(Debug, Args)]
 pub struct RenderArgs {
     /// Scene file (`.json` is read as JSON; `-` reads stdin).
@@ -81,6 +95,14 @@ pub struct RenderArgs {
     /// Samples per pixel, stratified on a √N×√N grid (1 = pixel centre).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub spp: u32,
+    /// Which pixels take all `--spp` samples: every one, or only those
+    /// whose first sample differs from a neighbour's by `--aa-threshold`.
+    #[arg(long, value_enum, default_value_t = Antialias::Uniform)]
+    pub aa: Antialias,
+    /// The contrast with a neighbour, in steps of 1/255, that refines a
+    /// pixel under `--aa adaptive` (0 refines every pixel).
+    #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "STEPS")]
+    pub aa_threshold: u8,
     /// Maximum number of reflections per primary ray.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(0..=64))]
     pub max_depth: u32,
@@ -197,6 +219,32 @@ impl ConvertArgs {
     }
 }
 
+#[derive(Debug, Args)]
+pub struct AccuracyArgs {
+    /// Scene file (`.json` is read as JSON; `-` reads stdin).
+    pub scene: PathBuf,
+    /// Render at N×N instead of the scene's own resolution.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub size: Option<u32>,
+    /// Timed repetitions of every setting (interleaved).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub reps: u32,
+    /// Samples per pixel of each of the reference's two halves (a square).
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub reference_spp: u32,
+    /// Also write the plot data (`STEM.sampling.csv`, `STEM.pareto.csv`)
+    /// and the f32 − f64 difference map (`STEM.f32_f64.png`) to DIR.
+    #[arg(long, value_name = "DIR")]
+    pub assets: Option<PathBuf>,
+    /// The contrast that refines a pixel in the adaptive rows, in steps
+    /// of 1/255.
+    #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "STEPS")]
+    pub aa_threshold: u8,
+    /// Worker threads for the reference (timed renders use one).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+}
+
 /// Parse the process arguments, accepting `raytracer SCENE OUT` for
 /// `raytracer render SCENE OUT`.
 pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap::Error> {
@@ -204,7 +252,10 @@ pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap:
     let is_subcommand = |a: &OsString| {
         let a = a.to_string_lossy();
         a.starts_with('-') && a != "-"
-            || matches!(&*a, "render" | "check" | "convert" | "stitch" | "help")
+            || matches!(
+                &*a,
+                "render" | "check" | "convert" | "stitch" | "accuracy" | "help"
+            )
     };
     if args.len() > 1 && !is_subcommand(&args[1]) {
         args.insert(1, "render".into());

@@ -9,11 +9,14 @@
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
 //! POV-Ray. [`tile`] cuts a frame into parts rendered apart and stitches
-//! them back. [`ci`] lays diagnostics out for CI services (SARIF, GitHub
-//! workflow commands). [`frontend`] drives the stages from bytes to a
-//! checked scene for every caller; [`commands`] runs them for the command
-//! line defined in [`cli`], and nothing below that layer imports it.
+//! them back. [`accuracy`] measures what each accuracy setting of the
+//! renderer costs and buys for a scene. [`ci`] lays diagnostics out for CI
+//! services (SARIF, GitHub workflow commands). [`frontend`] drives the
+//! stages from bytes to a checked scene for every caller; [`commands`] runs
+//! them for the command line defined in [`cli`], and nothing below that
+//! layer imports it.
 
+pub mod accuracy;
 pub mod ast;
 pub mod check;
 pub mod ci;

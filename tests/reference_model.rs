@@ -1,7 +1,7 @@
 //! The default render against the render model of docs/rendering.md.
 //!
-//! [`reference`] is an independent float64 evaluation of §2 that also says
-//! which pixels are within a rounding step of a discontinuity (silhouettes,
+//! [`reference`] is an independent float64 evaluation of that model that
+//! also says which pixels are within a rounding step of a discontinuity (silhouettes,
 //! edges, shadow boundaries). Every corpus scene and every scene in
 //! scenes/ is rendered at the default settings; every other pixel must
 //! agree to within 1/255. A few small scenes are also checked, from scene

@@ -2,6 +2,7 @@
 //! codes of docs/cli.md. Each command loads its scenes through
 //! [`crate::frontend`] and only handles arguments and printing.
 
+pub mod accuracy;
 pub mod check;
 pub mod convert;
 pub mod discover;
@@ -52,6 +53,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Check(args) => check::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Stitch(args) => stitch::run(args),
+        Command::Accuracy(args) => accuracy::run(args),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,

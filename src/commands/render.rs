@@ -25,7 +25,7 @@ use serde::{Deserialize, Serialize};
 
 use super::Outcome;
 use crate::check::Checked;
-use crate::cli::{Precision, RenderArgs};
+use crate::cli::{Antialias, Precision, RenderArgs};
 use crate::diagnostic::BoxedDiagnostic;
 use crate::diagnostic::{terminal_width, use_color};
 use crate::frontend::{load, Loaded};
@@ -107,6 +107,7 @@ pub struct Stats {
     pub threads: usize,
     pub precision: &'static str,
     pub spp: u32,
+    pub antialias: &'static str,
     pub max_depth: u32,
     pub skip: bool,
     /// What was asked for (`auto` chooses by the scene's size).
@@ -155,9 +156,16 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
     drop(report);
     let options = Options {
         spp: args.spp,
+        antialias: match args.aa {
+            Antialias::Uniform => render::Antialias::Uniform,
+            Antialias::Adaptive => render::Antialias::Adaptive {
+                threshold: args.aa_threshold,
+            },
+        },
         max_depth: args.max_depth,
         skip: !args.no_skip,
         accel: args.accel.into(),
+        seed: 0,
     };
     let precision = match args.precision {
         Precision::F32 => "f32",
@@ -194,6 +202,10 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
         threads,
         precision,
         spp: args.spp,
+        antialias: match args.aa {
+            Antialias::Uniform => "uniform",
+            Antialias::Adaptive => "adaptive",
+        },
         max_depth: args.max_depth,
         skip: options.skip,
         accel: options.accel,
@@ -340,13 +352,26 @@ fn trace(
 }
 
 impl Stats {
+    /// Which pixels took how many samples.
+    fn sampling(&self) -> String {
+        if self.antialias == "adaptive" {
+            let pixels = u64::from(self.resolution).pow(2);
+            format!(
+                "adaptive: {} of {pixels} pixels took {}, the rest 1",
+                self.counters.pixels_refined, self.spp
+            )
+        } else {
+            format!("uniform: every pixel took {}", self.spp)
+        }
+    }
+
     /// The `--stats` block for stderr.
     fn human(&self) -> String {
         let c = &self.counters;
         let s = &self.seconds;
         format!(
             "effects            {}\n\
-             primary rays       {}\n\
+             primary rays       {} (samples; {})\n\
              shadow rays        {} ({} skipped)\n\
              reflection rays    {} ({} paths saturated)\n\
              texture lookups    {}\n\
@@ -355,6 +380,7 @@ impl Stats {
              threads            {} ({}, {} spp, max depth {})\n",
             self.effects.summary(),
             c.primary_rays,
+            self.sampling(),
             c.shadow_rays,
             c.shadow_rays_skipped,
             c.reflection_rays,

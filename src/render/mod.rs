@@ -1,21 +1,26 @@
-//! The tracer: renders a [`crate::ir::Scene`] to 8-bit RGB.
+//! The tracer: renders a [`crate::ir::Scene`] to 8-bit RGB, or to the
+//! linear radiance the 8-bit values are rounded from.
 //!
 //! One camera ray per pixel through its centre (docs/rendering.md), or `spp`
-//! stratified samples on a jittered √spp×√spp grid; each sample's colour is
-//! clamped to [0, 1] before the samples are averaged and rounded to 8 bits.
-//! Rows are rendered in parallel on the current rayon pool; every pixel
-//! depends only on the scene and its own position (the jitter is a hash
-//! of the pixel and sample), so the image is identical for any number of
+//! stratified samples on a jittered √spp×√spp grid ([`sampling`]); each
+//! sample's colour is clamped to [0, 1] before the samples are averaged
+//! and rounded to 8 bits. Adaptive antialiasing ([`adaptive`]) takes the
+//! whole grid only where a first pass finds contrast. Rows are rendered in
+//! parallel on the current rayon pool; every pixel depends only on the
+//! scene, the options and its own position (the jitter is a hash of the
+//! pixel and sample), so the image is identical for any number of
 //! threads. Everything is generic over the precision [`Real`].
 //!
 //! [`real`] has the two precisions, [`geometry`] the rays, primitives and
 //! their intersection, [`world`] the primitives of a scene (each a [`prim::Prim`]), [`bvh`] the
 //! hierarchy that finds them fast, and [`trace`] the integrator.
 
+pub mod adaptive;
 pub mod bvh;
 pub mod geometry;
 mod prim;
 pub mod real;
+mod sampling;
 pub mod trace;
 pub mod world;
 
@@ -26,9 +31,11 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::ir;
+use adaptive::FirstPass;
 use geometry::Ray;
 pub use real::Real;
 use real::Vector;
+use sampling::Sampler;
 pub use trace::Counters;
 use trace::Tracer;
 pub use world::Accel;
@@ -40,6 +47,8 @@ pub use world::Accel;
 pub struct Options {
     /// Samples per pixel; a square number (1, 4, 9, …).
     pub spp: u32,
+    /// Where the samples go: every pixel, or where there is contrast.
+    pub antialias: Antialias,
     /// Maximum reflections per camera ray.
     pub max_depth: u32,
     /// Skip work that cannot change an 8-bit value.
@@ -48,6 +57,9 @@ pub struct Options {
     /// serialised).
     #[serde(skip)]
     pub accel: Accel,
+    /// The jitter of the samples: 0 is the renderer's; another seed gives
+    /// an independent stratification (for estimating a reference's error).
+    pub seed: u64,
 }
 
 impl Default for Options {
@@ -55,11 +67,25 @@ impl Default for Options {
     fn default() -> Self {
         Options {
             spp: 1,
+            antialias: Antialias::Uniform,
             max_depth: 8,
             skip: true,
             accel: Accel::Auto,
+            seed: 0,
         }
     }
+}
+
+/// Which pixels take all `spp` samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Antialias {
+    /// Every pixel.
+    Uniform,
+    /// Pixels whose first sample differs from a neighbour's by at least
+    /// `threshold`/255 in some channel; the others keep their first
+    /// sample ([`adaptive`]).
+    Adaptive { threshold: u8 },
 }
 
 /// A rendered image: `size × size` pixels, 3 bytes each, row 0 at the top.
@@ -67,6 +93,24 @@ impl Default for Options {
 pub struct Image {
     pub size: u32,
     pub rgb: Vec<u8>,
+}
+
+/// A rendered image before quantization: `size × size` pixels, each the
+/// mean of its clamped samples in linear RGB, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Radiance {
+    pub size: u32,
+    pub pixels: Vec<DVec3>,
+}
+
+impl Radiance {
+    /// The 8-bit image the renderer writes for this radiance.
+    pub fn quantize(&self) -> Image {
+        Image {
+            size: self.size,
+            rgb: self.pixels.iter().flat_map(|&c| quantize(c)).collect(),
+        }
+    }
 }
 
 /// Render `scene` in precision `R`, calling `row_done` once per finished
@@ -83,32 +127,70 @@ pub fn render<R: Real>(
 
 /// Render rows `rows` of `scene`'s frame (the whole frame is `0..size`):
 /// their pixels, 3 bytes each, top row first, and what it took. A pixel's
-/// value does not depend on which rows are rendered with it, so these rows
-/// are those of the whole render (a tile of `render --tile`).
+/// value does not depend on which rows are rendered with it (adaptive
+/// sampling's first pass covers the rows beside the band too), so these
+/// rows are those of the whole render (a tile of `render --tile`).
 pub fn render_rows<R: Real>(
     scene: &ir::Scene,
     options: &Options,
     rows: Range<u32>,
     row_done: &(dyn Fn() + Sync),
 ) -> (Vec<u8>, Counters) {
+    let (pixels, counters) = render_pixels::<R, [u8; 3]>(scene, options, rows, row_done, quantize);
+    (pixels.into_flattened(), counters)
+}
+
+/// Render `scene` in precision `R` to linear radiance: the values
+/// [`render`] rounds to 8 bits, from the same samples.
+pub fn render_radiance<R: Real>(
+    scene: &ir::Scene,
+    options: &Options,
+    row_done: &(dyn Fn() + Sync),
+) -> (Radiance, Counters) {
+    let size = scene.resolution;
+    let (pixels, counters) = render_pixels::<R, DVec3>(scene, options, 0..size, row_done, |c| c);
+    (Radiance { size, pixels }, counters)
+}
+
+/// The radiance of every pixel of rows `rows`, passed through `finish`,
+/// rows in parallel.
+fn render_pixels<R: Real, T: Copy + Default + Send>(
+    scene: &ir::Scene,
+    options: &Options,
+    rows: Range<u32>,
+    row_done: &(dyn Fn() + Sync),
+    finish: impl Fn(DVec3) -> T + Sync,
+) -> (Vec<T>, Counters) {
     let size = scene.resolution;
     let tracer = Tracer::<R>::with_accel(scene, options.max_depth, options.skip, options.accel);
-    let grid = options.spp.isqrt().max(1);
-    let mut rgb = vec![0u8; size as usize * rows.len() * 3];
-    let counters = rgb
-        .par_chunks_mut(size as usize * 3)
+    let sampler = Sampler::new(size, options.spp, options.seed);
+    let (first, mut counters) = match options.antialias {
+        Antialias::Adaptive { threshold } => {
+            let (first, counters) = FirstPass::rows(&sampler, &tracer, size, rows.clone());
+            (Some((first, threshold)), counters)
+        }
+        Antialias::Uniform => (None, Counters::default()),
+    };
+    let mut pixels = vec![T::default(); size as usize * rows.len()];
+    counters += pixels
+        .par_chunks_mut(size as usize)
         .zip(rows)
         .map(|(row, j)| {
             let mut counters = Counters::default();
-            for (i, pixel) in row.chunks_exact_mut(3).enumerate() {
-                let samples = (0..grid * grid).map(|sample| {
-                    let (u, v) = sample_offset(i as u32, j, sample, grid);
-                    let ray = camera_ray::<R>(size, i as f64 + u, f64::from(j) + v);
-                    tracer
-                        .radiance(ray, &mut counters)
-                        .clamp(DVec3::ZERO, DVec3::ONE)
-                });
-                pixel.copy_from_slice(&quantize(mean(samples)));
+            for (i, pixel) in (0..size).zip(row.iter_mut()) {
+                let value = match &first {
+                    None => sampler.pixel(&tracer, (i, j), &mut counters),
+                    Some((first, threshold)) => {
+                        let sample = first.get((i, j));
+                        if sampler.count() > 1 && first.needs_refining((i, j), *threshold) {
+                            counters.pixels_refined += 1;
+                            sampler.complete(&tracer, (i, j), sample, &mut counters)
+                        } else {
+                            sample
+                        }
+                    }
+                };
+                *pixel = finish(value);
             }
             row_done();
             counters
@@ -117,11 +199,8 @@ pub fn render_rows<R: Real>(
             a += b;
             a
         });
-    let counters = Counters {
-        bvh_nodes: tracer.bvh_nodes(),
-        ..counters
-    };
-    (rgb, counters)
+    counters.bvh_nodes = tracer.bvh_nodes();
+    (pixels, counters)
 }
 
 /// The ray through image-plane position (x, y), in pixels from the top
@@ -134,48 +213,6 @@ pub fn camera_ray<R: Real>(size: u32, x: f64, y: f64) -> Ray<R> {
         dir: target.normalize(),
         from: None,
     }
-}
-
-/// Where in pixel (i, j) sample `s` of a `grid × grid` stratification
-/// lies: the centre for one sample, else a jittered point in its cell.
-fn sample_offset(i: u32, j: u32, s: u32, grid: u32) -> (f64, f64) {
-    if grid == 1 {
-        return (0.5, 0.5);
-    }
-    let key = (u64::from(i) << 40) ^ (u64::from(j) << 20) ^ u64::from(s);
-    let (a, b) = (unit_hash(key), unit_hash(key ^ 0x9E37_79B9_7F4A_7C15));
-    let cell = f64::from(grid);
-    (
-        (f64::from(s % grid) + a) / cell,
-        (f64::from(s / grid) + b) / cell,
-    )
-}
-
-/// A uniform value in [0, 1) from `key` (the SplitMix64 finaliser).
-fn unit_hash(key: u64) -> f64 {
-    let mut z = key.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    (z >> 11) as f64 / (1u64 << 53) as f64
-}
-
-/// The mean of the samples as `first + Σ(cᵢ − first)/n`: the same value
-/// when every sample is the same (a plain `Σcᵢ/n` drifts by rounding and
-/// flips values that sit on a rounding boundary, like the ambient 0.1·255
-/// = 25.5), and a sum of small deviations elsewhere.
-fn mean(samples: impl Iterator<Item = DVec3>) -> DVec3 {
-    let mut first = None;
-    let mut deviation = DVec3::ZERO;
-    let mut count = 0u32;
-    for sample in samples {
-        count += 1;
-        match first {
-            None => first = Some(sample),
-            Some(first) => deviation += sample - first,
-        }
-    }
-    first.map_or(DVec3::ZERO, |first| first + deviation / f64::from(count))
 }
 
 /// The output of docs/rendering.md: clamp to [0, 1], then `round(c·255)`, halves up.
@@ -200,32 +237,6 @@ mod tests {
         let ray = camera_ray::<f64>(4, 0.5, 0.5);
         let expected = DVec3::new(-0.375, 0.375, -1.0).normalize();
         assert!((ray.dir - expected).length() < 1e-15);
-    }
-
-    #[test]
-    fn samples_stay_in_their_cells() {
-        for s in 0..9 {
-            let (u, v) = sample_offset(7, 3, s, 3);
-            let (cu, cv) = (f64::from(s % 3), f64::from(s / 3));
-            assert!((cu / 3.0..(cu + 1.0) / 3.0).contains(&u), "{s}: {u}");
-            assert!((cv / 3.0..(cv + 1.0) / 3.0).contains(&v), "{s}: {v}");
-        }
-        assert_eq!(sample_offset(7, 3, 0, 1), (0.5, 0.5));
-    }
-
-    #[test]
-    fn the_mean_of_equal_samples_is_that_sample() {
-        for n in [1, 4, 9, 16, 64, 256, 1024] {
-            let one = DVec3::new(0.1, 0.7 * 0.1, 1.0 / 3.0);
-            assert_eq!(mean(std::iter::repeat_n(one, n)), one, "{n} samples");
-        }
-        let mixed = [
-            DVec3::ZERO,
-            DVec3::ONE,
-            DVec3::splat(0.5),
-            DVec3::splat(0.5),
-        ];
-        assert_eq!(mean(mixed.into_iter()), DVec3::splat(0.5));
     }
 
     #[test]

@@ -45,6 +45,10 @@ pub struct Counters {
     /// primitive was tested (brute force): which acceleration ran. Set once
     /// per render, not summed.
     pub bvh_nodes: u64,
+    /// Pixels adaptive antialiasing gave all their samples (0 with
+    /// uniform sampling, where every pixel has them).
+    #[serde(default)]
+    pub pixels_refined: u64,
 }
 
 impl std::ops::AddAssign for Counters {
@@ -57,6 +61,7 @@ impl std::ops::AddAssign for Counters {
         self.paths_saturated += other.paths_saturated;
         self.non_finite += other.non_finite;
         self.bvh_nodes = self.bvh_nodes.max(other.bvh_nodes);
+        self.pixels_refined += other.pixels_refined;
     }
 }
 

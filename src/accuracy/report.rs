@@ -1,0 +1,355 @@
+//! A [`Measurement`] as text: a Markdown table of every setting, the
+//! error split by source, and findings read off the numbers against the
+//! thresholds below; and the series behind the plots of docs/accuracy.md
+//! as `series,x,y[,label]` CSV.
+
+use std::fmt::Write as _;
+
+use super::error::{compare, difference_map, Error};
+use super::{total_rays, Kind, Measurement, DEEP, DEPTHS, SPPS};
+use crate::render::Image;
+
+/// Sampling has converged for this scene once the linear RMSE is at most
+/// this (in 1/255): half an 8-bit step.
+pub const CONVERGED_RMSE: f64 = 0.5;
+/// f32 is enough when it changes at most this share of 8-bit pixels (a
+/// silhouette pixel that one precision hits and the other misses)…
+pub const F32_CHANGED: f64 = 0.001;
+/// …or no channel by more than this (linear, in 1/255: no 8-bit value
+/// moves by more than one step).
+pub const F32_MAX: f64 = 1.0;
+/// Adaptive sampling meets its target at N spp when its RMSE is at most
+/// this multiple of uniform N's…
+pub const ADAPTIVE_RMSE: f64 = 1.25;
+/// …in at most this share of uniform N's time.
+pub const ADAPTIVE_TIME: f64 = 0.5;
+/// An error within this multiple of the reference's own error is not
+/// resolved by the reference.
+pub const RESOLVED: f64 = 2.0;
+
+/// The full report: setup, table, splits and findings.
+pub fn markdown(m: &Measurement, scene: &str) -> String {
+    let mut out = String::new();
+    let r = &m.reference;
+    let default = m.row(Kind::Default);
+    let _ = writeln!(
+        out,
+        "`{scene}` at {size}×{size}. Reference: f64, depth {DEEP}, the mean of two \
+         renders of {spp} spp with independent jitter ({rays} rays, {secs:.1} s); its own \
+         RMSE, estimated from its halves, is {own:.3}/255. Times: whole frames on one \
+         thread (its CPU time), {reps} repetitions with the settings interleaved; × is the median \
+         ratio to the default in the same repetition (range in brackets); the default \
+         takes {median:.4} CPU s ({min:.4}–{max:.4}).\n",
+        size = m.size,
+        spp = r.spp,
+        rays = r.rays,
+        secs = r.seconds,
+        own = r.own_rmse,
+        reps = m.reps,
+        median = default.seconds.median,
+        min = default.seconds.min,
+        max = default.seconds.max,
+    );
+    out.push_str(
+        "| setting | time × | rays | RMSE | max | 8-bit RMSE | pixels ≠ reference |\n\
+         |---|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for row in &m.rows {
+        let e = &row.error;
+        let _ = writeln!(
+            out,
+            "| {} | {:.2} ({:.2}–{:.2}) | {} | {:.3} | {:.2} | {:.3} | {:.2}% |",
+            row.kind.name(),
+            row.ratio.median,
+            row.ratio.min,
+            row.ratio.max,
+            total_rays(&row.counters),
+            e.rmse,
+            e.max,
+            e.rmse_8bit,
+            100.0 * e.changed,
+        );
+    }
+    out.push_str(
+        "\nRMSE and max: linear radiance (the mean of clamped samples) before \
+         quantization, in units of 1/255; 8-bit RMSE in steps; rays: camera, \
+         shadow and reflection.\n\n",
+    );
+
+    let numeric = numeric(m);
+    let _ = writeln!(
+        out,
+        "**Numeric error** (f32 against f64, both 1 spp, depth 8): RMSE {:.4}, max {:.3}, \
+         {:.2}% of pixels changed in 8 bits.\n",
+        numeric.rmse,
+        numeric.max,
+        100.0 * numeric.changed
+    );
+    out.push_str(
+        "**Depth truncation** (against depth 64, 1 spp):\n\n\
+         | depth | rays | RMSE | max | pixels changed |\n|---:|---:|---:|---:|---:|\n",
+    );
+    for (depth, error, rays) in depth_split(m) {
+        let _ = writeln!(
+            out,
+            "| {depth} | {rays} | {:.3} | {:.2} | {:.2}% |",
+            error.rmse,
+            error.max,
+            100.0 * error.changed
+        );
+    }
+    out.push_str("\nFindings:\n\n");
+    for finding in findings(m) {
+        let _ = writeln!(out, "- {finding}");
+    }
+    out
+}
+
+/// f32 against f64, pixel for pixel, at the default sampling.
+pub fn numeric(m: &Measurement) -> Error {
+    compare(&m.row(Kind::F32).radiance, &m.row(Kind::Default).radiance)
+}
+
+/// The f32 − f64 difference map, each pixel a block of pixels so the
+/// map is at least [`MAP_SIZE`] a side, and its largest difference (in
+/// 1/255).
+pub fn numeric_map(m: &Measurement) -> (Image, f64) {
+    let (map, largest) = difference_map(&m.row(Kind::F32).radiance, &m.row(Kind::Default).radiance);
+    (enlarge(&map, MAP_SIZE.div_ceil(map.size.max(1))), largest)
+}
+
+/// The smallest side of a difference map: a 17-pixel scene's is legible.
+pub const MAP_SIZE: u32 = 256;
+
+/// `image` with every pixel repeated `factor` times each way.
+fn enlarge(image: &Image, factor: u32) -> Image {
+    let (size, factor) = (image.size as usize, factor.max(1) as usize);
+    let mut rgb = Vec::with_capacity(image.rgb.len() * factor * factor);
+    for row in image.rgb.chunks_exact(3 * size.max(1)) {
+        let wide: Vec<u8> = row
+            .chunks_exact(3)
+            .flat_map(|pixel| pixel.repeat(factor))
+            .collect();
+        for _ in 0..factor {
+            rgb.extend_from_slice(&wide);
+        }
+    }
+    Image {
+        size: image.size * factor as u32,
+        rgb,
+    }
+}
+
+/// Each measured depth (the default's 8 among them) against depth 64.
+fn depth_split(m: &Measurement) -> Vec<(u32, Error, u64)> {
+    let deep = &m.row(Kind::Depth(DEEP)).radiance;
+    let mut depths: Vec<(u32, Kind)> = DEPTHS.iter().map(|&d| (d, Kind::Depth(d))).collect();
+    depths.push((8, Kind::Default));
+    depths.sort_by_key(|&(d, _)| d);
+    depths
+        .into_iter()
+        .map(|(d, kind)| {
+            let row = m.row(kind);
+            (d, compare(&row.radiance, deep), total_rays(&row.counters))
+        })
+        .collect()
+}
+
+/// The least-squares slope of ln RMSE against ln spp over uniform 1 to
+/// 64 spp, where the RMSE is not 0; `None` with fewer than two points.
+pub fn sampling_slope(m: &Measurement) -> Option<f64> {
+    let points: Vec<(f64, f64)> = uniform(m)
+        .filter(|&(_, e)| e.rmse > 0.0)
+        .map(|(n, e)| (f64::from(n).ln(), e.rmse.ln()))
+        .collect();
+    if points.len() < 2 {
+        return None;
+    }
+    let count = points.len() as f64;
+    let (mx, my) = points
+        .iter()
+        .fold((0.0, 0.0), |(x, y), p| (x + p.0 / count, y + p.1 / count));
+    let (sxy, sxx) = points.iter().fold((0.0, 0.0), |(sxy, sxx), &(x, y)| {
+        (sxy + (x - mx) * (y - my), sxx + (x - mx) * (x - mx))
+    });
+    Some(sxy / sxx)
+}
+
+/// (spp, error) of uniform sampling, 1 spp (the default) first.
+fn uniform(m: &Measurement) -> impl Iterator<Item = (u32, Error)> + '_ {
+    std::iter::once((1, m.row(Kind::Default).error))
+        .chain(SPPS.iter().map(|&n| (n, m.row(Kind::Uniform(n)).error)))
+}
+
+/// What the numbers say, each against a stated threshold.
+pub fn findings(m: &Measurement) -> Vec<String> {
+    let mut findings = Vec::new();
+    let own = m.reference.own_rmse;
+    let default = m.row(Kind::Default);
+
+    // Sampling.
+    let slope = sampling_slope(m).map_or_else(
+        || "the RMSE is 0 at every sample count".to_string(),
+        |s| format!("the RMSE falls as N^{s:.2} (least squares over 1–64 spp)"),
+    );
+    let converged = uniform(m).find(|(_, e)| e.rmse <= CONVERGED_RMSE);
+    let verdict = match converged {
+        Some((1, _)) => format!(
+            "1 spp is already within {CONVERGED_RMSE}/255 RMSE of the reference: \
+             supersampling buys nothing here"
+        ),
+        Some((n, e)) => format!(
+            "{n} spp is the first to bring the RMSE to {CONVERGED_RMSE}/255 or less \
+             ({:.3}, ×{:.1} the time)",
+            e.rmse,
+            m.row(Kind::Uniform(n)).ratio.median
+        ),
+        None => format!("no measured count (up to 64 spp) brings the RMSE to {CONVERGED_RMSE}/255"),
+    };
+    findings.push(format!("**Sampling**: {slope}; {verdict}."));
+    let unresolved: Vec<String> = uniform(m)
+        .filter(|(_, e)| e.rmse > 0.0 && e.rmse <= RESOLVED * own)
+        .map(|(n, _)| format!("{n} spp"))
+        .collect();
+    if !unresolved.is_empty() {
+        findings.push(format!(
+            "**Reference**: the error of {} is within {RESOLVED}× the reference's own \
+             ({own:.3}/255), so its value there is an upper bound, not a measurement.",
+            unresolved.join(", ")
+        ));
+    }
+
+    // Adaptive against uniform.
+    let mut comparisons = Vec::new();
+    for &n in &SPPS {
+        let (a, u) = (m.row(Kind::Adaptive(n)), m.row(Kind::Uniform(n)));
+        let rmse = ratio(a.error.rmse, u.error.rmse);
+        let time = a.ratio.median / u.ratio.median;
+        let met = rmse <= ADAPTIVE_RMSE && time <= ADAPTIVE_TIME;
+        comparisons.push(format!(
+            "{n} spp: RMSE ×{rmse:.2}, time ×{time:.2}, {:.1}% of pixels refined ({})",
+            100.0 * a.counters.pixels_refined as f64 / f64::from(m.size).powi(2),
+            if met { "meets" } else { "misses" }
+        ));
+    }
+    findings.push(format!(
+        "**Adaptive** (threshold {}/255) against uniform at the same N; \
+         the target is RMSE ≤ {ADAPTIVE_RMSE}× in ≤ {ADAPTIVE_TIME}× the time: {}.",
+        m.threshold,
+        comparisons.join("; ")
+    ));
+
+    // Precision.
+    let numeric = numeric(m);
+    let f32_time = m.row(Kind::F32).ratio.median;
+    let enough = numeric.changed <= F32_CHANGED || numeric.max <= F32_MAX;
+    findings.push(format!(
+        "**f32 is {}enough here**: it changes {:.2}% of 8-bit pixels and moves a channel by \
+         up to {:.3}/255, at ×{f32_time:.2} the time (enough means at most {:.1}% of pixels \
+         change, or no channel moves by more than {F32_MAX}/255).",
+        if enough { "" } else { "not " },
+        100.0 * numeric.changed,
+        numeric.max,
+        100.0 * F32_CHANGED,
+    ));
+
+    // Depth.
+    let split = depth_split(m);
+    let exact = split.iter().find(|(_, e, _)| e.changed == 0.0);
+    let eight = split
+        .iter()
+        .find(|(d, _, _)| *d == 8)
+        .map(|(_, e, _)| e)
+        .expect("the default is depth 8");
+    let shallowest = match exact {
+        Some((d, ..)) if *d < DEEP => {
+            format!("depth {d} is the shallowest whose 8-bit image equals depth {DEEP}'s")
+        }
+        _ => format!("no measured depth below {DEEP} gives depth {DEEP}'s 8-bit image"),
+    };
+    findings.push(format!(
+        "**Reflection depth**: {shallowest}; the default depth 8 changes {:.2}% of \
+         pixels (RMSE {:.3}).",
+        100.0 * eight.changed,
+        eight.rmse
+    ));
+
+    // Skipping.
+    let no_skip = m.row(Kind::NoSkip);
+    let same = no_skip.radiance.quantize() == default.radiance.quantize();
+    let saved = total_rays(&no_skip.counters) - total_rays(&default.counters);
+    findings.push(format!(
+        "**Skipping** invisible work saves {saved} rays ({:.1}% of --no-skip's); \
+         --no-skip takes ×{:.2} the time; the 8-bit image is {}.",
+        100.0 * saved as f64 / total_rays(&no_skip.counters).max(1) as f64,
+        no_skip.ratio.median,
+        if same { "the same" } else { "different" }
+    ));
+    findings
+}
+
+/// `a / b`, with 0/0 = 1 (both exact) and a/0 = ∞.
+fn ratio(a: f64, b: f64) -> f64 {
+    if b == 0.0 {
+        if a == 0.0 {
+            1.0
+        } else {
+            f64::INFINITY
+        }
+    } else {
+        a / b
+    }
+}
+
+/// `series,x,y` rows of RMSE against spp: uniform (named with its
+/// fitted slope), adaptive, and N^-1/2 and N^-1 guide lines through
+/// uniform 1 spp. Rows with RMSE 0 are left out (a log axis cannot show
+/// them); empty when every uniform RMSE is 0.
+pub fn sampling_csv(m: &Measurement) -> String {
+    let mut csv = String::from("series,spp,rmse\n");
+    let Some(slope) = sampling_slope(m) else {
+        return csv;
+    };
+    let name = format!("uniform (slope {slope:.2})");
+    for (n, e) in uniform(m).filter(|(_, e)| e.rmse > 0.0) {
+        let _ = writeln!(csv, "{name},{n},{}", e.rmse);
+    }
+    let adaptive = std::iter::once((1, m.row(Kind::Default).error))
+        .chain(SPPS.iter().map(|&n| (n, m.row(Kind::Adaptive(n)).error)));
+    for (n, e) in adaptive.filter(|(_, e)| e.rmse > 0.0) {
+        let _ = writeln!(csv, "adaptive,{n},{}", e.rmse);
+    }
+    let start = m.row(Kind::Default).error.rmse;
+    for (guide, power) in [("N^-1/2", 0.5), ("N^-1", 1.0)] {
+        for n in [1, 4, 16, 64] {
+            let _ = writeln!(csv, "{guide},{n},{}", start / f64::from(n).powf(power));
+        }
+    }
+    csv
+}
+
+/// `series,x,y,label` rows of RMSE against time (× the default) for
+/// uniform and adaptive sampling, labelled with their spp.
+pub fn pareto_csv(m: &Measurement) -> String {
+    let mut csv = String::from("series,time,rmse,spp\n");
+    for (series, kinds) in [
+        ("uniform", SPPS.map(Kind::Uniform)),
+        ("adaptive", SPPS.map(Kind::Adaptive)),
+    ] {
+        for kind in std::iter::once(Kind::Default).chain(kinds) {
+            let row = m.row(kind);
+            let spp = match kind {
+                Kind::Uniform(n) | Kind::Adaptive(n) => n,
+                _ => 1,
+            };
+            if row.error.rmse > 0.0 {
+                let _ = writeln!(
+                    csv,
+                    "{series},{},{},{spp}",
+                    row.ratio.median, row.error.rmse
+                );
+            }
+        }
+    }
+    csv
+}

@@ -1,0 +1,154 @@
+//! `raytracer accuracy SCENE`: load and check the scene, lower it (at
+//! `--size` if given), measure every accuracy setting against a converged
+//! reference ([`crate::accuracy`]) and print the report as Markdown on
+//! stdout; with `--assets DIR`, also write the plot data and the f32 − f64
+//! difference map there, each file whole or not at all.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use miette::Diagnostic;
+
+use super::Outcome;
+use crate::accuracy::{measure, report, Plan};
+use crate::cli::AccuracyArgs;
+use crate::diagnostic::BoxedDiagnostic;
+use crate::diagnostic::{terminal_width, use_color};
+use crate::frontend::{load, Loaded};
+use crate::ir;
+use crate::output::{self, Format};
+
+/// A usage or I/O error of `accuracy`.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+pub enum AccuracyError {
+    /// `--reference-spp` is not a square number.
+    #[error("expected a square number of samples for `--reference-spp`, found {found}")]
+    #[diagnostic(
+        code(usage::spp_not_square),
+        help("samples lie on a √N×√N grid: try {below} or {above}")
+    )]
+    SppNotSquare { found: u32, below: u32, above: u32 },
+
+    /// The worker threads could not be started.
+    #[error("cannot start {threads} threads: {reason}")]
+    #[diagnostic(code(io::threads))]
+    Threads { threads: usize, reason: String },
+
+    /// The assets folder could not be made or a file in it written.
+    #[error("cannot write `{path}`: {source}")]
+    #[diagnostic(code(io::write_assets))]
+    Write {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// Run `raytracer accuracy`.
+pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
+    let grid = args.reference_spp.isqrt();
+    if grid * grid != args.reference_spp {
+        return Err(Box::new(AccuracyError::SppNotSquare {
+            found: args.reference_spp,
+            below: grid * grid,
+            above: (grid + 1) * (grid + 1),
+        }));
+    }
+    let stem = args
+        .scene
+        .file_stem()
+        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    let assets = args
+        .assets
+        .as_ref()
+        .map(|dir| prepare_assets(dir, &stem))
+        .transpose()?;
+    let pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| AccuracyError::Threads {
+                threads,
+                reason: e.to_string(),
+            })
+    };
+    let threads = args
+        .threads
+        .map_or_else(rayon::current_num_threads, |t| t as usize);
+    let (all, single) = (pool(threads)?, pool(1)?);
+
+    let Loaded {
+        report: diagnostics,
+        checked,
+        ..
+    } = load(&args.scene)?;
+    let stderr = std::io::stderr();
+    if diagnostics.warning_count() > 0 || checked.is_none() {
+        eprint!(
+            "{}",
+            diagnostics.render_human(terminal_width(), use_color(&stderr))
+        );
+    }
+    let Some(checked) = checked else {
+        return Ok(Outcome::SceneErrors);
+    };
+    let mut scene = ir::lower(checked);
+    if let Some(size) = args.size {
+        scene.resolution = size;
+    }
+    let plan = Plan {
+        reps: args.reps as usize,
+        reference_spp: args.reference_spp,
+        threshold: args.aa_threshold,
+    };
+    let show_progress = stderr.is_terminal();
+    let progress = |step: &str| {
+        if show_progress {
+            eprintln!("{stem}: {step}");
+        }
+    };
+    let measurement = all.install(|| measure(&scene, plan, &single, &progress));
+    print!(
+        "{}",
+        report::markdown(&measurement, &args.scene.display().to_string())
+    );
+    if let Some(assets) = assets {
+        let write_text = |path: &PathBuf, text: String| {
+            output::write_atomically(path, |out| out.write_all(text.as_bytes())).map_err(|source| {
+                AccuracyError::Write {
+                    path: path.display().to_string(),
+                    source,
+                }
+            })
+        };
+        write_text(&assets.sampling, report::sampling_csv(&measurement))?;
+        write_text(&assets.pareto, report::pareto_csv(&measurement))?;
+        let (map, _) = report::numeric_map(&measurement);
+        output::write(&map, Format::Png, &assets.map)?;
+    }
+    Ok(Outcome::Success)
+}
+
+/// The files `--assets DIR` writes for a scene.
+struct Assets {
+    sampling: PathBuf,
+    pareto: PathBuf,
+    map: PathBuf,
+}
+
+/// Make DIR and check its files can be written, before any work.
+fn prepare_assets(dir: &Path, stem: &str) -> Result<Assets, BoxedDiagnostic> {
+    std::fs::create_dir_all(dir).map_err(|source| AccuracyError::Write {
+        path: dir.display().to_string(),
+        source,
+    })?;
+    let assets = Assets {
+        sampling: dir.join(format!("{stem}.sampling.csv")),
+        pareto: dir.join(format!("{stem}.pareto.csv")),
+        map: dir.join(format!("{stem}.f32_f64.png")),
+    };
+    for path in [&assets.sampling, &assets.pareto, &assets.map] {
+        output::check_writable(path)?;
+    }
+    Ok(assets)
+}

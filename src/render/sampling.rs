@@ -1,0 +1,162 @@
+//! Where a pixel's samples lie and how they are averaged.
+//!
+//! One sample lies at the pixel centre; `spp = g²` samples lie one in each
+//! cell of a g×g grid over the pixel, jittered inside its cell by a hash of
+//! the pixel, the sample and the seed. A sample is therefore a function of
+//! (pixel, sample, options) alone: any thread, any order and any part of
+//! the frame computes the same value for it. Each sample's colour is
+//! clamped to [0, 1] before the samples are averaged, so the average is the
+//! linear radiance the 8-bit pixel is rounded from.
+
+use glam::DVec3;
+
+use super::camera_ray;
+use super::real::Real;
+use super::trace::{Counters, Tracer};
+
+/// The samples of a frame: resolution, grid side and seed.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Sampler {
+    size: u32,
+    grid: u32,
+    seed: u64,
+}
+
+impl Sampler {
+    /// `spp` is rounded down to a square (callers check it is one).
+    pub(super) fn new(size: u32, spp: u32, seed: u64) -> Self {
+        Sampler {
+            size,
+            grid: spp.isqrt().max(1),
+            seed,
+        }
+    }
+
+    /// Samples per pixel.
+    pub(super) fn count(&self) -> u32 {
+        self.grid * self.grid
+    }
+
+    /// The clamped colour of sample `s` of pixel (i, j).
+    pub(super) fn sample<R: Real>(
+        &self,
+        tracer: &Tracer<'_, R>,
+        (i, j): (u32, u32),
+        s: u32,
+        counters: &mut Counters,
+    ) -> DVec3 {
+        let (u, v) = sample_offset(i, j, s, self.grid, self.seed);
+        let ray = camera_ray::<R>(self.size, f64::from(i) + u, f64::from(j) + v);
+        tracer
+            .radiance(ray, counters)
+            .clamp(DVec3::ZERO, DVec3::ONE)
+    }
+
+    /// The mean of every sample of pixel (i, j).
+    pub(super) fn pixel<R: Real>(
+        &self,
+        tracer: &Tracer<'_, R>,
+        pixel: (u32, u32),
+        counters: &mut Counters,
+    ) -> DVec3 {
+        let first = self.sample(tracer, pixel, 0, counters);
+        self.complete(tracer, pixel, first, counters)
+    }
+
+    /// The mean of every sample of pixel (i, j) given sample 0, `first`:
+    /// the same value, bit for bit, as [`Sampler::pixel`].
+    pub(super) fn complete<R: Real>(
+        &self,
+        tracer: &Tracer<'_, R>,
+        pixel: (u32, u32),
+        first: DVec3,
+        counters: &mut Counters,
+    ) -> DVec3 {
+        let rest = (1..self.count()).map(|s| self.sample(tracer, pixel, s, counters));
+        mean(std::iter::once(first).chain(rest))
+    }
+}
+
+/// Where in pixel (i, j) sample `s` of a `grid × grid` stratification
+/// lies: the centre for one sample, else a jittered point in its cell.
+/// Seed 0 is the renderer's; another seed jitters independently.
+fn sample_offset(i: u32, j: u32, s: u32, grid: u32, seed: u64) -> (f64, f64) {
+    if grid == 1 {
+        return (0.5, 0.5);
+    }
+    let key = (u64::from(i) << 40) ^ (u64::from(j) << 20) ^ u64::from(s);
+    let key = key ^ seed.wrapping_mul(0xD1B5_4A32_D192_ED03);
+    let (a, b) = (unit_hash(key), unit_hash(key ^ 0x9E37_79B9_7F4A_7C15));
+    let cell = f64::from(grid);
+    (
+        (f64::from(s % grid) + a) / cell,
+        (f64::from(s / grid) + b) / cell,
+    )
+}
+
+/// A uniform value in [0, 1) from `key` (the SplitMix64 finaliser).
+fn unit_hash(key: u64) -> f64 {
+    let mut z = key.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// The mean of the samples as `first + Σ(cᵢ − first)/n`: the same value
+/// when every sample is the same (a plain `Σcᵢ/n` drifts by rounding and
+/// flips values that sit on a rounding boundary, like the ambient 0.1·255
+/// = 25.5), and a sum of small deviations elsewhere.
+fn mean(samples: impl Iterator<Item = DVec3>) -> DVec3 {
+    let mut first = None;
+    let mut deviation = DVec3::ZERO;
+    let mut count = 0u32;
+    for sample in samples {
+        count += 1;
+        match first {
+            None => first = Some(sample),
+            Some(first) => deviation += sample - first,
+        }
+    }
+    first.map_or(DVec3::ZERO, |first| first + deviation / f64::from(count))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_stay_in_their_cells() {
+        for seed in [0, 1] {
+            for s in 0..9 {
+                let (u, v) = sample_offset(7, 3, s, 3, seed);
+                let (cu, cv) = (f64::from(s % 3), f64::from(s / 3));
+                assert!((cu / 3.0..(cu + 1.0) / 3.0).contains(&u), "{s}: {u}");
+                assert!((cv / 3.0..(cv + 1.0) / 3.0).contains(&v), "{s}: {v}");
+            }
+        }
+        assert_eq!(sample_offset(7, 3, 0, 1, 0), (0.5, 0.5));
+    }
+
+    #[test]
+    fn another_seed_moves_every_jittered_sample() {
+        for s in 0..16 {
+            assert_ne!(sample_offset(5, 9, s, 4, 0), sample_offset(5, 9, s, 4, 1));
+        }
+    }
+
+    #[test]
+    fn the_mean_of_equal_samples_is_that_sample() {
+        for n in [1, 4, 9, 16, 64, 256, 1024] {
+            let one = DVec3::new(0.1, 0.7 * 0.1, 1.0 / 3.0);
+            assert_eq!(mean(std::iter::repeat_n(one, n)), one, "{n} samples");
+        }
+        let mixed = [
+            DVec3::ZERO,
+            DVec3::ONE,
+            DVec3::splat(0.5),
+            DVec3::splat(0.5),
+        ];
+        assert_eq!(mean(mixed.into_iter()), DVec3::splat(0.5));
+    }
+}

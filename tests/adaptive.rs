@@ -1,0 +1,175 @@
+//! Adaptive antialiasing (`render --aa adaptive`): the same image for any
+//! number of threads, the uniform image where every pixel is refined, one
+//! sample per pixel where the image is flat, and never more than `spp`
+//! samples in a pixel.
+
+mod support;
+
+use std::path::Path;
+
+use raytracer::render::{
+    adaptive::DEFAULT_THRESHOLD, render, render_radiance, Antialias, Counters, Image, Options,
+};
+use support::{lower, lower_in, run};
+
+const SPP: u32 = 16;
+
+fn adaptive(threshold: u8) -> Options {
+    Options {
+        spp: SPP,
+        antialias: Antialias::Adaptive { threshold },
+        ..Options::default()
+    }
+}
+
+/// The scenes of `scenes/` (textures and all) at a small size.
+fn scenes() -> Vec<(String, raytracer::ir::Scene)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut scenes: Vec<_> = std::fs::read_dir(&root)
+        .expect("scenes/")
+        .map(|entry| entry.expect("entry").path())
+        .filter(|path| path.extension().is_some_and(|e| e == "txt"))
+        .map(|path| {
+            let text = std::fs::read_to_string(&path).expect("read scene");
+            let name = path.display().to_string();
+            (name, lower_in(&text, &root, Some(48)))
+        })
+        .collect();
+    scenes.sort_by(|a, b| a.0.cmp(&b.0));
+    assert!(scenes.len() >= 5, "scenes/ lost its scenes");
+    scenes
+}
+
+fn in_pool<T: Send>(threads: usize, work: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("pool")
+        .install(work)
+}
+
+#[test]
+fn adaptive_images_are_the_same_for_any_thread_count() {
+    for (name, scene) in scenes() {
+        let options = adaptive(DEFAULT_THRESHOLD);
+        let one = in_pool(1, || render::<f64>(&scene, &options, &|| {}));
+        let three = in_pool(3, || render::<f64>(&scene, &options, &|| {}));
+        assert!(one.0 == three.0, "{name}: the image depends on threads");
+        assert_eq!(one.1, three.1, "{name}: the counts depend on threads");
+    }
+}
+
+#[test]
+fn refining_every_pixel_gives_the_uniform_image_bit_for_bit() {
+    let uniform = Options {
+        spp: SPP,
+        ..Options::default()
+    };
+    for (name, scene) in scenes() {
+        let (all, all_counters) = render_radiance::<f64>(&scene, &adaptive(0), &|| {});
+        let (same, counters) = render_radiance::<f64>(&scene, &uniform, &|| {});
+        assert!(all == same, "{name}: refined radiance differs from uniform");
+        let pixels = u64::from(scene.resolution).pow(2);
+        assert_eq!(all_counters.pixels_refined, pixels, "{name}");
+        assert_eq!(all_counters.primary_rays, counters.primary_rays, "{name}");
+        assert!(
+            render::<f32>(&scene, &adaptive(0), &|| {}).0
+                == render::<f32>(&scene, &uniform, &|| {}).0,
+            "{name}: f32 differs"
+        );
+    }
+}
+
+/// Samples per pixel never exceed `spp`: unrefined pixels take one,
+/// refined ones `spp`, and nothing else casts a camera ray.
+fn assert_samples_bounded(name: &str, size: u32, counters: &Counters) {
+    let pixels = u64::from(size).pow(2);
+    assert!(counters.pixels_refined <= pixels, "{name}");
+    assert_eq!(
+        counters.primary_rays,
+        pixels + counters.pixels_refined * u64::from(SPP - 1),
+        "{name}: samples are not 1 per pixel plus the refined pixels' rest"
+    );
+    assert!(counters.primary_rays <= pixels * u64::from(SPP), "{name}");
+}
+
+#[test]
+fn adaptive_never_takes_more_than_spp_samples() {
+    let mut refined_some = false;
+    for (name, scene) in scenes() {
+        for threshold in [0, 1, DEFAULT_THRESHOLD, 64] {
+            let (_, counters) = render::<f64>(&scene, &adaptive(threshold), &|| {});
+            assert_samples_bounded(&name, scene.resolution, &counters);
+            let pixels = u64::from(scene.resolution).pow(2);
+            refined_some |= (1..pixels).contains(&counters.pixels_refined);
+        }
+    }
+    assert!(refined_some, "no render refined some but not all pixels");
+}
+
+/// The camera inside a large ambient-lit sphere: every pixel sees the
+/// same colour.
+const FLAT: &str = "camera 32\nsphere dimension 50 center 0 0 0 color .5 .3 .2\n";
+
+#[test]
+fn a_flat_image_takes_one_sample_per_pixel() {
+    let scene = lower(FLAT);
+    let (image, counters) = render::<f64>(&scene, &adaptive(DEFAULT_THRESHOLD), &|| {});
+    assert_eq!(counters.pixels_refined, 0);
+    assert_eq!(counters.primary_rays, 32 * 32);
+    let (one, _) = render::<f64>(&scene, &Options::default(), &|| {});
+    assert!(image == one, "a flat image is its 1-spp image");
+}
+
+#[test]
+fn only_pixels_near_an_edge_are_refined() {
+    // A small ball inside the flat sphere: its silhouette has contrast.
+    let scene = lower(&format!(
+        "{FLAT}sphere dimension 1 center 0 0 -6 color 1 1 1\n"
+    ));
+    let (image, counters) = render::<f64>(&scene, &adaptive(DEFAULT_THRESHOLD), &|| {});
+    assert_samples_bounded("ball", 32, &counters);
+    // The ball's disk is about 5 px across: its edge ring, not the frame.
+    assert!((8..=200).contains(&counters.pixels_refined), "{counters:?}");
+    let Image { rgb, .. } = image;
+    let corner = &rgb[..3];
+    assert_eq!(corner, [13, 8, 5], "the flat wall keeps its 1-spp value");
+}
+
+#[test]
+fn the_cli_reports_adaptive_samples() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let scene = support::write(
+        dir.path(),
+        "ball.txt",
+        format!("{FLAT}sphere dimension 1 center 0 0 -6 color 1 1 1\n"),
+    );
+    let out = dir.path().join("out.ppm");
+    let json = dir.path().join("stats.json");
+    let output = run(&[
+        "render",
+        &scene,
+        out.to_str().unwrap(),
+        "--spp",
+        "16",
+        "--aa",
+        "adaptive",
+        "--stats",
+        "--stats-json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(output.status.success());
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(json).expect("stats")).expect("JSON");
+    let refined = stats["pixels_refined"].as_u64().expect("pixels_refined");
+    assert!(refined > 0 && refined < 32 * 32, "{refined}");
+    assert_eq!(stats["primary_rays"], 32 * 32 + refined * 15);
+    assert_eq!(stats["antialias"], "adaptive");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains(&format!(
+            "adaptive: {refined} of 1024 pixels took 16, the rest 1"
+        )),
+        "{stderr}"
+    );
+}
