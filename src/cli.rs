@@ -33,6 +33,8 @@ pub enum Command {
     Check(CheckArgs),
     /// Convert a scene to JSON, canonical scene text, or POV-Ray.
     Convert(ConvertArgs),
+    /// Lay out scene text files canonically, keeping every comment.
+    Fmt(FmtArgs),
 }
 
 /// `--accel`: the renderer's [`Accel`] as the command line spells it.
@@ -154,13 +156,25 @@ pub struct ConvertArgs {
     pub output: Option<PathBuf>,
 }
 
+#[derive(Debug, Args)]
+pub struct FmtArgs {
+    /// Scene text files, or folders to search for `.txt` and `.scene` files
+    /// (`-` formats stdin to stdout).
+    #[arg(required = true)]
+    pub paths: Vec<PathBuf>,
+    /// Write nothing; list the files that would change and exit 1 if any.
+    #[arg(long)]
+    pub check: bool,
+}
+
 /// Parse the process arguments, accepting `raytracer SCENE OUT` for
 /// `raytracer render SCENE OUT`.
 pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap::Error> {
     let mut args: Vec<OsString> = args.into_iter().collect();
     let is_subcommand = |a: &OsString| {
         let a = a.to_string_lossy();
-        a.starts_with('-') && a != "-" || matches!(&*a, "render" | "check" | "convert" | "help")
+        a.starts_with('-') && a != "-"
+            || matches!(&*a, "render" | "check" | "convert" | "fmt" | "help")
     };
     if args.len() > 1 && !is_subcommand(&args[1]) {
         args.insert(1, "render".into());

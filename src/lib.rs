@@ -8,7 +8,7 @@
 //! [`ir`] (model → render IR; lowering cannot fail) →
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
-//! POV-Ray. [`frontend`] drives the stages from bytes to a checked scene
+//! POV-Ray; [`format`] lays out scene text with its comments. [`frontend`] drives the stages from bytes to a checked scene
 //! for every caller; [`commands`] runs them for the command line defined in
 //! [`cli`], and nothing below that layer imports it.
 
@@ -18,6 +18,7 @@ pub mod cli;
 pub mod commands;
 pub mod convert;
 pub mod diagnostic;
+pub mod format;
 pub mod frontend;
 pub mod geometry;
 pub mod ir;

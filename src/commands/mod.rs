@@ -4,6 +4,7 @@
 
 pub mod check;
 pub mod convert;
+pub mod fmt;
 pub mod render;
 
 use std::process::ExitCode;
@@ -33,6 +34,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Check(args) => check::run(args),
         Command::Convert(args) => convert::run(args),
+        Command::Fmt(args) => fmt::run(args),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
