@@ -35,6 +35,8 @@ pub enum Command {
     Convert(ConvertArgs),
     /// Lay out scene text files canonically, keeping every comment.
     Fmt(FmtArgs),
+    /// Serve the Language Server Protocol on stdin and stdout (for editors).
+    Lsp(LspArgs),
 }
 
 /// `--accel`: the renderer's [`Accel`] as the command line spells it.
@@ -167,6 +169,13 @@ pub struct FmtArgs {
     pub check: bool,
 }
 
+#[derive(Debug, Args)]
+pub struct LspArgs {
+    /// Milliseconds a document must go unchanged before it is re-checked.
+    #[arg(long, default_value_t = 150, value_name = "MS")]
+    pub debounce_ms: u64,
+}
+
 /// Parse the process arguments, accepting `raytracer SCENE OUT` for
 /// `raytracer render SCENE OUT`.
 pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap::Error> {
@@ -174,7 +183,7 @@ pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap:
     let is_subcommand = |a: &OsString| {
         let a = a.to_string_lossy();
         a.starts_with('-') && a != "-"
-            || matches!(&*a, "render" | "check" | "convert" | "fmt" | "help")
+            || matches!(&*a, "render" | "check" | "convert" | "fmt" | "lsp" | "help")
     };
     if args.len() > 1 && !is_subcommand(&args[1]) {
         args.insert(1, "render".into());

@@ -9,7 +9,7 @@
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
 //! POV-Ray; [`format`] lays out scene text with its comments. [`frontend`] drives the stages from bytes to a checked scene
-//! for every caller; [`commands`] runs them for the command line defined in
+//! for every caller; [`lsp`] serves them to editors; [`commands`] runs them for the command line defined in
 //! [`cli`], and nothing below that layer imports it.
 
 pub mod ast;
@@ -25,6 +25,7 @@ pub mod ir;
 pub mod json;
 pub mod language;
 pub mod limits;
+pub mod lsp;
 pub mod model;
 pub mod output;
 pub mod render;

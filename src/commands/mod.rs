@@ -5,6 +5,7 @@
 pub mod check;
 pub mod convert;
 pub mod fmt;
+pub mod lsp;
 pub mod render;
 
 use std::process::ExitCode;
@@ -35,6 +36,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Check(args) => check::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Fmt(args) => fmt::run(args),
+        Command::Lsp(args) => lsp::run(args),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
