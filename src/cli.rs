@@ -11,6 +11,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 #[cfg(doc)]
 use crate::render::world::BRUTE_FORCE_MAX;
 use crate::render::Accel;
+use crate::tile::Band;
 
 /// Render and check scenes of the raytracer scene language.
 #[derive(Debug, Parser)]
@@ -37,6 +38,8 @@ pub enum Command {
     Fmt(FmtArgs),
     /// Serve the Language Server Protocol on stdin and stdout (for editors).
     Lsp(LspArgs),
+    /// Put the tiles of `render --tile` together into one image.
+    Stitch(StitchArgs),
 }
 
 /// `--accel`: the renderer's [`Accel`] as the command line spells it.
@@ -105,6 +108,25 @@ pub struct RenderArgs {
     /// No progress bar and no warnings on stderr.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Render only band K of N bands of rows, to a PNG that records where
+    /// it belongs (see `stitch`; docs/distributed.md).
+    #[arg(long, value_name = "K/N", value_parser = clap::builder::ValueParser::new(str::parse::<Band>))]
+    pub tile: Option<Band>,
+}
+
+#[derive(Debug, Args)]
+pub struct StitchArgs {
+    /// Output image; the extension picks the format (.ppm or .png).
+    pub out: PathBuf,
+    /// The tiles (PNG files of `render --tile K/N`), in any order.
+    #[arg(required = true)]
+    pub parts: Vec<PathBuf>,
+    /// Write the tiles' statistics, summed, as JSON to PATH.
+    #[arg(long, value_name = "PATH", requires = "part_stats")]
+    pub stats_json: Option<PathBuf>,
+    /// The tiles' `render --stats-json` files, in any order, one per part.
+    #[arg(long, value_name = "PATH", num_args = 1.., requires = "stats_json")]
+    pub part_stats: Vec<PathBuf>,
 }
 
 /// How `check` prints diagnostics.
@@ -130,9 +152,14 @@ pub struct CheckArgs {
     /// Exit 1 when there are warnings.
     #[arg(long)]
     pub deny_warnings: bool,
-    /// Apply the safe fixes (project headup, normalise normal) in place.
+    /// Apply the safe fixes the diagnostics carry (such as projecting
+    /// headup onto the plane) in place.
     #[arg(long)]
     pub fix: bool,
+    /// With `--fix`, also apply the unsafe fixes (such as a "did you
+    /// mean" replacement).
+    #[arg(long, requires = "fix")]
+    pub unsafe_fixes: bool,
 }
 
 /// What `convert` writes.
@@ -183,7 +210,10 @@ pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap:
     let is_subcommand = |a: &OsString| {
         let a = a.to_string_lossy();
         a.starts_with('-') && a != "-"
-            || matches!(&*a, "render" | "check" | "convert" | "fmt" | "lsp" | "help")
+            || matches!(
+                &*a,
+                "render" | "check" | "convert" | "stitch" | "fmt" | "lsp" | "help"
+            )
     };
     if args.len() > 1 && !is_subcommand(&args[1]) {
         args.insert(1, "render".into());

@@ -17,10 +17,13 @@ use miette::{
 };
 use serde::Serialize;
 
+use crate::fix::{Applicability, Fix};
 use crate::span::{floor_char_boundary, Span};
 use crate::syntax::SyntaxError;
 
-/// A diagnostic of any stage, boxed so syntax and check problems share a list.
+/// A diagnostic of any stage, boxed so syntax and check problems share a
+/// list; also how a command fails for a reason not the scene's (usage, I/O or
+/// internal: exit 2).
 pub type BoxedDiagnostic = Box<dyn Diagnostic + Send + Sync + 'static>;
 
 /// Diagnostics of one type, boxed to be reported with others.
@@ -77,20 +80,46 @@ impl SourceFile {
 }
 
 /// One source file and every diagnostic reported against it, sorted by
-/// position (errors before warnings at the same position).
+/// position (errors before warnings at the same position), each with the
+/// fix it carries, if any.
 pub struct Report {
     pub source: SourceFile,
     pub diagnostics: Vec<BoxedDiagnostic>,
+    /// `fixes[i]` is the fix of `diagnostics[i]`.
+    pub fixes: Vec<Option<Fix>>,
 }
 
 impl Report {
     /// Collect diagnostics for `source`, ordered by their first label.
-    pub fn new(source: SourceFile, mut diagnostics: Vec<BoxedDiagnostic>) -> Report {
-        diagnostics.sort_by_key(|d| (first_offset(d.as_ref()), severity_rank(d.as_ref())));
+    pub fn new(source: SourceFile, diagnostics: Vec<BoxedDiagnostic>) -> Report {
+        Report::with_fixes(source, diagnostics.into_iter().map(|d| (d, None)).collect())
+    }
+
+    /// [`Report::new`] for diagnostics that may carry fixes.
+    pub fn with_fixes(
+        source: SourceFile,
+        mut fixed: Vec<(BoxedDiagnostic, Option<Fix>)>,
+    ) -> Report {
+        fixed.sort_by_key(|(d, _)| (first_offset(d.as_ref()), severity_rank(d.as_ref())));
+        let (diagnostics, fixes) = fixed.into_iter().unzip();
         Report {
             source,
             diagnostics,
+            fixes,
         }
+    }
+
+    /// The fixes of at most `applicability` (safe, or safe and unsafe), in
+    /// source order.
+    pub fn fixes_up_to(&self, applicability: Applicability) -> Vec<&Fix> {
+        let mut fixes: Vec<&Fix> = self
+            .fixes
+            .iter()
+            .flatten()
+            .filter(|f| f.applicability <= applicability)
+            .collect();
+        fixes.sort_by_key(|f| f.edits.first().map(|e| e.span.start()));
+        fixes
     }
 
     /// How many diagnostics are errors.
@@ -148,7 +177,7 @@ impl Report {
 
     /// The diagnostics in the JSON shape of docs/cli.md.
     pub fn entries(&self) -> impl Iterator<Item = JsonDiagnostic> + '_ {
-        self.diagnostics.iter().map(|d| {
+        self.diagnostics.iter().zip(&self.fixes).map(|(d, fix)| {
             let d = d.as_ref();
             JsonDiagnostic {
                 code: d.code().map(|c| c.to_string()).unwrap_or_default(),
@@ -171,6 +200,24 @@ impl Report {
                         }
                     })
                     .collect(),
+                fix: fix.as_ref().map(|fix| JsonFix {
+                    message: fix.message.clone(),
+                    applicability: fix.applicability,
+                    edits: fix
+                        .edits
+                        .iter()
+                        .map(|e| {
+                            let (line, column) = self.source.line_col(e.span.start());
+                            JsonEdit {
+                                byte_offset: e.span.start(),
+                                byte_length: e.span.end() - e.span.start(),
+                                line,
+                                column,
+                                content: e.content.clone(),
+                            }
+                        })
+                        .collect(),
+                }),
             }
         })
     }
@@ -185,6 +232,29 @@ pub struct JsonDiagnostic {
     pub help: Option<String>,
     pub file: String,
     pub labels: Vec<JsonLabel>,
+    /// Omitted when the diagnostic carries no fix.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fix: Option<JsonFix>,
+}
+
+/// A [`Fix`] as `check --format json` prints it (ruff's shape, with byte
+/// offsets).
+#[derive(Clone, Debug, Serialize)]
+pub struct JsonFix {
+    pub message: String,
+    pub applicability: Applicability,
+    pub edits: Vec<JsonEdit>,
+}
+
+/// One edit of a [`JsonFix`]: replace `byte_length` bytes at `byte_offset`
+/// (1-based `line` and `column`) with `content`.
+#[derive(Clone, Debug, Serialize)]
+pub struct JsonEdit {
+    pub byte_offset: usize,
+    pub byte_length: usize,
+    pub line: usize,
+    pub column: usize,
+    pub content: String,
 }
 
 /// One labelled span of a [`JsonDiagnostic`]; line and column are 1-based.
@@ -221,9 +291,16 @@ pub fn lowercase_first(message: &str) -> String {
     }
 }
 
-/// An I/O error as a diagnostic's reason: lowercase, and without the paths
+/// An I/O error as a diagnostic's reason, worded the same for a scene, a
+/// texture or an output: "no such file" and "permission denied" for the
+/// common two, else the system's message, lowercase and without the paths
 /// some wrappers append (a temporary file's name is no help to the user).
 pub fn io_reason(error: &std::io::Error) -> String {
+    match error.kind() {
+        std::io::ErrorKind::NotFound => return "no such file".to_string(),
+        std::io::ErrorKind::PermissionDenied => return "permission denied".to_string(),
+        _ => {}
+    }
     let message = match error.raw_os_error() {
         Some(code) => std::io::Error::from_raw_os_error(code).to_string(),
         // `tempfile` words its errors `{reason} at path "{temporary file}"`.

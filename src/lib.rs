@@ -8,8 +8,10 @@
 //! [`ir`] (model → render IR; lowering cannot fail) →
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
-//! POV-Ray; [`format`] lays out scene text with its comments. [`frontend`] drives the stages from bytes to a checked scene
-//! for every caller; [`lsp`] serves them to editors; [`commands`] runs them for the command line defined in
+//! POV-Ray; [`format`] lays out scene text with its comments. [`tile`]
+//! cuts a frame into parts rendered apart and stitches them back.
+//! [`frontend`] drives the stages from bytes to a checked scene for every
+//! caller; [`lsp`] serves them to editors; [`commands`] runs them for the command line defined in
 //! [`cli`], and nothing below that layer imports it.
 
 pub mod ast;
@@ -18,6 +20,7 @@ pub mod cli;
 pub mod commands;
 pub mod convert;
 pub mod diagnostic;
+pub mod fix;
 pub mod format;
 pub mod frontend;
 pub mod geometry;
@@ -33,3 +36,4 @@ pub mod span;
 pub mod suggest;
 pub mod syntax;
 pub mod texture;
+pub mod tile;

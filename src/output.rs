@@ -131,7 +131,16 @@ pub fn check_writable(out: &Path) -> Result<(), OutputError> {
 
 /// Encode `image` as `format` and put it at `path` atomically.
 pub fn write(image: &Image, format: Format, path: &Path) -> Result<(), OutputError> {
-    write_atomically(path, |out| encode(image, format, out)).map_err(|error| OutputError::Write {
+    write_with(path, |out| encode(image, format, out))
+}
+
+/// Put the bytes `encode` writes at `path` atomically, as an image: a
+/// failure is an [`OutputError::Write`] naming `path`.
+pub fn write_with(
+    path: &Path,
+    encode: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<(), OutputError> {
+    write_atomically(path, encode).map_err(|error| OutputError::Write {
         path: path.display().to_string(),
         error,
     })

@@ -167,7 +167,7 @@ fn fix_rewrites_json_numbers_in_place() {
     assert_eq!(fix.status.code(), Some(0), "{}", text(&fix.stdout));
     let fixed = std::fs::read_to_string(dir.path().join("p.json")).unwrap();
     assert!(
-        fixed.contains(r#""normal": [0, 1, 0], "headup": [0, 0, 1]"#),
+        fixed.contains(r#""normal": [0, 2, 0], "headup": [0, 0, 1]"#),
         "{fixed}"
     );
     assert!(

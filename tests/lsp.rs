@@ -350,12 +350,16 @@ fn quick_fixes_and_fix_all() {
     let uri = uri_of(&dir.path().join("scene.txt"));
     let mut client = Client::start();
     let diagnostics = client.open(&uri, "raytracer", MISTAKES);
-    let actions = client.request(
-        "textDocument/codeAction",
-        json!({"textDocument": {"uri": uri},
-               "range": {"start": {"line": 9, "character": 2}, "end": {"line": 9, "character": 2}},
-               "context": {"diagnostics": diagnostics}}),
-    );
+    let actions_at = |client: &mut Client, line: u32, only: Value| {
+        client.request(
+            "textDocument/codeAction",
+            json!({"textDocument": {"uri": uri},
+                   "range": {"start": {"line": line, "character": 2}, "end": {"line": line, "character": 2}},
+                   "context": {"diagnostics": diagnostics, "only": only}}),
+        )
+    };
+    // The headup's projection: a safe fix, preferred, and the fix-all.
+    let actions = actions_at(&mut client, 9, Value::Null);
     let titles: Vec<&str> = actions
         .as_array()
         .unwrap()
@@ -366,20 +370,29 @@ fn quick_fixes_and_fix_all() {
         titles,
         [
             "projected `headup` onto the plane",
-            "apply every safe fix (2)"
+            "apply every safe fix (1)"
         ]
     );
     assert_eq!(actions[0]["kind"], "quickfix");
-    assert!(actions[0]["diagnostics"].is_array(), "{}", actions[0]);
+    assert_eq!(actions[0]["isPreferred"], true);
+    assert_eq!(
+        actions[0]["diagnostics"][0]["code"],
+        "scene::headup_not_perpendicular"
+    );
     let edits = &actions[0]["edit"]["changes"][&uri];
     assert_eq!(edits.as_array().unwrap().len(), 1, "{edits}");
     assert_eq!(edits[0]["newText"], "0");
-    let fix_all = client.request(
-        "textDocument/codeAction",
-        json!({"textDocument": {"uri": uri},
-               "range": {"start": {"line": 0, "character": 0}, "end": {"line": 0, "character": 0}},
-               "context": {"diagnostics": [], "only": ["source.fixAll"]}}),
+    assert_eq!(
+        edits[0]["range"]["start"],
+        json!({"line": 9, "character": 11})
     );
+    // The misspelt attribute: an unsafe fix, offered but not preferred.
+    let actions = actions_at(&mut client, 4, json!(["quickfix"]));
+    assert_eq!(actions.as_array().unwrap().len(), 1, "{actions}");
+    assert_eq!(actions[0]["title"], "replaced `colr` with `color`");
+    assert_eq!(actions[0]["isPreferred"], false);
+    // Fix-all only: the safe fixes of the whole document.
+    let fix_all = actions_at(&mut client, 0, json!(["source.fixAll"]));
     assert_eq!(fix_all.as_array().unwrap().len(), 1);
     assert_eq!(fix_all[0]["kind"], "source.fixAll");
     assert_eq!(
@@ -387,7 +400,7 @@ fn quick_fixes_and_fix_all() {
             .as_array()
             .unwrap()
             .len(),
-        2
+        1
     );
     assert_eq!(client.shut_down(), Some(0));
 }

@@ -6,9 +6,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use proptest::prelude::*;
-use raytracer::check::fix;
 use raytracer::convert::{json, pov, scene_text};
-use raytracer::frontend::{self, load_bytes, Language};
+use raytracer::fix::{self, Applicability};
+use raytracer::frontend::load_bytes;
 use raytracer::syntax::parse;
 
 /// Scenes to mutate: the language's example and a few fixtures that reach deep
@@ -63,8 +63,10 @@ fn front_end(bytes: &[u8]) {
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ui/scene"));
     let loaded = load_bytes("fuzz.txt", dir, bytes, Instant::now());
     let report = &loaded.report;
-    let parsed = parse(&report.source.text);
-    let fixed = fix::apply(&report.source.text, &fix::fixes(&parsed.file));
+    let (fixed, _) = fix::apply(
+        &report.source.text,
+        report.fixes_up_to(Applicability::Unsafe),
+    );
     let _ = parse(&fixed);
     let _ = report.render_human(80, false);
     let _ = report.render_short();
@@ -90,9 +92,10 @@ fn json_front_end(bytes: &[u8]) {
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ui/scene"));
     let loaded = load_bytes("fuzz.json", dir, bytes, Instant::now());
     let report = &loaded.report;
-    if let (Some(file), _) = frontend::parse(Language::Json, &report.source.text) {
-        let _ = fix::apply(&report.source.text, &fix::fixes(&file));
-    }
+    let _ = fix::apply(
+        &report.source.text,
+        report.fixes_up_to(Applicability::Unsafe),
+    );
     if let Some(checked) = &loaded.checked {
         let _ = json::to_json(&checked.scene);
         let _ = scene_text::to_scene_text(&checked.scene);

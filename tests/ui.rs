@@ -174,3 +174,36 @@ fn docs_show_every_code_as_rendered() {
         );
     }
 }
+
+#[test]
+fn fixes_show_in_the_json_format() {
+    let mut with_fixes = Vec::new();
+    for fixture in fixtures() {
+        let loaded = load(&fixture).expect("fixture readable");
+        let fixed: Vec<_> = loaded
+            .report
+            .entries()
+            .filter(|e| e.fix.is_some())
+            .collect();
+        if fixed.is_empty() {
+            continue;
+        }
+        with_fixes.push(code_of(&fixture));
+        let json = serde_json::to_string_pretty(&fixed).expect("serialise");
+        insta::with_settings!({
+            snapshot_path => "ui/snapshots",
+            prepend_module_to_snapshot => false,
+            omit_expression => true,
+        }, {
+            insta::assert_snapshot!(format!("{}-fix", code_of(&fixture).replace("::", "-")), json);
+        });
+    }
+    assert_eq!(
+        with_fixes,
+        [
+            "scene::headup_not_perpendicular",
+            "scene::unknown_attribute",
+            "scene::unknown_section"
+        ]
+    );
+}

@@ -1,10 +1,11 @@
 //! The checks every section shares: each attribute line is looked up in the
-//! [`schema`](super::schema) table and its values read, reporting unknown and
+//! table of [`crate::language`] and its values read, reporting unknown and
 //! misplaced names, duplicates, wrong value counts, strings where numbers
 //! belong and missing required attributes. What survives is an
 //! [`Attributes`] the per-section builders query by name.
 
 use crate::ast::{AttrName, Attribute, Section, SectionKind, Value};
+use crate::fix::{Applicability, Fix};
 use crate::span::{Span, Spanned};
 use crate::suggest;
 
@@ -112,7 +113,8 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
     let span = attribute.name.span.into();
     match &*attribute.name {
         AttrName::Unknown(found) => {
-            let help = match nearest_taken(kind, found) {
+            let near = nearest_taken(kind, found);
+            let help = match near {
                 Some(near) => format!("did you mean `{near}`?"),
                 None => match suggest::nearest(found, &AttrName::KEYWORDS) {
                     Some((near, _)) => format!(
@@ -123,6 +125,14 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
                 },
             };
             CheckError::UnknownAttribute {
+                fix: near.map(|near| {
+                    Fix::boxed(
+                        format!("replaced `{found}` with `{near}`"),
+                        Applicability::Unsafe,
+                        attribute.name.span,
+                        near,
+                    )
+                }),
                 found: found.to_string(),
                 section,
                 span,

@@ -1,6 +1,7 @@
 //! The check pass's diagnostics: one variant per problem, each with a stable
 //! code under `scene::`, a doc line saying when it fires, labelled spans and,
-//! where a fix exists, a help line that shows it. Errors stop a render;
+//! where a fix exists, a help line that shows it (and, where the fix is
+//! mechanical, the structured [`Fix`] that makes it). Errors stop a render;
 //! warnings (marked `severity(Warning)`) do not.
 //!
 //! docs/diagnostics.md has a What / Why / Example / Fix section per code, and
@@ -9,6 +10,8 @@
 
 use miette::{Diagnostic, SourceSpan};
 use thiserror::Error;
+
+use crate::fix::Fix;
 
 /// A problem in the meaning of a scene file.
 #[derive(Clone, Debug, Error, Diagnostic, PartialEq, Eq)]
@@ -22,6 +25,8 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// The nearest keyword, when one is close (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires on an attribute name that no section takes.
@@ -34,6 +39,9 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// The nearest attribute the section takes, when one is close
+        /// (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires on an attribute of another section type, such as `normal` on a
@@ -317,6 +325,8 @@ pub enum CheckError {
         headup: SourceSpan,
         #[help]
         help: String,
+        /// The projection, number by number (safe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when every point of an object has z ≥ 0, behind the camera at
@@ -373,6 +383,16 @@ pub enum CheckError {
 }
 
 impl CheckError {
+    /// The structured fix this diagnostic carries, if any.
+    pub fn fix(&self) -> Option<&Fix> {
+        match self {
+            CheckError::UnknownSection { fix, .. }
+            | CheckError::UnknownAttribute { fix, .. }
+            | CheckError::HeadupNotPerpendicular { fix, .. } => fix.as_deref(),
+            _ => None,
+        }
+    }
+
     /// Every code this enum can produce, for the fixture-coverage test.
     pub const CODES: [&'static str; 29] = [
         "scene::unknown_section",

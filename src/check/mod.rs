@@ -7,12 +7,11 @@
 //! checks live in [`attributes`] (driven by the table in [`crate::language`]), each
 //! section kind's own rules in [`sections`] (with the vector geometry of
 //! [`crate::geometry`]), texture loading in [`textures`], and the
-//! diagnostics themselves in [`errors`]. [`fix`] computes the safe fixes of
-//! `raytracer check --fix`.
+//! diagnostics themselves in [`errors`], some carrying a structured
+//! [`crate::fix::Fix`].
 
 mod attributes;
 pub mod errors;
-pub mod fix;
 pub mod format;
 
 mod sections;
@@ -22,6 +21,7 @@ use std::collections::BTreeMap;
 
 use crate::ast::{self, SectionKind};
 use crate::diagnostic::SourceFile;
+use crate::fix::{Applicability, Fix};
 use crate::language;
 use crate::limits::{MAX_LIGHTS, MAX_OBJECTS};
 use crate::model;
@@ -202,8 +202,9 @@ impl Count {
 }
 
 fn unknown_section(word: &str, span: Span) -> CheckError {
-    let help = match suggest::nearest(word, &SectionKind::KEYWORDS) {
-        Some((near, _)) => format!("did you mean `{near}`?"),
+    let near = suggest::nearest(word, &SectionKind::KEYWORDS).map(|(near, _)| near);
+    let help = match near {
+        Some(near) => format!("did you mean `{near}`?"),
         None => format!(
             "a section starts with {}",
             language::list_or(&SectionKind::KEYWORDS)
@@ -211,6 +212,14 @@ fn unknown_section(word: &str, span: Span) -> CheckError {
     };
     CheckError::UnknownSection {
         found: word.to_string(),
+        fix: near.map(|near| {
+            Fix::boxed(
+                format!("replaced `{word}` with `{near}`"),
+                Applicability::Unsafe,
+                span,
+                near,
+            )
+        }),
         span: span.into(),
         help,
     }
@@ -300,5 +309,65 @@ impl Checker<'_> {
                 });
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+    use std::time::Instant;
+
+    use crate::fix::{self, Applicability};
+    use crate::frontend::load_bytes;
+
+    /// `text` with the fixes of at most `applicability` its diagnostics
+    /// carry applied.
+    fn fixed(text: &str, applicability: Applicability) -> String {
+        let loaded = load_bytes("t.txt", Path::new("."), text.as_bytes(), Instant::now());
+        let report = &loaded.report;
+        fix::apply(text, report.fixes_up_to(applicability)).0
+    }
+
+    #[test]
+    fn the_headup_fix_projects_and_keeps_layout_comments_and_the_normal() {
+        let text = "camera 4\nplane dimension 1 1 center 0 0 -5\n\tnormal 0 .5 1 # tilted\n\theadup\t0  1 0   # up\n";
+        assert_eq!(
+            fixed(text, Applicability::Safe),
+            "camera 4\nplane dimension 1 1 center 0 0 -5\n\tnormal 0 .5 1 # tilted\n\theadup\t0  0.8 -0.4   # up\n"
+        );
+    }
+
+    #[test]
+    fn good_and_hopeless_planes_get_no_fix() {
+        for plane in [
+            "plane normal 0 1 0 headup 0 0 1",
+            "plane normal 0 2 0 headup 0 0 1",
+            "plane normal 0 1 0 headup 0 2 0",
+            "plane normal 0 0 0 headup 0 1 0",
+            "plane normal 0 1 0 normal 0 1 0 headup 0 1 1",
+            "sphere normal 0 2 0",
+        ] {
+            let text = format!("camera 4 {plane} dimension 1 1 center 0 0 -5");
+            assert_eq!(fixed(&text, Applicability::Unsafe), text);
+        }
+    }
+
+    #[test]
+    fn fixed_text_has_nothing_left_to_fix() {
+        let once = fixed(
+            "camera 4 plane dimension 1 1 center 0 0 -5 normal 1 2 3 headup 3 -1 7",
+            Applicability::Safe,
+        );
+        assert_eq!(fixed(&once, Applicability::Unsafe), once);
+    }
+
+    #[test]
+    fn did_you_mean_is_an_unsafe_fix() {
+        let text = "camera 4\nsphre dimension 1 center 0 0 -5\nsphere dimension 1 center 0 0 -5 colour 1 0 0";
+        assert_eq!(fixed(text, Applicability::Safe), text);
+        assert_eq!(
+            fixed(text, Applicability::Unsafe),
+            "camera 4\nsphere dimension 1 center 0 0 -5\nsphere dimension 1 center 0 0 -5 color 1 0 0"
+        );
     }
 }

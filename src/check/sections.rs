@@ -5,6 +5,7 @@
 use glam::DVec3;
 
 use crate::ast::{AttrName, Section, Value};
+use crate::fix::{Applicability, Edit, Fix};
 use crate::model;
 use crate::span::Spanned;
 
@@ -100,7 +101,16 @@ pub fn plane(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> {
     let attrs = attributes::collect(section, &mut cx.problems);
     let size = dimensions(&attrs, &["width", "height"], cx);
     let center = attrs.vector(&AttrName::Center);
-    let orientation = orientation(&attrs, cx);
+    let written_once = |name: AttrName| {
+        section
+            .attributes
+            .iter()
+            .filter(|a| *a.name == name)
+            .count()
+            == 1
+    };
+    let unique = written_once(AttrName::Normal) && written_once(AttrName::Headup);
+    let orientation = orientation(&attrs, unique, cx);
     let material = material(&attrs, "plane", cx);
     let (size, center, (normal, headup)) = (size?, center?, orientation?);
     let (width, height) = (size[0], size[1]);
@@ -202,7 +212,13 @@ fn dimensions(attrs: &Attributes<'_>, names: &[&str], cx: &mut Checker<'_>) -> O
 
 /// A plane's `normal` and `headup`, when both are valid: non-zero and not
 /// parallel. Warns when headup is not perpendicular.
-fn orientation(attrs: &Attributes<'_>, cx: &mut Checker<'_>) -> Option<([f64; 3], [f64; 3])> {
+/// `unique` says that `normal` and `headup` are each written once: with a
+/// duplicate, which one to fix is the author's call, so no fix is offered.
+fn orientation(
+    attrs: &Attributes<'_>,
+    unique: bool,
+    cx: &mut Checker<'_>,
+) -> Option<([f64; 3], [f64; 3])> {
     let normal = attrs.vector(&AttrName::Normal);
     let headup = attrs.vector(&AttrName::Headup);
     let normal_unit = normal.and_then(|n| geometry::unit(*n));
@@ -233,6 +249,11 @@ fn orientation(attrs: &Attributes<'_>, cx: &mut Checker<'_>) -> Option<([f64; 3]
                 "the renderer projects it onto the plane: write `headup {}`",
                 format::vector(projected)
             ),
+            fix: attrs
+                .numbers(&AttrName::Headup)
+                .filter(|_| unique)
+                .and_then(|written| projection(written, projected))
+                .map(Box::new),
         }),
         Headup::Parallel => {
             cx.problems.push(CheckError::HeadupParallelToNormal {
@@ -247,6 +268,26 @@ fn orientation(attrs: &Attributes<'_>, cx: &mut Checker<'_>) -> Option<([f64; 3]
         }
     }
     Some((*normal, *headup))
+}
+
+/// The safe fix of a headup that is not perpendicular: one edit per
+/// number whose text changes, so comments and spacing stay as written.
+/// `None` when no written number would change.
+fn projection(written: &[Spanned<f64>], projected: [f64; 3]) -> Option<Fix> {
+    let edits: Vec<Edit> = written
+        .iter()
+        .zip(projected)
+        .filter(|(value, new)| value.value != format::number(*new).parse().unwrap_or(*new))
+        .map(|(value, new)| Edit {
+            span: value.span,
+            content: format::number(new),
+        })
+        .collect();
+    (!edits.is_empty()).then(|| Fix {
+        message: "projected `headup` onto the plane".to_string(),
+        applicability: Applicability::Safe,
+        edits,
+    })
 }
 
 /// A vector perpendicular to `normal` for help lines: the axis least

@@ -7,7 +7,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use crate::diagnostic::lowercase_first;
+use crate::diagnostic::{io_reason, lowercase_first};
 use crate::limits::{MAX_SCENE_TEXELS, MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
 use crate::span::Spanned;
 use crate::texture::{self, Texture, TextureError};
@@ -147,14 +147,5 @@ fn decode_reason(error: &image::ImageError) -> String {
     match error {
         image::ImageError::Unsupported(_) => "not a PPM, PNG or JPEG file".to_string(),
         other => lowercase_first(&other.to_string()),
-    }
-}
-
-/// A short, OS-independent reason for an I/O error.
-fn io_reason(error: &std::io::Error) -> String {
-    match error.kind() {
-        std::io::ErrorKind::NotFound => "no such file".to_string(),
-        std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
-        _ => lowercase_first(&error.to_string()),
     }
 }

@@ -6,31 +6,38 @@
 //! Diagnostics are the command's output, so they go to stdout (as for other
 //! linters); only failures that are not the scene's fault go to stderr.
 //!
-//! With `--fix`, each file first gets the safe fixes of [`crate::check::fix`],
+//! With `--fix`, each file is checked, gets the safe fixes its diagnostics
+//! carry (with `--unsafe-fixes`, the unsafe ones too; see [`crate::fix`]),
 //! written atomically (a temporary file beside it, then a rename), and is
-//! then checked, so the report shows what remains. Fixes replace single
-//! numbers, so they apply to JSON scenes as they do to scene text.
+//! checked again, so the report shows what remains. Fixes replace single
+//! numbers or words, so they apply to JSON scenes as they do to scene text.
 
 use std::io::Write;
 use std::path::Path;
 
 use miette::Diagnostic;
 
-use super::{Failure, Outcome};
-use crate::check::fix;
+use super::{Outcome, WriteStdoutError};
 use crate::cli::{CheckArgs, Format};
-use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic, SourceFile};
-use crate::frontend::{load, parse, read_scene, Language, Loaded, ReadSceneError};
+use crate::diagnostic::BoxedDiagnostic;
+use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic};
+use crate::fix::{self, Applicability};
+use crate::frontend::{load, Loaded, ReadSceneError};
 use crate::output;
 
 /// Run `raytracer check`.
-pub fn run(args: CheckArgs) -> Result<Outcome, Failure> {
+pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
     let mut out = Output::new(args.format);
     let mut unreadable = false;
     let mut failed = false;
     for path in &args.scenes {
         if args.fix {
-            match fix_in_place(path) {
+            let applicability = if args.unsafe_fixes {
+                Applicability::Unsafe
+            } else {
+                Applicability::Safe
+            };
+            match fix_in_place(path, applicability) {
                 Ok(fixed) => out.fixed(&fixed),
                 Err(error) => {
                     unreadable = true;
@@ -117,6 +124,7 @@ impl Output {
                 help: error.help().map(|h| h.to_string()),
                 file: path.display().to_string(),
                 labels: Vec::new(),
+                fix: None,
             });
         }
         eprintln!("error: {error}");
@@ -125,7 +133,7 @@ impl Output {
         }
     }
 
-    fn finish(self) -> Result<(), Failure> {
+    fn finish(self) -> Result<(), BoxedDiagnostic> {
         let mut stdout = std::io::stdout().lock();
         let written = if self.format == Format::Json {
             serde_json::to_writer_pretty(&mut stdout, &self.json)
@@ -136,7 +144,7 @@ impl Output {
         };
         written
             .and_then(|()| stdout.flush())
-            .map_err(|e| miette::miette!("cannot write to stdout: {e}").into())
+            .map_err(|e| Box::new(WriteStdoutError::from(e)) as BoxedDiagnostic)
     }
 }
 
@@ -149,48 +157,56 @@ pub struct WriteFixError {
     pub reason: std::io::Error,
 }
 
-/// Apply the safe fixes to the scene at `path` in place, returning one
-/// `file:line:column: fixed: …` line per fix. Stdin, unreadable files (the
-/// check reports them) and files that are not UTF-8 (rewriting would replace
-/// their bad bytes) are left alone.
-fn fix_in_place(path: &Path) -> Result<Vec<String>, WriteFixError> {
+/// Apply the fixes of at most `applicability` that the diagnostics of the
+/// scene at `path` carry, in place, returning one `file:line:column:
+/// fixed: …` line per fix. Stdin, unreadable files (the check reports them)
+/// and files that are not UTF-8 (rewriting would replace their bad bytes)
+/// are left alone.
+fn fix_in_place(path: &Path, applicability: Applicability) -> Result<Vec<String>, WriteFixError> {
     if path == Path::new("-") {
         return Ok(vec![
             "<stdin>: not fixed: `--fix` rewrites files, not stdin".to_string(),
         ]);
     }
-    let Ok(bytes) = read_scene(path) else {
+    let Ok(loaded) = load(path) else {
         return Ok(Vec::new());
     };
-    let dir = path.parent().unwrap_or(Path::new(""));
-    let name = path.display().to_string();
-    let (source, utf8_error) = SourceFile::from_bytes(&name, dir, &bytes);
-    if utf8_error.is_some() {
+    let report = &loaded.report;
+    let name = &report.source.name;
+    if report
+        .diagnostics
+        .iter()
+        .any(|d| is_invalid_utf8(d.as_ref()))
+    {
         return Ok(vec![format!(
             "{name}: not fixed: the file is not valid UTF-8"
         )]);
     }
-    let Some(file) = parse(Language::of(path, &bytes), &source.text).0 else {
-        return Ok(Vec::new());
-    };
-    let fixes = fix::fixes(&file);
-    if fixes.is_empty() {
+    let (fixed, applied) = fix::apply(&report.source.text, report.fixes_up_to(applicability));
+    if applied.is_empty() {
         return Ok(Vec::new());
     }
-    let fixed = fix::apply(&source.text, &fixes);
     output::write_atomically(path, |out| out.write_all(fixed.as_bytes())).map_err(|reason| {
         WriteFixError {
             path: name.clone(),
             reason,
         }
     })?;
-    Ok(fixes
+    Ok(applied
         .iter()
         .map(|f| {
-            let (line, column) = source.line_col(f.at.start());
-            format!("{name}:{line}:{column}: fixed: {}", f.description)
+            let at = f.edits.first().map_or(0, |e| e.span.start());
+            let (line, column) = report.source.line_col(at);
+            format!("{name}:{line}:{column}: fixed: {}", f.message)
         })
         .collect())
+}
+
+/// Whether `diagnostic` says the file is not UTF-8.
+fn is_invalid_utf8(diagnostic: &dyn Diagnostic) -> bool {
+    diagnostic
+        .code()
+        .is_some_and(|code| code.to_string() == "syntax::invalid_utf8")
 }
 
 /// `scene.txt: 2 errors, 1 warning`, or for a scene without errors

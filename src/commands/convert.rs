@@ -9,9 +9,10 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::{Failure, Outcome};
+use super::{Outcome, WriteStdoutError};
 use crate::cli::{ConvertArgs, Target};
 use crate::convert::{json, pov, scene_text};
+use crate::diagnostic::BoxedDiagnostic;
 use crate::diagnostic::{terminal_width, use_color};
 use crate::frontend::load;
 use crate::output::{check_not_input, write_atomically};
@@ -26,7 +27,7 @@ pub struct WriteOutputError {
 }
 
 /// Run `raytracer convert`.
-pub fn run(args: ConvertArgs) -> Result<Outcome, Failure> {
+pub fn run(args: ConvertArgs) -> Result<Outcome, BoxedDiagnostic> {
     let loaded = match load(&args.scene) {
         Ok(loaded) => loaded,
         Err(error) => return Err(Box::new(error)),
@@ -45,7 +46,7 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, Failure> {
     let text = match args.to {
         Target::Json => json::to_json(&checked.scene),
         Target::Scene => {
-            scene_text::to_scene_text(&checked.scene).map_err(|e| Box::new(e) as Failure)?
+            scene_text::to_scene_text(&checked.scene).map_err(|e| Box::new(e) as BoxedDiagnostic)?
         }
         Target::Pov => pov::to_pov(checked),
     };
@@ -59,7 +60,7 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, Failure> {
                 Box::new(WriteOutputError {
                     path: path.display().to_string(),
                     reason,
-                }) as Failure
+                }) as BoxedDiagnostic
             })?
         }
         None => {
@@ -67,7 +68,7 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, Failure> {
             stdout
                 .write_all(text.as_bytes())
                 .and_then(|()| stdout.flush())
-                .map_err(|e| miette::miette!("cannot write to stdout: {e}"))?;
+                .map_err(WriteStdoutError::from)?;
         }
     }
     Ok(Outcome::Success)

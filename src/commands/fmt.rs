@@ -13,8 +13,9 @@ use std::path::{Path, PathBuf};
 
 use miette::Diagnostic;
 
-use super::{Failure, Outcome};
+use super::Outcome;
 use crate::cli::FmtArgs;
+use crate::diagnostic::BoxedDiagnostic;
 use crate::diagnostic::{boxed, terminal_width, use_color, Report, SourceFile};
 use crate::format::format;
 use crate::frontend::{read_scene, Language};
@@ -45,7 +46,7 @@ enum Formatted {
 }
 
 /// Run `raytracer fmt`.
-pub fn run(args: FmtArgs) -> Result<Outcome, Failure> {
+pub fn run(args: FmtArgs) -> Result<Outcome, BoxedDiagnostic> {
     let mut failed = false;
     let mut unreadable = false;
     for path in files(&args.paths, &mut unreadable) {

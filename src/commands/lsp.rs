@@ -4,12 +4,13 @@
 
 use std::time::Duration;
 
-use super::{Failure, Outcome};
+use super::Outcome;
 use crate::cli::LspArgs;
+use crate::diagnostic::BoxedDiagnostic;
 use crate::lsp::{serve_stdio, Ending, Options};
 
 /// Run `raytracer lsp`.
-pub fn run(args: LspArgs) -> Result<Outcome, Failure> {
+pub fn run(args: LspArgs) -> Result<Outcome, BoxedDiagnostic> {
     let options = Options {
         debounce: Duration::from_millis(args.debounce_ms),
     };

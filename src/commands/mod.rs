@@ -1,4 +1,4 @@
-//! The three commands and what they share: mapping outcomes to the exit
+//! The commands and what they share: mapping outcomes to the exit
 //! codes of docs/cli.md. Each command loads its scenes through
 //! [`crate::frontend`] and only handles arguments and printing.
 
@@ -7,6 +7,7 @@ pub mod convert;
 pub mod fmt;
 pub mod lsp;
 pub mod render;
+pub mod stitch;
 
 use std::process::ExitCode;
 
@@ -19,15 +20,30 @@ use crate::cli::{Cli, Command};
 pub enum Outcome {
     /// Exit 0: done (warnings allowed).
     Success,
-    /// Exit 1: a scene has errors (or warnings, with `--deny-warnings`).
+    /// Exit 1: a scene has errors (or warnings, with `--deny-warnings`), or
+    /// the parts given to `stitch` do not make one frame.
     SceneErrors,
     /// Exit 2: an input could not be read; the command already said why
     /// and still processed the other inputs.
     InputErrors,
 }
 
-/// A failure that is not the scene's fault: usage, I/O or internal (exit 2).
-pub type Failure = Box<dyn Diagnostic + Send + Sync + 'static>;
+/// Writing a command's output to stdout failed (a closed pipe, a full disk).
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error("cannot write to stdout: {reason}")]
+#[diagnostic(code(io::write_stdout))]
+pub struct WriteStdoutError {
+    /// The I/O error, as [`crate::diagnostic::io_reason`] words it.
+    pub reason: String,
+}
+
+impl From<std::io::Error> for WriteStdoutError {
+    fn from(error: std::io::Error) -> WriteStdoutError {
+        WriteStdoutError {
+            reason: crate::diagnostic::io_reason(&error),
+        }
+    }
+}
 
 /// Run a parsed command line and return the process exit code.
 pub fn run(cli: Cli) -> ExitCode {
@@ -37,6 +53,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Convert(args) => convert::run(args),
         Command::Fmt(args) => fmt::run(args),
         Command::Lsp(args) => lsp::run(args),
+        Command::Stitch(args) => stitch::run(args),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,

@@ -8,22 +8,31 @@
 //! where no file can be created, a `--spp` that is not a square. The
 //! scene's warnings go to stderr (not with `--quiet`); its errors go to
 //! stderr and the command exits 1 without touching OUT.
+//!
+//! With `--tile K/N` only that band of rows is traced, through the same row
+//! loop, and written as a tile PNG that records where it belongs
+//! ([`crate::tile`]); a non-PNG OUT is refused before any work, and more
+//! bands than rows once the scene is loaded.
 
 use std::io::IsTerminal;
+use std::ops::Range;
 use std::path::Path;
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use miette::Diagnostic;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
-use super::{Failure, Outcome};
+use super::Outcome;
+use crate::check::Checked;
 use crate::cli::{Precision, RenderArgs};
+use crate::diagnostic::BoxedDiagnostic;
 use crate::diagnostic::{terminal_width, use_color};
 use crate::frontend::{load, Loaded};
 use crate::ir::{self, Effects};
 use crate::output::{self, Format};
 use crate::render::{self, Counters, Image, Options};
+use crate::tile::{self, Band, PixelOptions, TileInfo};
 
 /// A usage error found after clap: a value clap's parsers cannot judge.
 #[derive(Debug, thiserror::Error, Diagnostic)]
@@ -41,6 +50,22 @@ pub enum RenderUsageError {
     #[diagnostic(code(io::threads))]
     Threads { threads: usize, reason: String },
 
+    /// `--tile` with an output that is not PNG.
+    #[error("expected a `.png` output for `--tile`, found `{path}`")]
+    #[diagnostic(
+        code(usage::tile_not_png),
+        help("a tile records where it belongs in a PNG text chunk: name it `PART.png`")
+    )]
+    TileNotPng { path: String },
+
+    /// `--tile K/N` with more bands than the frame has rows.
+    #[error("cannot cut {rows} rows into {tiles} tiles: expected N ≤ {rows} in `--tile K/N`, found {tiles}")]
+    #[diagnostic(
+        code(usage::too_many_tiles),
+        help("each tile is a band of whole rows; use at most {rows} tiles for this scene")
+    )]
+    TooManyTiles { rows: u32, tiles: u32 },
+
     /// `--stats-json` could not be written.
     #[error("cannot write statistics to `{path}`: {source}")]
     #[diagnostic(code(io::write_stats))]
@@ -52,7 +77,7 @@ pub enum RenderUsageError {
 }
 
 /// Seconds per stage.
-#[derive(Clone, Copy, Debug, Default, Serialize)]
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
 pub struct Seconds {
     pub parse: f64,
     pub check: f64,
@@ -60,6 +85,17 @@ pub struct Seconds {
     pub render: f64,
     pub write: f64,
     pub total: f64,
+}
+
+impl std::ops::AddAssign for Seconds {
+    fn add_assign(&mut self, other: Seconds) {
+        self.parse += other.parse;
+        self.check += other.check;
+        self.lower += other.lower;
+        self.render += other.render;
+        self.write += other.write;
+        self.total += other.total;
+    }
 }
 
 /// What `--stats` prints and `--stats-json` writes.
@@ -76,12 +112,20 @@ pub struct Stats {
     pub accel: render::Accel,
     pub resolution: u32,
     pub effects: Effects,
+    /// With `--tile`: where the tile belongs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tile: Option<TileInfo>,
 }
 
 /// Run `raytracer render`.
-pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
+pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
     let start = Instant::now();
     let format = Format::from_path(&args.out)?;
+    if args.tile.is_some() && format != Format::Png {
+        return Err(Box::new(RenderUsageError::TileNotPng {
+            path: args.out.display().to_string(),
+        }));
+    }
     // The files this command writes: the image, and the statistics.
     let outputs: Vec<&Path> = std::iter::once(args.out.as_path())
         .chain(args.stats_json.as_deref())
@@ -138,22 +182,41 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
     // scene's peak memory is then the larger of model plus IR and IR plus
     // the tracer's own (docs/performance.md).
     drop(report);
-    let lowering = Instant::now();
-    let scene = ir::lower(checked);
-    let lower = lowering.elapsed().as_secs_f64();
-
     let options = Options {
         spp: args.spp,
         max_depth: args.max_depth,
         skip: !args.no_skip,
         accel: args.accel.into(),
     };
+    let precision = match args.precision {
+        Precision::F32 => "f32",
+        Precision::F64 => "f64",
+    };
+    let tile = match args.tile {
+        Some(band) => Some(tile_info(band, &checked, &options, precision)?),
+        None => None,
+    };
+    let lowering = Instant::now();
+    let scene = ir::lower(checked);
+    let lower = lowering.elapsed().as_secs_f64();
+
+    let rows = tile.as_ref().map_or(0..scene.resolution, TileInfo::rows);
     let rendering = Instant::now();
-    let (image, counters) = pool.install(|| trace(&scene, &options, args.precision, args.quiet));
+    let (rgb, counters) =
+        pool.install(|| trace(&scene, &options, args.precision, args.quiet, rows));
     let render = rendering.elapsed().as_secs_f64();
 
     let writing = Instant::now();
-    output::write(&image, format, &args.out)?;
+    match &tile {
+        Some(info) => output::write_with(&args.out, |out| tile::file::encode(info, &rgb, out))?,
+        None => {
+            let image = Image {
+                size: scene.resolution,
+                rgb,
+            };
+            output::write(&image, format, &args.out)?;
+        }
+    }
     let write = writing.elapsed().as_secs_f64();
 
     let stats = Stats {
@@ -167,16 +230,14 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
             total: start.elapsed().as_secs_f64(),
         },
         threads,
-        precision: match args.precision {
-            Precision::F32 => "f32",
-            Precision::F64 => "f64",
-        },
+        precision,
         spp: args.spp,
         max_depth: args.max_depth,
         skip: options.skip,
         accel: options.accel,
         resolution: scene.resolution,
         effects: scene.effects,
+        tile,
     };
     if args.stats {
         eprint!("{}", stats.human());
@@ -193,28 +254,54 @@ pub fn run(args: RenderArgs) -> Result<Outcome, Failure> {
     Ok(Outcome::Success)
 }
 
-/// Render in the chosen precision, with a progress bar on a terminal.
+/// Where band `band` of the checked scene's frame belongs; refused when the
+/// frame has fewer rows than bands.
+fn tile_info(
+    band: Band,
+    checked: &Checked,
+    options: &Options,
+    precision: &'static str,
+) -> Result<TileInfo, RenderUsageError> {
+    let rows = checked.scene.camera.resolution;
+    if band.n > rows {
+        return Err(RenderUsageError::TooManyTiles {
+            rows,
+            tiles: band.n,
+        });
+    }
+    let options = PixelOptions {
+        precision,
+        render: options,
+    };
+    Ok(TileInfo::new(
+        band,
+        rows,
+        tile::scene_hash(checked),
+        &options,
+    ))
+}
+
+/// Render `rows` of the frame in the chosen precision, with a progress bar
+/// on a terminal.
 fn trace(
     scene: &ir::Scene,
     options: &Options,
     precision: Precision,
     quiet: bool,
-) -> (Image, Counters) {
+    rows: Range<u32>,
+) -> (Vec<u8>, Counters) {
     let bar = if quiet || !std::io::stderr().is_terminal() {
         ProgressBar::hidden()
     } else {
-        ProgressBar::with_draw_target(
-            Some(u64::from(scene.resolution)),
-            ProgressDrawTarget::stderr(),
-        )
+        ProgressBar::with_draw_target(Some(rows.len() as u64), ProgressDrawTarget::stderr())
     };
     if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {eta} left") {
         bar.set_style(style);
     }
     let row_done = || bar.inc(1);
     let result = match precision {
-        Precision::F32 => render::render::<f32>(scene, options, &row_done),
-        Precision::F64 => render::render::<f64>(scene, options, &row_done),
+        Precision::F32 => render::render_rows::<f32>(scene, options, rows, &row_done),
+        Precision::F64 => render::render_rows::<f64>(scene, options, rows, &row_done),
     };
     bar.finish_and_clear();
     result
@@ -250,6 +337,15 @@ impl Stats {
             self.precision,
             self.spp,
             self.max_depth,
-        )
+        ) + &self.tile.as_ref().map_or(String::new(), |tile| {
+            let rows = tile.rows();
+            format!(
+                "tile               {} (rows {}..{} of {})\n",
+                tile.band(),
+                rows.start,
+                rows.end,
+                tile.height
+            )
+        })
     }
 }

@@ -20,6 +20,7 @@ pub use read::{read_scene, ReadSceneError};
 use crate::ast::{self, Section};
 use crate::check::{Checked, SceneCheck};
 use crate::diagnostic::{boxed, io_reason, BoxedDiagnostic, Report, SourceFile};
+use crate::fix::Fix;
 use crate::{json, syntax};
 
 /// A scene run through the front end: every diagnostic, and the checked
@@ -126,6 +127,9 @@ pub fn load_bytes_as(
     load_source(source, utf8_error, language, start)
 }
 
+/// A diagnostic with the fix it carries.
+type Fixable = (BoxedDiagnostic, Option<Fix>);
+
 /// Sections parsed before they are checked (and dropped).
 const CHECK_BATCH: usize = 1024;
 
@@ -163,13 +167,20 @@ impl<'a> Batches<'a> {
     }
 
     /// The whole-file checks; the checked scene and the check's
-    /// diagnostics, and the time spent checking.
-    fn finish(mut self) -> (Option<Checked>, Vec<BoxedDiagnostic>, Duration) {
+    /// diagnostics with their fixes, and the time spent checking.
+    fn finish(mut self) -> (Option<Checked>, Vec<Fixable>, Duration) {
         self.flush();
         let started = Instant::now();
         let (checked, problems) = self.check.finish();
         let checking = self.checking + started.elapsed();
-        (checked, boxed(problems), checking)
+        let problems = problems
+            .into_iter()
+            .map(|p| {
+                let fix = p.fix().cloned();
+                (Box::new(p) as BoxedDiagnostic, fix)
+            })
+            .collect();
+        (checked, problems, checking)
     }
 }
 
@@ -184,8 +195,14 @@ fn load_source(
     language: Language,
     start: Instant,
 ) -> Loaded {
-    let mut diagnostics: Vec<BoxedDiagnostic> = Vec::new();
-    diagnostics.extend(utf8_error.map(|e| Box::new(e) as BoxedDiagnostic));
+    let mut diagnostics: Vec<Fixable> = Vec::new();
+    let unfixed = |d: Vec<BoxedDiagnostic>| d.into_iter().map(|d| (d, None));
+    diagnostics.extend(unfixed(
+        utf8_error
+            .into_iter()
+            .map(|e| Box::new(e) as BoxedDiagnostic)
+            .collect(),
+    ));
     let mut batches = Batches::new(&source);
     let is_scene = match language {
         Language::Text => {
@@ -193,12 +210,12 @@ fn load_source(
             for section in sections.by_ref() {
                 batches.push(section);
             }
-            diagnostics.extend(boxed(sections.into_errors()));
+            diagnostics.extend(unfixed(boxed(sections.into_errors())));
             true
         }
         Language::Json => {
             let read = json::read(&source.text, |section| batches.push(section));
-            diagnostics.extend(boxed(read.errors));
+            diagnostics.extend(unfixed(boxed(read.errors)));
             read.is_scene
         }
     };
@@ -210,7 +227,7 @@ fn load_source(
         (None, batches.checking)
     };
     let parsing = start.elapsed().saturating_sub(checking);
-    let report = Report::new(source, diagnostics);
+    let report = Report::with_fixes(source, diagnostics);
     let checked = checked.filter(|_| report.error_count() == 0);
     Loaded {
         report,

@@ -1,32 +1,28 @@
-//! Code actions: each safe fix of the check pass ([`crate::check::fix`]) as
-//! a `quickfix` on the attribute it rewrites, and all of a document's safe
-//! fixes at once as `source.fixAll` (what `raytracer check --fix` writes).
-//! Edits replace single numbers, so they apply to JSON scenes as well.
+//! Code actions from the structured fixes the diagnostics carry
+//! ([`crate::fix`]): each as a `quickfix` on its diagnostic (preferred when
+//! safe), and all the safe ones at once as `source.fixAll` (what
+//! `raytracer check --fix` writes). Fixes replace bytes of the document, so
+//! they apply to JSON scenes as they do to scene text.
 
 use std::collections::HashMap;
 
 use lsp_types::{
-    CodeAction, CodeActionKind, CodeActionOrCommand, Diagnostic, Range, TextEdit, WorkspaceEdit,
+    CodeAction, CodeActionKind, CodeActionOrCommand, Diagnostic, Range, TextEdit, Url,
+    WorkspaceEdit,
 };
 
-use super::document::Document;
 use super::position::LineIndex;
-use crate::check::fix::{self, Fix};
-use crate::frontend;
+use crate::fix::{self, Applicability, Fix};
 
-/// The actions for `range` of `document`; `only` is the client's filter on
-/// kinds, and `diagnostics` those the client shows in the range.
+/// The actions for `range` of the document at `uri` with `text`, given its
+/// diagnostics and their fixes; `only` is the client's filter on kinds.
 pub fn actions(
-    document: &Document,
+    uri: &Url,
+    text: &str,
+    fixed: &[(Diagnostic, Option<Fix>)],
     range: Range,
     only: Option<&[CodeActionKind]>,
-    diagnostics: &[Diagnostic],
 ) -> Vec<CodeActionOrCommand> {
-    let Some(file) = frontend::parse(document.language, &document.text).0 else {
-        return Vec::new();
-    };
-    let fixes = fix::fixes(&file);
-    let index = LineIndex::new(&document.text);
     let wanted = |kind: &CodeActionKind| {
         only.is_none_or(|only| {
             only.iter().any(|o| {
@@ -35,57 +31,59 @@ pub fn actions(
             })
         })
     };
+    let index = LineIndex::new(text);
     let mut actions = Vec::new();
     if wanted(&CodeActionKind::QUICKFIX) {
-        let (start, end) = (index.offset(range.start), index.offset(range.end));
-        for fix in &fixes {
-            let span = fix.edits.iter().fold(fix.at, |span, e| span.join(e.span));
-            if span.start() > end || span.end() < start {
+        // A diagnostic is in the range when any of its labels is on one of
+        // its lines (a cursor on a line offers the fixes of that line).
+        let overlaps = |r: &Range| r.start.line <= range.end.line && range.start.line <= r.end.line;
+        let labelled = |d: &Diagnostic| {
+            overlaps(&d.range)
+                || d.related_information
+                    .iter()
+                    .flatten()
+                    .any(|r| overlaps(&r.location.range))
+        };
+        for (diagnostic, fix) in fixed {
+            let Some(fix) = fix.as_ref().filter(|_| labelled(diagnostic)) else {
                 continue;
-            }
-            let fix_range = index.range(span);
-            // The diagnostics this fix answers: those with a label on it.
-            let overlaps = |r: &Range| r.start <= fix_range.end && fix_range.start <= r.end;
-            let covered: Vec<Diagnostic> = diagnostics
-                .iter()
-                .filter(|d| {
-                    overlaps(&d.range)
-                        || d.related_information
-                            .iter()
-                            .flatten()
-                            .any(|r| overlaps(&r.location.range))
-                })
-                .cloned()
-                .collect();
+            };
             actions.push(CodeActionOrCommand::CodeAction(CodeAction {
-                title: fix.description.clone(),
+                title: fix.message.clone(),
                 kind: Some(CodeActionKind::QUICKFIX),
-                diagnostics: (!covered.is_empty()).then_some(covered),
-                edit: Some(edit(document, &index, std::slice::from_ref(fix))),
-                is_preferred: Some(true),
+                diagnostics: Some(vec![diagnostic.clone()]),
+                edit: Some(edit(uri, &index, &[fix])),
+                is_preferred: Some(fix.applicability == Applicability::Safe),
                 ..CodeAction::default()
             }));
         }
     }
-    if !fixes.is_empty() && wanted(&CodeActionKind::SOURCE_FIX_ALL) {
+    let safe: Vec<&Fix> = fixed
+        .iter()
+        .filter_map(|(_, fix)| fix.as_ref())
+        .filter(|f| f.applicability == Applicability::Safe)
+        .collect();
+    if !safe.is_empty() && wanted(&CodeActionKind::SOURCE_FIX_ALL) {
+        // The fixes that apply together (none overlapping another).
+        let (_, applied) = fix::apply(text, safe);
         actions.push(CodeActionOrCommand::CodeAction(CodeAction {
-            title: format!("apply every safe fix ({})", fixes.len()),
+            title: format!("apply every safe fix ({})", applied.len()),
             kind: Some(CodeActionKind::SOURCE_FIX_ALL),
-            edit: Some(edit(document, &index, &fixes)),
+            edit: Some(edit(uri, &index, &applied)),
             ..CodeAction::default()
         }));
     }
     actions
 }
 
-fn edit(document: &Document, index: &LineIndex, fixes: &[Fix]) -> WorkspaceEdit {
+fn edit(uri: &Url, index: &LineIndex, fixes: &[&Fix]) -> WorkspaceEdit {
     let edits = fixes
         .iter()
         .flat_map(|f| &f.edits)
-        .map(|e| TextEdit::new(index.range(e.span), e.replacement.clone()))
+        .map(|e| TextEdit::new(index.range(e.span), e.content.clone()))
         .collect();
     WorkspaceEdit {
-        changes: Some(HashMap::from([(document.uri.clone(), edits)])),
+        changes: Some(HashMap::from([(uri.clone(), edits)])),
         ..WorkspaceEdit::default()
     }
 }

@@ -13,6 +13,7 @@ use lsp_types::{
 
 use super::position::LineIndex;
 use crate::diagnostic::severity_of;
+use crate::fix::Fix;
 use crate::frontend::{load_bytes_as, Language};
 use crate::span::Span;
 
@@ -72,10 +73,10 @@ impl Document {
         }
     }
 
-    /// Every diagnostic of the front end, as the protocol's diagnostics.
-    /// `docs` is the address of docs/diagnostics.md, each code's section
-    /// linked from its diagnostic.
-    pub fn diagnostics(&self, docs: Option<&Url>) -> Vec<Diagnostic> {
+    /// Every diagnostic of the front end, as the protocol's diagnostics,
+    /// each with the fix it carries. `docs` is the address of
+    /// docs/diagnostics.md, each code's section linked from its diagnostic.
+    pub fn diagnostics(&self, docs: Option<&Url>) -> Vec<(Diagnostic, Option<Fix>)> {
         let loaded = load_bytes_as(
             self.language,
             &self.name(),
@@ -84,11 +85,12 @@ impl Document {
             Instant::now(),
         );
         let index = LineIndex::new(&self.text);
-        loaded
-            .report
+        let report = loaded.report;
+        report
             .diagnostics
             .iter()
-            .map(|d| self.convert(d.as_ref(), &index, docs))
+            .zip(report.fixes)
+            .map(|(d, fix)| (self.convert(d.as_ref(), &index, docs), fix))
             .collect()
     }
 

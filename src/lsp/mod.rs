@@ -7,8 +7,8 @@
 //! every keystroke; opening publishes at once. Requests are answered from
 //! the current text through the library: the front end for diagnostics,
 //! [`crate::format`] for formatting, the parser and the language table for
-//! the outline, hover and completion, and the check pass's safe fixes for
-//! code actions. Nothing here panics on a client's input: bad parameters
+//! the outline, hover and completion, and the fixes the diagnostics carry
+//! for code actions. Nothing here panics on a client's input: bad parameters
 //! get an error response, unknown documents an empty answer.
 //!
 //! The protocol's ending: `shutdown` is answered, then `exit` ends the
@@ -246,12 +246,8 @@ impl Server<'_> {
             request::CodeActionRequest::METHOD => {
                 let p: lsp_types::CodeActionParams = params(request)?;
                 let found = self.documents.get(&p.text_document.uri).map(|d| {
-                    actions::actions(
-                        d,
-                        p.range,
-                        p.context.only.as_deref(),
-                        &p.context.diagnostics,
-                    )
+                    let fixed = d.diagnostics(self.docs.as_ref());
+                    actions::actions(&d.uri, &d.text, &fixed, p.range, p.context.only.as_deref())
                 });
                 Ok(serde_json::to_value(found.unwrap_or_default()).unwrap_or_default())
             }
@@ -331,7 +327,11 @@ impl Server<'_> {
         for uri in ready {
             self.due.remove(&uri);
             if let Some(document) = self.documents.get(&uri) {
-                let diagnostics = document.diagnostics(self.docs.as_ref());
+                let diagnostics = document
+                    .diagnostics(self.docs.as_ref())
+                    .into_iter()
+                    .map(|(d, _)| d)
+                    .collect();
                 let version = Some(document.version);
                 self.publish(uri, diagnostics, version);
             }

@@ -133,11 +133,6 @@ impl<R: Real> Sphere<R> {
         };
         (t > R::zero() && t < t_max).then_some(t)
     }
-
-    /// The outward unit normal at a point on the surface.
-    pub fn normal_at(&self, p: R::Vec) -> R::Vec {
-        (p - self.center) * self.radius.recip()
-    }
 }
 
 impl<R: Real> Rect<R> {

@@ -19,8 +19,11 @@ pub mod real;
 pub mod trace;
 pub mod world;
 
+use std::ops::Range;
+
 use glam::DVec3;
 use rayon::prelude::*;
+use serde::Serialize;
 
 use crate::ir;
 use geometry::Ray;
@@ -30,8 +33,10 @@ pub use trace::Counters;
 use trace::Tracer;
 pub use world::Accel;
 
-/// How to render.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How to render. Its serialisation is the part of the options hash of
+/// tiles ([`crate::tile::PixelOptions`]) that is not the precision: a field
+/// that can change a pixel must serialise.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct Options {
     /// Samples per pixel; a square number (1, 4, 9, …).
     pub spp: u32,
@@ -39,7 +44,9 @@ pub struct Options {
     pub max_depth: u32,
     /// Skip work that cannot change an 8-bit value.
     pub skip: bool,
-    /// How rays find primitives (never changes the image).
+    /// How rays find primitives (never changes the image, so it is not
+    /// serialised).
+    #[serde(skip)]
     pub accel: Accel,
 }
 
@@ -70,18 +77,33 @@ pub fn render<R: Real>(
     row_done: &(dyn Fn() + Sync),
 ) -> (Image, Counters) {
     let size = scene.resolution;
+    let (rgb, counters) = render_rows::<R>(scene, options, 0..size, row_done);
+    (Image { size, rgb }, counters)
+}
+
+/// Render rows `rows` of `scene`'s frame (the whole frame is `0..size`):
+/// their pixels, 3 bytes each, top row first, and what it took. A pixel's
+/// value does not depend on which rows are rendered with it, so these rows
+/// are those of the whole render (a tile of `render --tile`).
+pub fn render_rows<R: Real>(
+    scene: &ir::Scene,
+    options: &Options,
+    rows: Range<u32>,
+    row_done: &(dyn Fn() + Sync),
+) -> (Vec<u8>, Counters) {
+    let size = scene.resolution;
     let tracer = Tracer::<R>::with_accel(scene, options.max_depth, options.skip, options.accel);
     let grid = options.spp.isqrt().max(1);
-    let mut rgb = vec![0u8; size as usize * size as usize * 3];
+    let mut rgb = vec![0u8; size as usize * rows.len() * 3];
     let counters = rgb
         .par_chunks_mut(size as usize * 3)
-        .enumerate()
-        .map(|(j, row)| {
+        .zip(rows)
+        .map(|(row, j)| {
             let mut counters = Counters::default();
             for (i, pixel) in row.chunks_exact_mut(3).enumerate() {
                 let samples = (0..grid * grid).map(|sample| {
-                    let (u, v) = sample_offset(i as u32, j as u32, sample, grid);
-                    let ray = camera_ray::<R>(size, i as f64 + u, j as f64 + v);
+                    let (u, v) = sample_offset(i as u32, j, sample, grid);
+                    let ray = camera_ray::<R>(size, i as f64 + u, f64::from(j) + v);
                     tracer
                         .radiance(ray, &mut counters)
                         .clamp(DVec3::ZERO, DVec3::ONE)
@@ -95,7 +117,7 @@ pub fn render<R: Real>(
             a += b;
             a
         });
-    (Image { size, rgb }, counters)
+    (rgb, counters)
 }
 
 /// The ray through image-plane position (x, y), in pixels from the top

@@ -48,7 +48,6 @@ pub trait Vector<R>:
     fn y(self) -> R;
     fn z(self) -> R;
     fn dot(self, other: Self) -> R;
-    fn cross(self, other: Self) -> Self;
     fn length(self) -> R;
     fn normalize(self) -> Self;
     fn min(self, other: Self) -> Self;
@@ -79,9 +78,6 @@ macro_rules! vector {
             }
             fn dot(self, other: Self) -> $real {
                 <$vec>::dot(self, other)
-            }
-            fn cross(self, other: Self) -> Self {
-                <$vec>::cross(self, other)
             }
             fn length(self) -> $real {
                 <$vec>::length(self)
