@@ -70,8 +70,10 @@ accuracy:
 
 # Fuzz the front end (docs/reliability.md): `make fuzz` runs each target
 # (scene text, JSON scenes, texture decoding) for FUZZ_SECONDS with one
-# libFuzzer job, growing fuzz/corpus/TARGET from fuzz/seeds/TARGET; a crash
-# lands in fuzz/artifacts/TARGET and fails the target. Needs cargo-fuzz
+# libFuzzer job, growing fuzz/corpus/TARGET from fuzz/seeds/TARGET, and
+# appends a dated line per target (seconds, executions, crashes) to the run
+# log at the end of docs/reliability.md (scripts/fuzz.sh); a crash lands in
+# fuzz/artifacts/TARGET and fails the target. Needs cargo-fuzz
 # (`cargo install cargo-fuzz`). libFuzzer's instrumentation and ASan use
 # nightly-only rustc flags: RUSTC_BOOTSTRAP=1 allows them on the stable
 # toolchain (use FUZZ_FLAGS="--sanitizer none" to fuzz without ASan).
@@ -79,13 +81,8 @@ FUZZ_SECONDS ?= 600
 FUZZ_TARGETS ?= scene json texture
 FUZZ_FLAGS ?=
 fuzz:
-	cd fuzz && for target in $(FUZZ_TARGETS); do \
-	  mkdir -p corpus/$$target && \
-	  RAYON_NUM_THREADS=1 RUSTC_BOOTSTRAP=1 $(CARGO) fuzz run -O $(FUZZ_FLAGS) $$target \
-	    corpus/$$target seeds/$$target -- \
-	    -max_total_time=$(FUZZ_SECONDS) -timeout=5 -rss_limit_mb=2048 -print_final_stats=1 \
-	    || exit 1; \
-	done
+	FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_FLAGS="$(FUZZ_FLAGS)" CARGO="$(CARGO)" \
+	  scripts/fuzz.sh $(FUZZ_TARGETS)
 
 # Shrink the fuzz corpora to the inputs that add coverage (commit the result).
 fuzz-cmin:

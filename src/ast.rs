@@ -26,42 +26,57 @@ pub struct Section {
     pub span: Span,
 }
 
-/// The section keywords of the language.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum SectionKind {
-    Camera,
-    Sphere,
-    Plane,
-    Light,
-    /// A word in section position that is no section keyword.
-    Unknown(Box<str>),
+/// A keyword enum spelled once: each variant with its word, plus
+/// `Unknown` for any other word; `KEYWORDS` (in the order given),
+/// `from_word` and `as_str` are derived from that one list.
+macro_rules! keywords {
+    (
+        $(#[$meta:meta])*
+        pub enum $name:ident { $($variant:ident = $word:literal,)+ }
+        unknown: $unknown_doc:literal,
+        keywords: $keywords_doc:literal,
+    ) => {
+        $(#[$meta])*
+        #[derive(Clone, Debug, PartialEq, Eq)]
+        pub enum $name {
+            $($variant,)+
+            #[doc = $unknown_doc]
+            Unknown(Box<str>),
+        }
+
+        impl $name {
+            #[doc = $keywords_doc]
+            pub const KEYWORDS: [&'static str; [$($word),+].len()] = [$($word),+];
+
+            /// The keyword for `word`, or `Unknown`.
+            pub fn from_word(word: &str) -> Self {
+                match word {
+                    $($word => $name::$variant,)+
+                    other => $name::Unknown(other.into()),
+                }
+            }
+
+            /// The keyword as written in scene files.
+            pub fn as_str(&self) -> &str {
+                match self {
+                    $($name::$variant => $word,)+
+                    $name::Unknown(word) => word,
+                }
+            }
+        }
+    };
 }
 
-impl SectionKind {
-    /// Every known section keyword, in documentation order.
-    pub const KEYWORDS: [&'static str; 4] = ["camera", "sphere", "plane", "light"];
-
-    /// The keyword for `word`, or `Unknown`.
-    pub fn from_word(word: &str) -> Self {
-        match word {
-            "camera" => SectionKind::Camera,
-            "sphere" => SectionKind::Sphere,
-            "plane" => SectionKind::Plane,
-            "light" => SectionKind::Light,
-            other => SectionKind::Unknown(other.into()),
-        }
+keywords! {
+    /// The section keywords of the language.
+    pub enum SectionKind {
+        Camera = "camera",
+        Sphere = "sphere",
+        Plane = "plane",
+        Light = "light",
     }
-
-    /// The keyword as written in scene files.
-    pub fn as_str(&self) -> &str {
-        match self {
-            SectionKind::Camera => "camera",
-            SectionKind::Sphere => "sphere",
-            SectionKind::Plane => "plane",
-            SectionKind::Light => "light",
-            SectionKind::Unknown(word) => word,
-        }
-    }
+    unknown: "A word in section position that is no section keyword.",
+    keywords: "Every known section keyword, in documentation order.",
 }
 
 /// One attribute line: a name and the values after it. Equality ignores spans.
@@ -86,63 +101,20 @@ impl PartialEq for Attribute {
     }
 }
 
-/// The attribute names of the language.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum AttrName {
-    Dimension,
-    Center,
-    Color,
-    Reflectivity,
-    Texture,
-    Normal,
-    Headup,
-    Location,
-    /// A word in attribute position that is no attribute name.
-    Unknown(Box<str>),
-}
-
-impl AttrName {
-    /// Every known attribute name, in documentation order.
-    pub const KEYWORDS: [&'static str; 8] = [
-        "dimension",
-        "center",
-        "color",
-        "reflectivity",
-        "texture",
-        "normal",
-        "headup",
-        "location",
-    ];
-
-    /// The attribute for `word`, or `Unknown`.
-    pub fn from_word(word: &str) -> Self {
-        match word {
-            "dimension" => AttrName::Dimension,
-            "center" => AttrName::Center,
-            "color" => AttrName::Color,
-            "reflectivity" => AttrName::Reflectivity,
-            "texture" => AttrName::Texture,
-            "normal" => AttrName::Normal,
-            "headup" => AttrName::Headup,
-            "location" => AttrName::Location,
-            other => AttrName::Unknown(other.into()),
-        }
+keywords! {
+    /// The attribute names of the language.
+    pub enum AttrName {
+        Dimension = "dimension",
+        Center = "center",
+        Color = "color",
+        Reflectivity = "reflectivity",
+        Texture = "texture",
+        Normal = "normal",
+        Headup = "headup",
+        Location = "location",
     }
-
-    /// The name as written in scene files.
-    pub fn as_str(&self) -> &str {
-        match self {
-            AttrName::Dimension => "dimension",
-            AttrName::Center => "center",
-            AttrName::Color => "color",
-            AttrName::Reflectivity => "reflectivity",
-            AttrName::Texture => "texture",
-            AttrName::Normal => "normal",
-            AttrName::Headup => "headup",
-            AttrName::Location => "location",
-            AttrName::Unknown(word) => word,
-        }
-    }
+    unknown: "A word in attribute position that is no attribute name.",
+    keywords: "Every known attribute name, in documentation order.",
 }
 
 /// A value token.

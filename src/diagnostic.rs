@@ -5,21 +5,24 @@
 //! diagnostics (the kdl-rs shape: one owner, many related problems) and
 //! renders them in the three formats of `raytracer check`: human (miette's
 //! graphical handler), short (`file:line:col: severity[code]: message`) and
-//! JSON (docs/cli.md).
+//! JSON (docs/cli.md). The first two are for terminals and show scene text
+//! and file names through [`shown`], which escapes what a terminal would
+//! obey; JSON carries them exactly.
 
-use std::fmt;
+mod shown;
+
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use miette::{
-    Diagnostic, GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource, Severity,
-    SourceCode,
-};
+use miette::{Diagnostic, GraphicalReportHandler, GraphicalTheme, Severity};
 use serde::Serialize;
 
+use crate::escape::escape;
 use crate::fix::{Applicability, Fix};
 use crate::span::{floor_char_boundary, Span};
 use crate::syntax::SyntaxError;
+
+pub use shown::{Shown, ShownSource};
 
 /// A diagnostic of any stage, boxed so syntax and check problems share a
 /// list; also how a command fails for a reason not the scene's (usage, I/O or
@@ -72,10 +75,6 @@ impl SourceFile {
         let line_start = before.rfind('\n').map_or(0, |i| i + 1);
         let column = before[line_start..].chars().count() + 1;
         (line, column)
-    }
-
-    fn named(&self) -> NamedSource<Arc<str>> {
-        NamedSource::new(&self.name, self.text.clone())
     }
 }
 
@@ -140,7 +139,7 @@ impl Report {
     }
 
     /// miette's graphical rendering of every diagnostic, `width` columns
-    /// wide, with colour or with the plain Unicode theme.
+    /// wide, with colour or with the plain Unicode theme, its text escaped.
     pub fn render_human(&self, width: usize, color: bool) -> String {
         let theme = if color {
             GraphicalTheme::unicode()
@@ -148,28 +147,29 @@ impl Report {
             GraphicalTheme::unicode_nocolor()
         };
         let handler = GraphicalReportHandler::new_themed(theme).with_width(width);
-        let source = self.source.named();
+        let source = ShownSource::new(&self.source.name, &self.source.text);
         let mut out = String::new();
         for diagnostic in &self.diagnostics {
-            let with_source = WithSource {
-                inner: diagnostic.as_ref(),
-                source: &source,
-            };
+            let shown = Shown::new(diagnostic.as_ref(), Some(&source));
             // Writing to a String cannot fail.
-            let _ = handler.render_report(&mut out, &with_source);
+            let _ = handler.render_report(&mut out, &shown);
             out.push('\n');
         }
         out
     }
 
-    /// One line per diagnostic: `file:line:col: severity[code]: message`.
+    /// One line per diagnostic: `file:line:col: severity[code]: message`,
+    /// its text escaped.
     pub fn render_short(&self) -> String {
         self.entries()
             .map(|e| {
                 let (line, column) = e.labels.first().map_or((1, 1), |l| (l.line, l.column));
                 format!(
                     "{}:{line}:{column}: {}[{}]: {}\n",
-                    e.file, e.severity, e.code, e.message
+                    escape(&e.file),
+                    e.severity,
+                    e.code,
+                    escape(&e.message)
                 )
             })
             .collect()
@@ -340,50 +340,6 @@ fn first_offset(d: &dyn Diagnostic) -> usize {
     d.labels()
         .and_then(|mut labels| labels.next())
         .map_or(0, |l| l.offset())
-}
-
-/// A borrowed diagnostic that also supplies the source code to render.
-struct WithSource<'a> {
-    inner: &'a dyn Diagnostic,
-    source: &'a NamedSource<Arc<str>>,
-}
-
-impl fmt::Debug for WithSource<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        fmt::Debug::fmt(self.inner, f)
-    }
-}
-
-impl fmt::Display for WithSource<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        fmt::Display::fmt(self.inner, f)
-    }
-}
-
-impl std::error::Error for WithSource<'_> {}
-
-impl Diagnostic for WithSource<'_> {
-    fn code<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
-        self.inner.code()
-    }
-    fn severity(&self) -> Option<Severity> {
-        self.inner.severity()
-    }
-    fn help<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
-        self.inner.help()
-    }
-    fn url<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
-        self.inner.url()
-    }
-    fn source_code(&self) -> Option<&dyn SourceCode> {
-        Some(self.source)
-    }
-    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
-        self.inner.labels()
-    }
-    fn related<'b>(&'b self) -> Option<Box<dyn Iterator<Item = &'b dyn Diagnostic> + 'b>> {
-        self.inner.related()
-    }
 }
 
 #[cfg(test)]

@@ -23,24 +23,76 @@ pub struct AttrSpec {
     /// Placeholder values for help lines: `X Y Z`.
     pub placeholder: &'static str,
     pub required: bool,
+    /// The fields of a JSON scene object it is read from (`dimension` is
+    /// `radius`, or `width` and `height`).
+    pub json: &'static [&'static str],
+    /// The value when it is not given, as scene text.
+    pub default: Option<&'static str>,
+    /// What it means, with units, on one line.
+    pub description: &'static str,
+    /// The rule its values must follow.
+    pub rule: &'static str,
+    /// An example line.
+    pub example: &'static str,
 }
 
-const fn spec(name: AttrName, arity: Arity, placeholder: &'static str, required: bool) -> AttrSpec {
-    AttrSpec {
-        name,
-        arity,
-        placeholder,
-        required,
-    }
-}
-
-const CENTER: AttrSpec = spec(AttrName::Center, Arity::Numbers(3), "X Y Z", true);
-const COLOR: AttrSpec = spec(AttrName::Color, Arity::Numbers(3), "R G B", false);
-const REFLECTIVITY: AttrSpec = spec(AttrName::Reflectivity, Arity::Numbers(1), "K", false);
-const TEXTURE: AttrSpec = spec(AttrName::Texture, Arity::Path, "PATH", false);
+const CENTER: AttrSpec = AttrSpec {
+    name: AttrName::Center,
+    arity: Arity::Numbers(3),
+    placeholder: "X Y Z",
+    required: true,
+    json: &["center"],
+    default: None,
+    description: "the centre, in world units (the camera is at the origin looking down −z)",
+    rule: "—",
+    example: "center 0 0 -5",
+};
+const COLOR: AttrSpec = AttrSpec {
+    name: AttrName::Color,
+    arity: Arity::Numbers(3),
+    placeholder: "R G B",
+    required: false,
+    json: &["color"],
+    default: Some("1 1 1"),
+    description: "the surface colour, linear RGB",
+    rule: "each in [0, 1]",
+    example: "color 1 0.5 0",
+};
+const REFLECTIVITY: AttrSpec = AttrSpec {
+    name: AttrName::Reflectivity,
+    arity: Arity::Numbers(1),
+    placeholder: "K",
+    required: false,
+    json: &["reflectivity"],
+    default: Some("0"),
+    description: "the weight of the mirror reflection",
+    rule: "in [0, 1]",
+    example: "reflectivity 0.5",
+};
+const TEXTURE: AttrSpec = AttrSpec {
+    name: AttrName::Texture,
+    arity: Arity::Path,
+    placeholder: "PATH",
+    required: false,
+    json: &["texture"],
+    default: None,
+    description: "an image (PPM, PNG or JPEG) replacing the colour, relative to the scene file",
+    rule: "an image file that decodes",
+    example: "texture wood_tex.ppm",
+};
 
 static SPHERE: [AttrSpec; 5] = [
-    spec(AttrName::Dimension, Arity::Numbers(1), "RADIUS", true),
+    AttrSpec {
+        name: AttrName::Dimension,
+        arity: Arity::Numbers(1),
+        placeholder: "RADIUS",
+        required: true,
+        json: &["radius"],
+        default: None,
+        description: "the radius, in world units",
+        rule: "> 0",
+        example: "dimension 1",
+    },
     CENTER,
     COLOR,
     REFLECTIVITY,
@@ -48,18 +100,68 @@ static SPHERE: [AttrSpec; 5] = [
 ];
 
 static PLANE: [AttrSpec; 7] = [
-    spec(AttrName::Dimension, Arity::Numbers(2), "WIDTH HEIGHT", true),
+    AttrSpec {
+        name: AttrName::Dimension,
+        arity: Arity::Numbers(2),
+        placeholder: "WIDTH HEIGHT",
+        required: true,
+        json: &["width", "height"],
+        default: None,
+        description: "the width (along `right`) and height (along `up`), in world units",
+        rule: "each > 0",
+        example: "dimension 4 4",
+    },
     CENTER,
-    spec(AttrName::Normal, Arity::Numbers(3), "X Y Z", true),
-    spec(AttrName::Headup, Arity::Numbers(3), "X Y Z", true),
+    AttrSpec {
+        name: AttrName::Normal,
+        arity: Arity::Numbers(3),
+        placeholder: "X Y Z",
+        required: true,
+        json: &["normal"],
+        default: None,
+        description: "the direction the plane faces (normalised by the renderer)",
+        rule: "not `0 0 0`; need not be unit length",
+        example: "normal 0 1 0",
+    },
+    AttrSpec {
+        name: AttrName::Headup,
+        arity: Arity::Numbers(3),
+        placeholder: "X Y Z",
+        required: true,
+        json: &["headup"],
+        default: None,
+        description: "which way is up on the plane (projected onto it)",
+        rule: "not `0 0 0`, not parallel to `normal`",
+        example: "headup 0 0 -1",
+    },
     COLOR,
     REFLECTIVITY,
     TEXTURE,
 ];
 
 static LIGHT: [AttrSpec; 2] = [
-    spec(AttrName::Location, Arity::Numbers(3), "X Y Z", true),
-    spec(AttrName::Color, Arity::Numbers(3), "R G B", true),
+    AttrSpec {
+        name: AttrName::Location,
+        arity: Arity::Numbers(3),
+        placeholder: "X Y Z",
+        required: true,
+        json: &["location"],
+        default: None,
+        description: "the position of the point light, in world units",
+        rule: "—",
+        example: "location 0 5 0",
+    },
+    AttrSpec {
+        name: AttrName::Color,
+        arity: Arity::Numbers(3),
+        placeholder: "R G B",
+        required: true,
+        json: &["color"],
+        default: None,
+        description: "the intensity per channel",
+        rule: "each ≥ 0 (above 1 is allowed, with a warning)",
+        example: "color 1 1 1",
+    },
 ];
 
 /// The sections that have attributes, for "belongs to" messages.
@@ -93,6 +195,37 @@ pub fn sections_taking(name: &AttrName) -> Vec<&'static str> {
             _ => "light",
         })
         .collect()
+}
+
+/// The attribute table of docs/language.md, one row per section and
+/// attribute in print order (the order `convert --to scene` writes them),
+/// after the camera's resolution. Generated, so the page cannot drift:
+/// tests/language_table.rs compares it with the committed page.
+pub fn markdown_table() -> String {
+    let mut table = String::from(
+        "| section | attribute | JSON | values | required | default | meaning | rule | example |\n\
+         |---|---|---|---|---|---|---|---|---|\n\
+         | camera | (resolution) | `camera.resolution` | 1 whole number N | exactly one camera | — \
+         | the image is N × N pixels | 1 ≤ N ≤ 16384 | `camera 400` |\n",
+    );
+    for kind in WITH_ATTRIBUTES {
+        for spec in attributes_of(&kind) {
+            let json: Vec<String> = spec.json.iter().map(|f| format!("`{f}`")).collect();
+            table.push_str(&format!(
+                "| {} | `{}` | {} | {} | {} | {} | {} | {} | `{}` |\n",
+                kind.as_str(),
+                spec.name.as_str(),
+                json.join(", "),
+                spec.placeholder.to_lowercase(),
+                if spec.required { "yes" } else { "no" },
+                spec.default.map_or("—".to_string(), |d| format!("`{d}`")),
+                spec.description,
+                spec.rule,
+                spec.example,
+            ));
+        }
+    }
+    table
 }
 
 /// "`a`", "`a` and `b`", "`a`, `b` and `c`".

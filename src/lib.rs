@@ -20,6 +20,7 @@ pub mod cli;
 pub mod commands;
 pub mod convert;
 pub mod diagnostic;
+pub mod escape;
 pub mod fix;
 pub mod format;
 pub mod frontend;

@@ -6,17 +6,28 @@ use std::process::ExitCode;
 
 use raytracer::cli;
 use raytracer::commands;
+use raytracer::escape;
 
 fn main() -> ExitCode {
     // Without the handler a signal still stops the process; only the
     // clean-up of a temporary output file being written would be lost.
     let _ = ctrlc::set_handler(|| commands::interrupt());
-    match cli::parse_args(std::env::args_os()) {
+    let args: Vec<_> = std::env::args_os().collect();
+    let hidden = args
+        .iter()
+        .any(|a| a.to_string_lossy().chars().any(escape::is_hidden));
+    match cli::parse_args(args) {
         Ok(cli) => commands::run(cli),
         Err(error) => {
             // clap prints help and version to stdout (exit 0) and usage
-            // errors to stderr (exit 2).
-            let _ = error.print();
+            // errors to stderr (exit 2). When an argument holds characters
+            // a terminal would obey, the error may quote it: it is shown
+            // uncoloured (which drops escape sequences) and escaped.
+            if error.use_stderr() && hidden {
+                eprint!("{}", escape::escape(&error.render().to_string()));
+            } else {
+                let _ = error.print();
+            }
             ExitCode::from(error.exit_code().clamp(0, 255) as u8)
         }
     }

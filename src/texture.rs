@@ -6,8 +6,10 @@
 //! cannot block the check), and again on the opened file, which is opened
 //! non-blocking so a path swapped for a FIFO in between cannot block either.
 //!
-//! Decoding goes through the `image` crate (PPM P3/P6 at any maxval, PNG,
-//! JPEG). Only the header is read before the size is judged against
+//! Decoding goes through the `image` crate (PNM P1–P7 at any maxval, PNG
+//! at any depth, JPEG; tests/textures.rs checks the texels of each). An
+//! image without texels (a 0 × N header) and one whose data ends early are
+//! refused with their own reasons. Only the header is read before the size is judged against
 //! [`crate::limits`], so a hostile header (a 100000 × 100000 PPM) is refused
 //! before any pixel is allocated; the decoders' own allocations are capped
 //! by the crate's [`Limits`] as well.
@@ -69,6 +71,14 @@ pub enum TextureError {
         width: u32,
         height: u32,
     },
+    #[error("`{path}` ends before its last texel")]
+    Truncated { path: String },
+    #[error("`{path}` is {width} × {height} texels, and a texture needs at least one")]
+    Empty {
+        path: String,
+        width: u32,
+        height: u32,
+    },
 }
 
 /// Why image bytes did not decode ([`decode`]).
@@ -78,6 +88,9 @@ pub enum DecodeError {
     Image(#[from] image::ImageError),
     #[error("{width} × {height} texels is too large")]
     TooLarge { width: u32, height: u32 },
+    /// The header gives a width or height of 0.
+    #[error("{width} × {height} texels: an image has at least one")]
+    Empty { width: u32, height: u32 },
 }
 
 /// Load and decode the image at `path`, refusing more than `max_texels`
@@ -96,12 +109,24 @@ pub fn load(path: &Path, max_texels: u64) -> Result<Texture, TextureError> {
         return Err(TextureError::NotAFile { path: shown });
     }
     let decoded = decode_image(BufReader::new(file), max_texels).map_err(|error| match error {
+        DecodeError::Image(image::ImageError::IoError(source))
+            if source.kind() == std::io::ErrorKind::UnexpectedEof =>
+        {
+            TextureError::Truncated {
+                path: shown.clone(),
+            }
+        }
         DecodeError::Image(image::ImageError::IoError(source)) => io(source),
         DecodeError::Image(source) => TextureError::Decode {
             path: shown.clone(),
             source,
         },
         DecodeError::TooLarge { width, height } => TextureError::TooLarge {
+            path: shown.clone(),
+            width,
+            height,
+        },
+        DecodeError::Empty { width, height } => TextureError::Empty {
             path: shown.clone(),
             width,
             height,
@@ -125,9 +150,11 @@ struct Decoded {
 }
 
 /// Decode image bytes to RGB texels in [0, 1], row 0 at the top:
-/// `(width, height, texels)`. The size is judged from the header against
-/// the side limit and `max_texels` (at most [`MAX_TEXTURE_TEXELS`]), before
-/// any pixel is allocated.
+/// `(width, height, texels)`, `width × height` texels, at least one. The size is judged from the header against the side limit
+/// and `max_texels` (at most [`MAX_TEXTURE_TEXELS`]), before any pixel is
+/// allocated. Every bit depth decodes to the same scale (16-bit samples
+/// and PPM maxvals other than 255 are divided by their maximum); gray is
+/// spread to the three channels, and alpha is dropped.
 pub fn decode(
     reader: impl BufRead + Seek,
     max_texels: u64,
@@ -150,6 +177,9 @@ fn decode_image(reader: impl BufRead + Seek, max_texels: u64) -> Result<Decoded,
     reader.limits(limits);
     let decoder = reader.into_decoder()?;
     let (width, height) = decoder.dimensions();
+    if width == 0 || height == 0 {
+        return Err(DecodeError::Empty { width, height });
+    }
     if !fits(width, height, max_texels) {
         return Err(DecodeError::TooLarge { width, height });
     }

@@ -4,13 +4,18 @@
 //! with rays bouncing between them, rectangles (flat boxes) seen edge-on,
 //! coincident primitives (ties in `t`, won by the lower index), spheres
 //! touching a rectangle, and rays spawned from a primitive inside a leaf.
+//! The counters say which acceleration ran, and every comparison checks
+//! that it was the hierarchy, so none compares brute force with itself.
+
+mod support;
 
 use std::path::Path;
 use std::time::Instant;
 
 use raytracer::frontend::load_bytes;
 use raytracer::ir;
-use raytracer::render::{render, Accel, Options};
+use raytracer::render::world::BRUTE_FORCE_MAX;
+use raytracer::render::{render, Accel, Counters, Options};
 
 fn lower(text: &str) -> ir::Scene {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
@@ -19,20 +24,95 @@ fn lower(text: &str) -> ir::Scene {
     ir::lower(checked)
 }
 
+/// The counters of the rays, without which acceleration ran.
+fn rays(counters: Counters) -> Counters {
+    Counters {
+        bvh_nodes: 0,
+        ..counters
+    }
+}
+
+/// The hierarchy (`--accel bvh`, and `auto` when the scene is large enough
+/// for it to choose one) renders the same bytes and casts the same rays as
+/// brute force, in both precisions.
 fn assert_same(name: &str, text: &str) {
     let scene = lower(text);
+    let options = |accel| Options {
+        accel,
+        ..Options::default()
+    };
+    let brute = render::<f64>(&scene, &options(Accel::Brute), &|| {});
+    assert_eq!(
+        brute.1.bvh_nodes, 0,
+        "{name}: brute force built a hierarchy"
+    );
+    let brute32 = render::<f32>(&scene, &options(Accel::Brute), &|| {});
+    let mut compared = 0;
     for accel in [Accel::Bvh, Accel::Auto] {
-        let options = |accel| Options {
-            accel,
-            ..Options::default()
-        };
-        let brute = render::<f64>(&scene, &options(Accel::Brute), &|| {});
         let fast = render::<f64>(&scene, &options(accel), &|| {});
-        assert_eq!(brute.1, fast.1, "{name}: f64 {accel:?} ray counts differ");
+        let hierarchy = accel == Accel::Bvh || scene.objects.len() > BRUTE_FORCE_MAX;
+        assert_eq!(
+            fast.1.bvh_nodes > 0,
+            hierarchy,
+            "{name}: {accel:?} ran the wrong acceleration ({} nodes)",
+            fast.1.bvh_nodes
+        );
+        if !hierarchy {
+            // `auto` chose brute force: the comparison above is the one.
+            continue;
+        }
+        assert_eq!(
+            rays(brute.1),
+            rays(fast.1),
+            "{name}: f64 {accel:?} ray counts differ"
+        );
         assert!(brute.0 == fast.0, "{name}: f64 {accel:?} image differs");
-        let brute = render::<f32>(&scene, &options(Accel::Brute), &|| {});
         let fast = render::<f32>(&scene, &options(accel), &|| {});
-        assert!(brute.0 == fast.0, "{name}: f32 {accel:?} image differs");
+        assert!(
+            fast.1.bvh_nodes > 0,
+            "{name}: f32 {accel:?} ran brute force"
+        );
+        assert!(brute32.0 == fast.0, "{name}: f32 {accel:?} image differs");
+        compared += 1;
+    }
+    assert!(compared > 0);
+}
+
+/// `--stats-json` says which acceleration ran: brute force for the
+/// two-object sample under `auto` and `brute`, a hierarchy under `bvh`.
+#[test]
+fn the_statistics_name_the_acceleration_that_ran() {
+    let dir = tempfile::tempdir().unwrap();
+    let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sample.txt");
+    let out = dir.path().join("out.png");
+    let json = dir.path().join("stats.json");
+    for (accel, used) in [("auto", "brute"), ("brute", "brute"), ("bvh", "bvh")] {
+        let output = support::run(&[
+            "render",
+            sample,
+            out.to_str().unwrap(),
+            "--quiet",
+            "--accel",
+            accel,
+            "--stats",
+            "--stats-json",
+            json.to_str().unwrap(),
+        ]);
+        assert_eq!(output.status.code(), Some(0), "{output:?}");
+        let stats: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        assert_eq!(stats["accel"], accel, "{stats:#}");
+        assert_eq!(stats["accel_used"], used, "{stats:#}");
+        let nodes = stats["bvh_nodes"].as_u64().unwrap();
+        assert_eq!(nodes > 0, used == "bvh", "{stats:#}");
+        assert_eq!(stats["non_finite"], 0, "{stats:#}");
+        let human = String::from_utf8_lossy(&output.stderr);
+        let expected = match nodes {
+            0 => format!("acceleration       brute force (--accel {accel})"),
+            1 => format!("acceleration       bvh, 1 node (--accel {accel})"),
+            n => format!("acceleration       bvh, {n} nodes (--accel {accel})"),
+        };
+        assert!(human.contains(&expected), "{human}");
     }
 }
 

@@ -66,6 +66,39 @@ fn ppm_size(path: &Path) -> usize {
     n
 }
 
+/// Run the binary with `args` as a user whose permissions are checked:
+/// itself, or `nobody` (uid and gid 65534, through util-linux's `setpriv`)
+/// when the tests run as root, which reads a mode-000 file and writes in a
+/// mode-0555 folder anyway (CI runs as root). `dir`, the test's temporary
+/// folder, is opened to others so `nobody` reaches the files in it.
+#[cfg(unix)]
+fn run_unprivileged(dir: &Path, args: &[&str]) -> Output {
+    if !is_root() {
+        return run(args);
+    }
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let output = Command::new("setpriv")
+        .args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
+        .arg(bin())
+        .args(args)
+        .env_remove("COLUMNS")
+        .output()
+        .expect("as root, this test drops to `nobody` with `setpriv` (util-linux)");
+    assert!(
+        !String::from_utf8_lossy(&output.stderr).starts_with("setpriv:"),
+        "setpriv could not drop to nobody: {output:?}"
+    );
+    output
+}
+
+/// Say a test was skipped where `cargo test` shows it: libtest captures
+/// `eprintln!` of a passing test, not a write to the stderr handle.
+fn visible_skip(why: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "SKIPPED {why}");
+}
+
 fn is_root() -> bool {
     Command::new("id")
         .arg("-u")
@@ -188,12 +221,8 @@ fn an_unwritable_output_folder_is_refused() {
     let locked = dir.path().join("locked");
     std::fs::create_dir(&locked).unwrap();
     std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o555)).unwrap();
-    if is_root() {
-        eprintln!("skipped the mode-0555 folder: root writes there anyway");
-        return;
-    }
     let out = locked.join("out.png");
-    let output = run(&[&scene, out.to_str().unwrap()]);
+    let output = run_unprivileged(dir.path(), &[&scene, out.to_str().unwrap()]);
     assert_fails(&output, 2, &["io::write_image", "permission denied"]);
     assert!(listing(&locked).is_empty());
 }
@@ -234,22 +263,25 @@ fn a_full_tmpfs_leaves_no_output() {
     );
     let mount = dir.path().join("small");
     std::fs::create_dir(&mount).unwrap();
-    let script = "mount -t tmpfs -o size=4k tmpfs \"$1\" 2>/dev/null || exit 99; \
+    // `mounted` on stdout says the tmpfs is there: without it, `unshare`
+    // or `mount` failed (whatever its exit code), and with it the exit
+    // code is the binary's own.
+    let script = "mount -t tmpfs -o size=4k tmpfs \"$1\" 2>/dev/null || exit 99; echo mounted; \
                   \"$2\" \"$3\" \"$1/out.ppm\"; code=$?; ls -A \"$1\"; exit $code";
     let output = Command::new("unshare")
         .args(["--mount", "--map-root-user", "sh", "-c", script, "sh"])
         .args([mount.to_str().unwrap(), bin(), &scene])
         .output();
     let output = match output {
-        Ok(output) if output.status.code() != Some(99) && output.status.code() != Some(1) => output,
+        Ok(output) if output.stdout.starts_with(b"mounted\n") => output,
         _ => {
-            eprintln!("skipped: cannot mount a tmpfs here (no unshare or no permission)");
+            visible_skip("a_full_tmpfs_leaves_no_output: cannot mount a tmpfs here (no unshare or no permission)");
             return;
         }
     };
     assert_fails(&output, 2, &["io::write_image", "no space left"]);
     // `ls -A` of the full tmpfs after the failed render: empty.
-    assert_eq!(String::from_utf8_lossy(&output.stdout), "");
+    assert_eq!(String::from_utf8_lossy(&output.stdout), "mounted\n");
 }
 
 /// Whether process `pid` has a handler for SIGINT (bit 2 of `SigCgt`).
@@ -399,16 +431,13 @@ fn an_unreadable_texture_gets_a_diagnostic() {
     let dir = tempfile::tempdir().unwrap();
     let texture = write(dir.path(), "secret.ppm", b"P6\n1 1\n255\n\x01\x02\x03");
     std::fs::set_permissions(&texture, std::fs::Permissions::from_mode(0o000)).unwrap();
-    if std::fs::read(&texture).is_ok() {
-        eprintln!("skipped: this user (root) reads a mode-000 file");
-        return;
-    }
     let scene = write(
         dir.path(),
         "scene.txt",
         format!("{SCENE}sphere dimension 1 center 3 0 -5 texture secret.ppm\n"),
     );
-    let output = run(&["check", "--format", "short", &scene]);
+    // The reason is the label's, which the human format shows.
+    let output = run_unprivileged(dir.path(), &["check", &scene]);
     let out = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(1), "{out}");
     assert!(out.contains("permission denied"), "{out}");

@@ -6,7 +6,7 @@
 //!
 //! docs/diagnostics.md has a What / Why / Example / Fix section per code, and
 //! tests/ui has one fixture per code; `tests/ui.rs` fails when a code listed
-//! in [`CheckError::CODES`] or written in a `code(...)` below lacks either.
+//! in [`CheckError::codes`] (derived from the variant names) lacks either.
 
 use miette::{Diagnostic, SourceSpan};
 use thiserror::Error;
@@ -14,7 +14,8 @@ use thiserror::Error;
 use crate::fix::Fix;
 
 /// A problem in the meaning of a scene file.
-#[derive(Clone, Debug, Error, Diagnostic, PartialEq, Eq)]
+#[derive(Clone, Debug, Error, Diagnostic, PartialEq, Eq, strum::VariantNames)]
+#[strum(serialize_all = "snake_case")]
 pub enum CheckError {
     /// Fires on a word in section position that is no section keyword.
     #[error("unknown section `{found}`")]
@@ -380,6 +381,20 @@ pub enum CheckError {
         #[help]
         help: String,
     },
+
+    /// Fires on each Unicode text-direction control (U+202A–U+202E,
+    /// U+2066–U+2069) anywhere in the text, comments included: it can make
+    /// the scene display differently from what it says.
+    #[error("text-direction control {name} in the scene text")]
+    #[diagnostic(code(scene::text_direction_control), severity(Warning))]
+    TextDirectionControl {
+        /// `U+202E (right-to-left override)`.
+        name: String,
+        #[label("reorders the text shown around it")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+    },
 }
 
 impl CheckError {
@@ -393,36 +408,14 @@ impl CheckError {
         }
     }
 
-    /// Every code this enum can produce, for the fixture-coverage test.
-    pub const CODES: [&'static str; 29] = [
-        "scene::unknown_section",
-        "scene::unknown_attribute",
-        "scene::misplaced_attribute",
-        "scene::wrong_value_count",
-        "scene::not_a_number",
-        "scene::duplicate_attribute",
-        "scene::missing_attribute",
-        "scene::missing_camera",
-        "scene::repeated_camera",
-        "scene::resolution_not_integer",
-        "scene::resolution_out_of_range",
-        "scene::section_values",
-        "scene::dimension_not_positive",
-        "scene::color_out_of_range",
-        "scene::reflectivity_out_of_range",
-        "scene::negative_light_color",
-        "scene::zero_normal",
-        "scene::zero_headup",
-        "scene::headup_parallel_to_normal",
-        "scene::texture_not_found",
-        "scene::texture_not_a_file",
-        "scene::texture_not_an_image",
-        "scene::texture_too_large",
-        "scene::too_many_objects",
-        "scene::headup_not_perpendicular",
-        "scene::object_behind_camera",
-        "scene::light_inside_sphere",
-        "scene::color_with_texture",
-        "scene::light_color_above_one",
-    ];
+    /// Every code this enum can produce: `scene::` and each variant's name
+    /// in snake case, which is what each variant's `code(...)` says (the
+    /// UI fixtures, one per code, check that).
+    pub fn codes() -> Vec<String> {
+        use strum::VariantNames;
+        Self::VARIANTS
+            .iter()
+            .map(|v| format!("scene::{v}"))
+            .collect()
+    }
 }

@@ -6,7 +6,8 @@
 //! parser yields it and never holds a large scene's whole syntax tree. The shared attribute
 //! checks live in [`attributes`] (driven by the table in [`crate::language`]), each
 //! section kind's own rules in [`sections`] (with the vector geometry of
-//! [`crate::geometry`]), texture loading in [`textures`], and the
+//! [`crate::geometry`]), texture loading in [`textures`], the
+//! warning for text-direction controls in [`text_direction`], and the
 //! diagnostics themselves in [`errors`], some carrying a structured
 //! [`crate::fix::Fix`].
 
@@ -15,6 +16,7 @@ pub mod errors;
 pub mod format;
 
 mod sections;
+mod text_direction;
 mod textures;
 
 use std::collections::BTreeMap;
@@ -154,6 +156,9 @@ impl<'a> SceneCheck<'a> {
             });
         }
         cx.lights_inside_spheres();
+        cx.problems
+            .list
+            .extend(text_direction::warnings(&cx.source.text));
         for count in counts {
             count.report(&mut cx.problems);
         }

@@ -74,6 +74,12 @@ impl Textures {
                         TextureError::Decode { source, .. } => {
                             Failure::Undecodable(decode_reason(&source))
                         }
+                        TextureError::Truncated { .. } => Failure::Undecodable(
+                            "the file ends before its last texel (truncated?)".to_string(),
+                        ),
+                        TextureError::Empty { width, height, .. } => Failure::Undecodable(format!(
+                            "{width} × {height} texels: an image has at least one"
+                        )),
                         TextureError::TooLarge { width, height, .. } => Failure::TooLarge {
                             width,
                             height,

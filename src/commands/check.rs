@@ -21,6 +21,7 @@ use super::{Outcome, WriteStdoutError};
 use crate::cli::{CheckArgs, Format};
 use crate::diagnostic::BoxedDiagnostic;
 use crate::diagnostic::{terminal_width, use_color, JsonDiagnostic};
+use crate::escape::escape;
 use crate::fix::{self, Applicability};
 use crate::frontend::{load, Loaded, ReadSceneError};
 use crate::output;
@@ -41,7 +42,7 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
                 Ok(fixed) => out.fixed(&fixed),
                 Err(error) => {
                     unreadable = true;
-                    eprintln!("error: {error}");
+                    eprintln!("error: {}", escape(&error.to_string()));
                 }
             }
         }
@@ -107,6 +108,7 @@ impl Output {
     /// stderr when stdout is JSON.
     fn fixed(&self, fixed: &[String]) {
         for line in fixed {
+            let line = escape(line);
             if self.format == Format::Json {
                 eprintln!("{line}");
             } else {
@@ -127,9 +129,9 @@ impl Output {
                 fix: None,
             });
         }
-        eprintln!("error: {error}");
+        eprintln!("error: {}", escape(&error.to_string()));
         if let Some(help) = error.help() {
-            eprintln!("  help: {help}");
+            eprintln!("  help: {}", escape(&help.to_string()));
         }
     }
 
@@ -210,11 +212,11 @@ fn is_invalid_utf8(diagnostic: &dyn Diagnostic) -> bool {
 }
 
 /// `scene.txt: 2 errors, 1 warning`, or for a scene without errors
-/// `scene.txt: ok; effects: shadows, reflection`.
+/// `scene.txt: ok; effects: shadows, reflection` (the name escaped).
 fn summary(loaded: &Loaded) -> String {
     let report = &loaded.report;
     let (errors, warnings) = (report.error_count(), report.warning_count());
-    let name = &report.source.name;
+    let name = escape(&report.source.name);
     let counts = match (errors, warnings) {
         (0, 0) => "ok".to_string(),
         _ => format!(

@@ -14,6 +14,7 @@ use std::process::ExitCode;
 use miette::Diagnostic;
 
 use crate::cli::{Cli, Command};
+use crate::diagnostic::Shown;
 
 /// How a command ended, when it ran to completion.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,7 +61,9 @@ pub fn run(cli: Cli) -> ExitCode {
         Ok(Outcome::SceneErrors) => ExitCode::from(1),
         Ok(Outcome::InputErrors) => ExitCode::from(2),
         Err(failure) => {
-            eprintln!("{:?}", miette::Report::new_boxed(failure));
+            // Paths in the message are escaped like scene text.
+            let shown = Shown::new(failure.as_ref(), None);
+            eprintln!("{:?}", miette::Report::new(shown));
             ExitCode::from(2)
         }
     }

@@ -109,7 +109,10 @@ pub struct Stats {
     pub spp: u32,
     pub max_depth: u32,
     pub skip: bool,
+    /// What was asked for (`auto` chooses by the scene's size).
     pub accel: render::Accel,
+    /// What ran: `bvh` (with `bvh_nodes` nodes) or `brute`.
+    pub accel_used: &'static str,
     pub resolution: u32,
     pub effects: Effects,
     /// With `--tile`: where the tile belongs.
@@ -120,40 +123,8 @@ pub struct Stats {
 /// Run `raytracer render`.
 pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
     let start = Instant::now();
-    let format = Format::from_path(&args.out)?;
-    if args.tile.is_some() && format != Format::Png {
-        return Err(Box::new(RenderUsageError::TileNotPng {
-            path: args.out.display().to_string(),
-        }));
-    }
-    // The files this command writes: the image, and the statistics.
-    let outputs: Vec<&Path> = std::iter::once(args.out.as_path())
-        .chain(args.stats_json.as_deref())
-        .collect();
-    let scene = (args.scene != Path::new("-")).then_some(args.scene.as_path());
-    for out in &outputs {
-        output::check_not_input(out, scene)?;
-        output::check_writable(out)?;
-    }
-    let grid = args.spp.isqrt();
-    if grid * grid != args.spp {
-        return Err(Box::new(RenderUsageError::SppNotSquare {
-            found: args.spp,
-            below: grid * grid,
-            above: (grid + 1) * (grid + 1),
-        }));
-    }
-    let threads = args
-        .threads
-        .map_or_else(rayon::current_num_threads, |t| t as usize);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| RenderUsageError::Threads {
-            threads,
-            reason: e.to_string(),
-        })?;
-
+    let (format, pool) = preflight(&args)?;
+    let threads = pool.current_num_threads();
     let Loaded {
         report,
         checked,
@@ -171,7 +142,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
         show_diagnostics();
         return Ok(Outcome::SceneErrors);
     };
-    for out in &outputs {
+    for out in outputs(&args) {
         output::check_not_input(out, checked.textures.values().map(|t| Path::new(&t.path)))?;
     }
     if !args.quiet && report.warning_count() > 0 {
@@ -207,16 +178,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
     let render = rendering.elapsed().as_secs_f64();
 
     let writing = Instant::now();
-    match &tile {
-        Some(info) => output::write_with(&args.out, |out| tile::file::encode(info, &rgb, out))?,
-        None => {
-            let image = Image {
-                size: scene.resolution,
-                rgb,
-            };
-            output::write(&image, format, &args.out)?;
-        }
-    }
+    write_image(&args.out, format, tile.as_ref(), scene.resolution, rgb)?;
     let write = writing.elapsed().as_secs_f64();
 
     let stats = Stats {
@@ -235,6 +197,11 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
         max_depth: args.max_depth,
         skip: options.skip,
         accel: options.accel,
+        accel_used: if counters.bvh_nodes > 0 {
+            "bvh"
+        } else {
+            "brute"
+        },
         resolution: scene.resolution,
         effects: scene.effects,
         tile,
@@ -243,15 +210,80 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
         eprint!("{}", stats.human());
     }
     if let Some(path) = &args.stats_json {
-        let json = serde_json::to_vec_pretty(&stats).map_err(std::io::Error::from);
-        output::write_atomically(path, |out| out.write_all(&json?)).map_err(|source| {
-            RenderUsageError::WriteStats {
-                path: path.display().to_string(),
-                source,
-            }
-        })?;
+        write_stats(path, &stats)?;
     }
     Ok(Outcome::Success)
+}
+
+/// The files this command writes: the image, and the statistics.
+fn outputs(args: &RenderArgs) -> Vec<&Path> {
+    std::iter::once(args.out.as_path())
+        .chain(args.stats_json.as_deref())
+        .collect()
+}
+
+/// Everything about the arguments that can be refused before the scene is
+/// read: the output format, outputs that would overwrite the scene or
+/// cannot be written, a sample count that is no square, the thread pool.
+fn preflight(args: &RenderArgs) -> Result<(Format, rayon::ThreadPool), BoxedDiagnostic> {
+    let format = Format::from_path(&args.out)?;
+    if args.tile.is_some() && format != Format::Png {
+        return Err(Box::new(RenderUsageError::TileNotPng {
+            path: args.out.display().to_string(),
+        }));
+    }
+    let scene = (args.scene != Path::new("-")).then_some(args.scene.as_path());
+    for out in outputs(args) {
+        output::check_not_input(out, scene)?;
+        output::check_writable(out)?;
+    }
+    let grid = args.spp.isqrt();
+    if grid * grid != args.spp {
+        return Err(Box::new(RenderUsageError::SppNotSquare {
+            found: args.spp,
+            below: grid * grid,
+            above: (grid + 1) * (grid + 1),
+        }));
+    }
+    let threads = args
+        .threads
+        .map_or_else(rayon::current_num_threads, |t| t as usize);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| RenderUsageError::Threads {
+            threads,
+            reason: e.to_string(),
+        })?;
+    Ok((format, pool))
+}
+
+/// Write the rendered rows to `path`: a tile when rendering one, else the
+/// image in `format`.
+fn write_image(
+    path: &Path,
+    format: Format,
+    tile: Option<&TileInfo>,
+    size: u32,
+    rgb: Vec<u8>,
+) -> Result<(), BoxedDiagnostic> {
+    match tile {
+        Some(info) => output::write_with(path, |out| tile::file::encode(info, &rgb, out))?,
+        None => output::write(&Image { size, rgb }, format, path)?,
+    }
+    Ok(())
+}
+
+/// Write `--stats-json`.
+fn write_stats(path: &Path, stats: &Stats) -> Result<(), BoxedDiagnostic> {
+    let json = serde_json::to_vec_pretty(stats).map_err(std::io::Error::from);
+    output::write_atomically(path, |out| out.write_all(&json?)).map_err(|source| {
+        RenderUsageError::WriteStats {
+            path: path.display().to_string(),
+            source,
+        }
+    })?;
+    Ok(())
 }
 
 /// Where band `band` of the checked scene's frame belongs; refused when the
@@ -318,6 +350,7 @@ impl Stats {
              shadow rays        {} ({} skipped)\n\
              reflection rays    {} ({} paths saturated)\n\
              texture lookups    {}\n\
+             acceleration       {} (--accel {})\n\
              seconds            parse {:.4}, check {:.4}, lower {:.4}, render {:.4}, write {:.4}, total {:.4}\n\
              threads            {} ({}, {} spp, max depth {})\n",
             self.effects.summary(),
@@ -327,6 +360,12 @@ impl Stats {
             c.reflection_rays,
             c.paths_saturated,
             c.texture_lookups,
+            match c.bvh_nodes {
+                0 => "brute force".to_string(),
+                1 => "bvh, 1 node".to_string(),
+                nodes => format!("bvh, {nodes} nodes"),
+            },
+            format!("{:?}", self.accel).to_lowercase(),
             s.parse,
             s.check,
             s.lower,

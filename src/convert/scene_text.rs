@@ -2,7 +2,8 @@
 //!
 //! The layout is fixed, so printing is a formatter: the camera line, then
 //! each object in order, then each light, one blank line between sections;
-//! attributes two spaces in, in the order of the attribute table of docs/language.md (`dimension`,
+//! attributes two spaces in, in the order of the language table
+//! ([`crate::language`], which docs/language.md shows: `dimension`,
 //! `center`, `normal`, `headup`, `color`, `reflectivity`, `texture`); a
 //! `color` of `1 1 1` and a `reflectivity` of `0` (the defaults) are left out.
 //!
@@ -13,6 +14,7 @@
 use std::fmt::Write;
 
 use crate::ast::{AttrName, SectionKind};
+use crate::language::attributes_of;
 use crate::model::{self, Shape};
 use crate::syntax::{is_line_end, is_word_char};
 
@@ -22,46 +24,83 @@ use super::UnprintablePath;
 pub fn to_scene_text(scene: &model::Scene) -> Result<String, UnprintablePath> {
     let mut out = format!("camera {}\n", scene.camera.resolution);
     for object in &scene.objects {
-        out.push('\n');
-        match &object.shape {
-            Shape::Sphere { center, radius } => {
-                out.push_str("sphere\n");
-                line(&mut out, "dimension", &[*radius]);
-                line(&mut out, "center", center);
-            }
-            Shape::Plane {
-                center,
-                width,
-                height,
-                normal,
-                headup,
-            } => {
-                out.push_str("plane\n");
-                line(&mut out, "dimension", &[*width, *height]);
-                line(&mut out, "center", center);
-                line(&mut out, "normal", normal);
-                line(&mut out, "headup", headup);
-            }
-        }
-        let material = &object.material;
-        let default = model::Material::default();
-        if !same_bits(&material.color, &default.color) {
-            line(&mut out, "color", &material.color);
-        }
-        if !same_bits(&[material.reflectivity], &[default.reflectivity]) {
-            line(&mut out, "reflectivity", &[material.reflectivity]);
-        }
-        if let Some(texture) = &material.texture {
-            // Writing to a String cannot fail.
-            let _ = writeln!(out, "  texture {}", path(texture)?);
-        }
+        let kind = match object.shape {
+            Shape::Sphere { .. } => SectionKind::Sphere,
+            Shape::Plane { .. } => SectionKind::Plane,
+        };
+        section(&mut out, &kind, |name| object_value(object, name))?;
     }
     for light in &scene.lights {
-        out.push_str("\nlight\n");
-        line(&mut out, "location", &light.location);
-        line(&mut out, "color", &light.color);
+        section(&mut out, &SectionKind::Light, |name| match name {
+            AttrName::Location => Printed::Numbers(light.location.to_vec()),
+            AttrName::Color => Printed::Numbers(light.color.to_vec()),
+            _ => Printed::Omitted,
+        })?;
     }
     Ok(out)
+}
+
+/// What an attribute line prints.
+enum Printed<'a> {
+    Numbers(Vec<f64>),
+    Path(&'a str),
+    /// Not printed: the default, or not an attribute of this object.
+    Omitted,
+}
+
+/// A blank line, the keyword, then each attribute `value_of` gives, in
+/// the order of the language table ([`attributes_of`]).
+fn section<'a>(
+    out: &mut String,
+    kind: &SectionKind,
+    value_of: impl Fn(&AttrName) -> Printed<'a>,
+) -> Result<(), UnprintablePath> {
+    out.push('\n');
+    out.push_str(kind.as_str());
+    out.push('\n');
+    for spec in attributes_of(kind) {
+        let name = spec.name.as_str();
+        match value_of(&spec.name) {
+            Printed::Numbers(values) => line(out, name, &values),
+            // Writing to a String cannot fail.
+            Printed::Path(texture) => {
+                let _ = writeln!(out, "  {name} {}", path(texture)?);
+            }
+            Printed::Omitted => {}
+        }
+    }
+    Ok(())
+}
+
+/// The value of attribute `name` of a sphere or plane; a `color` of
+/// `1 1 1` and a `reflectivity` of `0` (the defaults) are omitted.
+fn object_value<'a>(object: &'a model::Object, name: &AttrName) -> Printed<'a> {
+    let material = &object.material;
+    let default = model::Material::default();
+    match (name, &object.shape) {
+        (AttrName::Dimension, Shape::Sphere { radius, .. }) => Printed::Numbers(vec![*radius]),
+        (AttrName::Dimension, Shape::Plane { width, height, .. }) => {
+            Printed::Numbers(vec![*width, *height])
+        }
+        (AttrName::Center, Shape::Sphere { center, .. } | Shape::Plane { center, .. }) => {
+            Printed::Numbers(center.to_vec())
+        }
+        (AttrName::Normal, Shape::Plane { normal, .. }) => Printed::Numbers(normal.to_vec()),
+        (AttrName::Headup, Shape::Plane { headup, .. }) => Printed::Numbers(headup.to_vec()),
+        (AttrName::Color, _) if !same_bits(&material.color, &default.color) => {
+            Printed::Numbers(material.color.to_vec())
+        }
+        (AttrName::Reflectivity, _)
+            if !same_bits(&[material.reflectivity], &[default.reflectivity]) =>
+        {
+            Printed::Numbers(vec![material.reflectivity])
+        }
+        (AttrName::Texture, _) => material
+            .texture
+            .as_deref()
+            .map_or(Printed::Omitted, Printed::Path),
+        _ => Printed::Omitted,
+    }
 }
 
 /// `  name v1 v2 v3`.

@@ -10,7 +10,8 @@ use miette::{Diagnostic, SourceSpan};
 use thiserror::Error;
 
 /// A problem in the text or the shape of a JSON scene.
-#[derive(Clone, Debug, Error, Diagnostic, PartialEq, Eq)]
+#[derive(Clone, Debug, Error, Diagnostic, PartialEq, Eq, strum::VariantNames)]
+#[strum(serialize_all = "snake_case")]
 pub enum JsonError {
     /// Fires when the text is not valid JSON (RFC 8259): a missing comma or
     /// quote, a comment, a trailing comma, `NaN`, an empty file.
@@ -100,13 +101,14 @@ pub enum JsonError {
 }
 
 impl JsonError {
-    /// Every code this enum can produce, for the fixture-coverage test.
-    pub const CODES: [&'static str; 6] = [
-        "json::syntax",
-        "json::unsupported_format",
-        "json::missing_field",
-        "json::unknown_field",
-        "json::duplicate_field",
-        "json::schema",
-    ];
+    /// Every code this enum can produce: `json::` and each variant's name
+    /// in snake case, which is what each variant's `code(...)` says (the
+    /// UI fixtures, one per code, check that).
+    pub fn codes() -> Vec<String> {
+        use strum::VariantNames;
+        Self::VARIANTS
+            .iter()
+            .map(|v| format!("json::{v}"))
+            .collect()
+    }
 }

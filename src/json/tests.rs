@@ -111,3 +111,37 @@ fn null_texture_is_no_texture() {
     assert_eq!(parsed.errors, []);
     assert_eq!(parsed.file.unwrap().sections[1].attributes.len(), 2);
 }
+
+#[test]
+fn object_fields_are_the_language_tables() {
+    use crate::language::attributes_of;
+    for (kind, fields) in [
+        (SectionKind::Sphere, &super::SPHERE[..]),
+        (SectionKind::Plane, &PLANE[..]),
+        (SectionKind::Light, &LIGHT[..]),
+    ] {
+        let mut table: Vec<&str> = attributes_of(&kind)
+            .iter()
+            .flat_map(|spec| spec.json.iter().copied())
+            .collect();
+        let mut read: Vec<&str> = fields
+            .iter()
+            .map(|f| f.name)
+            .filter(|name| *name != "type")
+            .collect();
+        table.sort_unstable();
+        read.sort_unstable();
+        assert_eq!(read, table, "{kind:?}");
+        for field in fields.iter().filter(|f| f.name != "type") {
+            let spec = attributes_of(&kind)
+                .iter()
+                .find(|s| s.json.contains(&field.name));
+            assert_eq!(
+                spec.map(|s| s.required),
+                Some(field.required),
+                "{}",
+                field.name
+            );
+        }
+    }
+}

@@ -217,6 +217,11 @@ impl Bvh {
         Some(Bvh { nodes: wide })
     }
 
+    /// How many wide nodes the tree has (at least 1).
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
     /// The nearest hit in `(0, t_max)` among `prims` (the list the
     /// hierarchy was built over); among hits at the same `t`, the primitive
     /// with the lowest IR index.

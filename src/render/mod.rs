@@ -117,6 +117,10 @@ pub fn render_rows<R: Real>(
             a += b;
             a
         });
+    let counters = Counters {
+        bvh_nodes: tracer.bvh_nodes(),
+        ..counters
+    };
     (rgb, counters)
 }
 

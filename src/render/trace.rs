@@ -37,6 +37,14 @@ pub struct Counters {
     pub shadow_rays_skipped: u64,
     /// Paths ended early because every channel had reached 1.
     pub paths_saturated: u64,
+    /// Samples whose colour, and texture lookups whose coordinates, were
+    /// NaN or infinite: always 0 (counted in every build, so a release
+    /// test can assert it; tests/stability.rs does).
+    pub non_finite: u64,
+    /// The wide nodes of the hierarchy rays walked, or 0 when every
+    /// primitive was tested (brute force): which acceleration ran. Set once
+    /// per render, not summed.
+    pub bvh_nodes: u64,
 }
 
 impl std::ops::AddAssign for Counters {
@@ -47,6 +55,8 @@ impl std::ops::AddAssign for Counters {
         self.texture_lookups += other.texture_lookups;
         self.shadow_rays_skipped += other.shadow_rays_skipped;
         self.paths_saturated += other.paths_saturated;
+        self.non_finite += other.non_finite;
+        self.bvh_nodes = self.bvh_nodes.max(other.bvh_nodes);
     }
 }
 
@@ -135,7 +145,15 @@ impl<'a, R: Real> Tracer<'a, R> {
             counters.reflection_rays += 1;
         }
         debug_assert!(color.is_finite(), "non-finite colour {color}");
+        if !color.is_finite() {
+            counters.non_finite += 1;
+        }
         color
+    }
+
+    /// The wide nodes of the hierarchy this tracer walks (0: brute force).
+    pub fn bvh_nodes(&self) -> u64 {
+        self.world.bvh_nodes()
     }
 
     /// The hit point (on the surface to rounding), the face-forward normal
@@ -184,6 +202,9 @@ impl<'a, R: Real> Tracer<'a, R> {
         match (material.texture, surface.uv) {
             (Some(texture), Some((u, v))) => {
                 counters.texture_lookups += 1;
+                if !(u.is_finite() && v.is_finite()) {
+                    counters.non_finite += 1;
+                }
                 texel(&self.scene.textures[texture], u, v)
             }
             _ => material.color,
@@ -205,7 +226,13 @@ impl<'a, R: Real> Tracer<'a, R> {
         for light in &self.lights {
             let contribution = albedo * light.color;
             let to_light = light.position - surface.point;
-            let cos = surface.normal.dot(to_light.normalize()).wide();
+            let length = to_light.length();
+            if length.is_zero() {
+                // A light at the hit point has no direction to normalise
+                // (it would be NaN): it lights nothing there.
+                continue;
+            }
+            let cos = surface.normal.dot(to_light * length.recip()).wide();
             if self.skip
                 && (cos <= 0.0 || contribution == DVec3::ZERO || saturated(color + local * weight))
             {
@@ -216,7 +243,7 @@ impl<'a, R: Real> Tracer<'a, R> {
             let to_light = light.position - origin;
             let distance = to_light.length();
             if distance.is_zero() {
-                // The light sits on the surface: nothing lies between.
+                // The light sits at the offset origin: nothing lies between.
                 continue;
             }
             let ray = Ray {
@@ -248,6 +275,11 @@ pub fn sphere_uv(m: DVec3) -> (f64, f64) {
 /// The nearest texel, row 0 at the top: `x = min(⌊u·w⌋, w−1)`,
 /// `y = min(⌊(1−v)·h⌋, h−1)`. Coordinates a rounding step outside [0, 1]
 /// land on the edge texel.
+///
+/// Total for any texture and any coordinates: the loader refuses an image
+/// without texels, but a texture whose texels do not fill `w × h` (which
+/// no loader builds) reads black where they are missing instead of
+/// indexing out of range.
 pub fn texel(texture: &ir::Texture, u: f64, v: f64) -> DVec3 {
     debug_assert!(
         u.is_finite() && v.is_finite(),
@@ -257,10 +289,14 @@ pub fn texel(texture: &ir::Texture, u: f64, v: f64) -> DVec3 {
     // `as usize` truncates, which is the floor for values ≥ 0, and
     // saturates: negative values (and NaN) become 0. (`floor` itself is a
     // libm call on baseline x86-64.)
-    let x = ((u * w as f64) as usize).min(w - 1);
-    let y = (((1.0 - v) * h as f64) as usize).min(h - 1);
-    let [r, g, b] = texture.texels[y * w + x];
-    DVec3::new(f64::from(r), f64::from(g), f64::from(b))
+    let x = ((u * w as f64) as usize).min(w.saturating_sub(1));
+    let y = (((1.0 - v) * h as f64) as usize).min(h.saturating_sub(1));
+    texture
+        .texels
+        .get(y * w + x)
+        .map_or(DVec3::ZERO, |&[r, g, b]| {
+            DVec3::new(f64::from(r), f64::from(g), f64::from(b))
+        })
 }
 
 #[cfg(test)]
@@ -282,6 +318,44 @@ mod tests {
         assert_eq!(texel(&texture, 0.1, 0.1), DVec3::splat(0.5));
         assert_eq!(texel(&texture, 1.0, 0.0), DVec3::splat(1.0));
         assert_eq!(texel(&texture, -1e-17, 1.0 + 1e-17), DVec3::splat(0.0));
+    }
+
+    /// A light exactly at the hit point (the sphere's front pole, which
+    /// the centre ray hits and the reprojection puts exactly at
+    /// `(0, 0, −4)`) is skipped before its direction would be normalised:
+    /// ambient only, no shadow ray, nothing non-finite, in both precisions.
+    #[test]
+    fn a_light_at_distance_zero_is_skipped_not_normalised() {
+        let scene = ir::Scene {
+            resolution: 1,
+            objects: vec![ir::Object {
+                shape: ir::Shape::Sphere {
+                    center: DVec3::new(0.0, 0.0, -5.0),
+                    radius: 1.0,
+                },
+                material: ir::Material {
+                    color: DVec3::new(0.5, 0.25, 1.0),
+                    reflectivity: 0.0,
+                    texture: None,
+                },
+            }],
+            lights: vec![ir::Light {
+                position: DVec3::new(0.0, 0.0, -4.0),
+                color: DVec3::ONE,
+            }],
+            textures: Vec::new(),
+            effects: ir::Effects::default(),
+        };
+        for skip in [true, false] {
+            let mut counters = Counters::default();
+            let ray = crate::render::camera_ray::<f64>(1, 0.5, 0.5);
+            let color = Tracer::<f64>::new(&scene, 8, skip).radiance(ray, &mut counters);
+            assert_eq!(color, DVec3::new(0.5, 0.25, 1.0) * AMBIENT);
+            let ray = crate::render::camera_ray::<f32>(1, 0.5, 0.5);
+            let color32 = Tracer::<f32>::new(&scene, 8, skip).radiance(ray, &mut counters);
+            assert_eq!(color32, color);
+            assert_eq!((counters.shadow_rays, counters.non_finite), (0, 0));
+        }
     }
 
     #[test]

@@ -96,6 +96,11 @@ impl<R: Real> World<R> {
         }
     }
 
+    /// The wide nodes of the hierarchy, or 0 without one.
+    pub fn bvh_nodes(&self) -> u64 {
+        self.bvh.as_ref().map_or(0, |bvh| bvh.node_count() as u64)
+    }
+
     /// The nearest hit in `(0, t_max)`; among hits at the same `t`, the
     /// primitive that comes first in the IR.
     pub fn closest(&self, ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {

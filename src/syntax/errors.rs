@@ -6,7 +6,8 @@ use miette::{Diagnostic, SourceSpan};
 use thiserror::Error;
 
 /// A problem in the token stream of a scene file.
-#[derive(Clone, Debug, Error, Diagnostic, PartialEq, Eq)]
+#[derive(Clone, Debug, Error, Diagnostic, PartialEq, Eq, strum::VariantNames)]
+#[strum(serialize_all = "snake_case")]
 pub enum SyntaxError {
     /// Fires when the file's bytes are not UTF-8; the parser continues on a
     /// lossy decoding so later problems are still reported.
@@ -83,13 +84,14 @@ pub enum SyntaxError {
 }
 
 impl SyntaxError {
-    /// Every code this enum can produce, for the fixture-coverage test.
-    pub const CODES: [&'static str; 6] = [
-        "syntax::invalid_utf8",
-        "syntax::invalid_number",
-        "syntax::non_finite_number",
-        "syntax::number_out_of_range",
-        "syntax::unterminated_string",
-        "syntax::value_outside_section",
-    ];
+    /// Every code this enum can produce: `syntax::` and each variant's name
+    /// in snake case, which is what each variant's `code(...)` says (the
+    /// UI fixtures, one per code, check that).
+    pub fn codes() -> Vec<String> {
+        use strum::VariantNames;
+        Self::VARIANTS
+            .iter()
+            .map(|v| format!("syntax::{v}"))
+            .collect()
+    }
 }
