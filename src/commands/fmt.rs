@@ -17,6 +17,7 @@ use super::Outcome;
 use crate::cli::FmtArgs;
 use crate::diagnostic::BoxedDiagnostic;
 use crate::diagnostic::{boxed, terminal_width, use_color, Report, SourceFile};
+use crate::escape::escape;
 use crate::format::format;
 use crate::frontend::{read_scene, Language};
 use crate::output::write_atomically;
@@ -74,11 +75,12 @@ pub fn run(args: FmtArgs) -> Result<Outcome, BoxedDiagnostic> {
     })
 }
 
+/// The path as messages show it, escaped for the terminal.
 fn shown(path: &Path) -> String {
     if path == Path::new("-") {
         "<stdin>".to_string()
     } else {
-        path.display().to_string()
+        escape(&path.display().to_string()).into_owned()
     }
 }
 
@@ -104,7 +106,7 @@ fn files(paths: &[PathBuf], unreadable: &mut bool) -> Vec<PathBuf> {
 
 fn walk(dir: &Path, found: &mut Vec<PathBuf>) -> Result<(), FmtError> {
     let read_error = |error: std::io::Error| FmtError::Read {
-        path: dir.display().to_string(),
+        path: shown(dir),
         reason: crate::diagnostic::io_reason(&error),
     };
     for entry in std::fs::read_dir(dir).map_err(read_error)? {
@@ -126,7 +128,7 @@ fn format_file(path: &Path, check: bool) -> Result<Formatted, FmtError> {
         path: name.clone(),
         reason: match error {
             crate::frontend::ReadSceneError::Io { reason, .. } => reason,
-            other => other.to_string(),
+            other => escape(&other.to_string()).into_owned(),
         },
     })?;
     if Language::of(path, &bytes) == Language::Json {
