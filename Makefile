@@ -69,19 +69,23 @@ accuracy:
 	  --y-label "RMSE against the reference, 1/255" --log-x --log-y --lines
 
 # Fuzz the front end (docs/reliability.md): `make fuzz` runs each target
-# (scene text, JSON scenes, texture decoding) for FUZZ_SECONDS with one
-# libFuzzer job, growing fuzz/corpus/TARGET from fuzz/seeds/TARGET, and
-# appends a dated line per target (seconds, executions, crashes) to the run
-# log at the end of docs/reliability.md (scripts/fuzz.sh); a crash lands in
+# (scene text, JSON scenes, texture decoding) for FUZZ_SECONDS of wall
+# clock, or FUZZ_CPU_SECONDS of the fuzzer's CPU time when that is set, with
+# one libFuzzer job, growing fuzz/corpus/TARGET from fuzz/seeds/TARGET, and
+# appends a dated line per target (wall and CPU seconds, executions,
+# crashes) to the run log at the end of docs/reliability.md
+# (scripts/fuzz.sh); a crash lands in
 # fuzz/artifacts/TARGET and fails the target. Needs cargo-fuzz
 # (`cargo install cargo-fuzz`). libFuzzer's instrumentation and ASan use
 # nightly-only rustc flags: RUSTC_BOOTSTRAP=1 allows them on the stable
 # toolchain (use FUZZ_FLAGS="--sanitizer none" to fuzz without ASan).
 FUZZ_SECONDS ?= 600
 FUZZ_TARGETS ?= scene json texture
+FUZZ_CPU_SECONDS ?=
 FUZZ_FLAGS ?=
 fuzz:
-	FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_FLAGS="$(FUZZ_FLAGS)" CARGO="$(CARGO)" \
+	FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_CPU_SECONDS=$(FUZZ_CPU_SECONDS) \
+	  FUZZ_FLAGS="$(FUZZ_FLAGS)" CARGO="$(CARGO)" \
 	  scripts/fuzz.sh $(FUZZ_TARGETS)
 
 # Shrink the fuzz corpora to the inputs that add coverage (commit the result).

@@ -229,7 +229,7 @@ fn fix_reports_escape_the_file_name() {
     let name = OsStr::from_bytes(b"fix\x1b]0;x\x07.txt");
     std::fs::write(
         dir.path().join(name),
-        "camera 2\nplane\n  dimension 1 1\n  center 0 0 -5\n  normal 0 0 2\n  headup 0 1 0\n",
+        "camera 2\nplane\n  dimension 1 1\n  center 0 0 -5\n  normal 0 0 2\n  headup 0 1 1\n",
     )
     .expect("write scene");
     let output = run_in(dir.path(), &["check".as_ref(), "--fix".as_ref(), name]);
@@ -237,7 +237,9 @@ fn fix_reports_escape_the_file_name() {
     let stdout = String::from_utf8(output.stdout).expect("UTF-8");
     assert_no_hidden(&stdout);
     assert!(
-        stdout.contains("fix\\u{1b}]0;x\\u{7}.txt:5:3: fixed: normalised `normal`"),
+        // A non-unit normal is valid and stays as written (issue 14); the
+        // headup projection is the fix here.
+        stdout.contains("fix\\u{1b}]0;x\\u{7}.txt:6:14: fixed: projected `headup` onto the plane"),
         "{stdout}"
     );
 }
