@@ -264,6 +264,7 @@ fn formatting_outline_hover_and_completion() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("wood.ppm"), "P3\n1 1\n255\n1 2 3\n").unwrap();
     std::fs::write(dir.path().join("notes.md"), "").unwrap();
+    std::fs::write(dir.path().join("old #2.png"), "").unwrap();
     let uri = uri_of(&dir.path().join("scene.txt"));
     let mut client = Client::start();
     let text = "camera 4 # four\nsphere dimension 1 center 0 0 -5\nsphere\n";
@@ -303,8 +304,13 @@ fn formatting_outline_hover_and_completion() {
             .to_string()
     };
     assert!(hover(&mut client, 1, 2).contains("`dimension RADIUS`"));
-    assert!(hover(&mut client, 1, 10).contains("required in every `sphere`"));
+    let center = hover(&mut client, 1, 20);
+    assert!(center.contains("required in every `sphere`"), "{center}");
+    assert!(center.contains("the centre, in world units"), "{center}");
     assert!(hover(&mut client, 0, 2).contains("N × N pixels"));
+    client.change(&uri, 3, "sphere color 1 0 0");
+    let color = hover(&mut client, 0, 8);
+    assert!(color.contains("default `1 1 1`"), "{color}");
 
     let complete = |client: &mut Client, text: &str, line: u32, character: u32| {
         client.change(&uri, 9, text);
@@ -335,11 +341,11 @@ fn formatting_outline_hover_and_completion() {
     );
     assert_eq!(
         complete(&mut client, "sphere\n  texture ", 1, 10),
-        ["wood.ppm"]
+        ["old #2.png", "wood.ppm"]
     );
     assert_eq!(
         complete(&mut client, "sphere\n  texture w", 1, 11),
-        ["wood.ppm"]
+        ["old #2.png", "wood.ppm"]
     );
     assert_eq!(client.shut_down(), Some(0));
 }

@@ -96,6 +96,9 @@ fn texture_files(document: &Document) -> Vec<CompletionItem> {
     names
         .into_iter()
         .map(|name| CompletionItem {
+            // A name with spaces, `#` or quotes is written as a string.
+            insert_text: (!name.chars().all(is_word_char))
+                .then(|| format!("\"{}\"", name.replace('\\', "\\\\").replace('"', "\\\""))),
             label: name,
             kind: Some(CompletionItemKind::FILE),
             ..CompletionItem::default()

@@ -1,6 +1,6 @@
 //! Hover: on a section keyword, what the section takes; on an attribute
-//! name, its values and where it belongs, from the language table
-//! ([`crate::language`]); on a texture path, the file it resolves to (from
+//! name, what it means (units), its values, rule, default and an example,
+//! and where it belongs, from the language table ([`crate::language`]); on a texture path, the file it resolves to (from
 //! the document's folder, as the check pass resolves it) and its size.
 //! Scene text only: a JSON scene's keys are described by its schema.
 
@@ -97,17 +97,20 @@ fn describe_section(kind: &SectionKind) -> String {
 }
 
 fn describe_attribute(kind: &SectionKind, spec: &AttrSpec) -> String {
-    let need = if spec.required {
-        format!("required in every `{}`", kind.as_str())
-    } else {
-        format!("optional in a `{}`", kind.as_str())
+    let need = match spec.default {
+        _ if spec.required => format!("required in every `{}`", kind.as_str()),
+        Some(default) => format!("optional in a `{}`; default `{default}`", kind.as_str()),
+        None => format!("optional in a `{}`", kind.as_str()),
     };
     let sections = language::sections_taking(&spec.name);
     format!(
-        "**{}**: {}, {need}\n\n```\n{}\n```\n\nTaken by {}.",
+        "**{}** `{}`: {}\n\n{}, {need}; {}.\n\n```\n{}\n```\n\nTaken by {}.",
         spec.name.as_str(),
+        spec.placeholder,
+        spec.description,
         values_of(spec),
-        form(spec),
+        spec.rule,
+        spec.example,
         language::list(&sections)
     )
 }
