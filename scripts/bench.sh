@@ -109,3 +109,4 @@ done
 echo
 echo "ours s: seconds.render; POV-Ray s: its Trace Time; MB: peak resident set (/usr/bin/time %M);"
 echo "ours wall: whole process; ours 2thr: seconds.render with --threads 2. Samples: $OUT/samples.csv"
+scripts/bench_lsp.sh

@@ -35,6 +35,10 @@ pub enum Command {
     Check(CheckArgs),
     /// Convert a scene to JSON, canonical scene text, or POV-Ray.
     Convert(ConvertArgs),
+    /// Lay out scene text files canonically, keeping every comment.
+    Fmt(FmtArgs),
+    /// Serve the Language Server Protocol on stdin and stdout (for editors).
+    Lsp(LspArgs),
     /// Put the tiles of `render --tile` together into one image.
     Stitch(StitchArgs),
     /// Measure what accuracy costs for a scene: error and time of each
@@ -245,6 +249,24 @@ pub struct AccuracyArgs {
     pub threads: Option<u32>,
 }
 
+#[derive(Debug, Args)]
+pub struct FmtArgs {
+    /// Scene text files, or folders to search for `.txt` and `.scene` files
+    /// (`-` formats stdin to stdout).
+    #[arg(required = true)]
+    pub paths: Vec<PathBuf>,
+    /// Write nothing; list the files that would change and exit 1 if any.
+    #[arg(long)]
+    pub check: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct LspArgs {
+    /// Milliseconds a document must go unchanged before it is re-checked.
+    #[arg(long, default_value_t = 150, value_name = "MS")]
+    pub debounce_ms: u64,
+}
+
 /// Parse the process arguments, accepting `raytracer SCENE OUT` for
 /// `raytracer render SCENE OUT`.
 pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap::Error> {
@@ -254,7 +276,7 @@ pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap:
         a.starts_with('-') && a != "-"
             || matches!(
                 &*a,
-                "render" | "check" | "convert" | "stitch" | "accuracy" | "help"
+                "render" | "check" | "convert" | "stitch" | "accuracy" | "fmt" | "lsp" | "help"
             )
     };
     if args.len() > 1 && !is_subcommand(&args[1]) {

@@ -8,13 +8,14 @@
 //! [`ir`] (model → render IR; lowering cannot fail) →
 //! [`render`] (IR → image and statistics) → [`output`] (image → file).
 //! [`convert`] prints a checked model as JSON, canonical scene text or
-//! POV-Ray. [`tile`] cuts a frame into parts rendered apart and stitches
-//! them back. [`accuracy`] measures what each accuracy setting of the
-//! renderer costs and buys for a scene. [`ci`] lays diagnostics out for CI
-//! services (SARIF, GitHub workflow commands). [`frontend`] drives the
-//! stages from bytes to a checked scene for every caller; [`commands`] runs
-//! them for the command line defined in [`cli`], and nothing below that
-//! layer imports it.
+//! POV-Ray; [`format`] lays out scene text with its comments. [`tile`]
+//! cuts a frame into parts rendered apart and stitches them back.
+//! [`accuracy`] measures what each accuracy setting of the renderer costs
+//! and buys for a scene. [`ci`] lays diagnostics out for CI services
+//! (SARIF, GitHub workflow commands). [`frontend`] drives the stages from
+//! bytes to a checked scene for every caller; [`lsp`] serves them to
+//! editors; [`commands`] runs them for the command line defined in
+//! [`cli`], and nothing below that layer imports it.
 
 pub mod accuracy;
 pub mod ast;
@@ -26,12 +27,14 @@ pub mod convert;
 pub mod diagnostic;
 pub mod escape;
 pub mod fix;
+pub mod format;
 pub mod frontend;
 pub mod geometry;
 pub mod ir;
 pub mod json;
 pub mod language;
 pub mod limits;
+pub mod lsp;
 pub mod model;
 pub mod output;
 pub mod render;

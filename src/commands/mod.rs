@@ -6,6 +6,8 @@ pub mod accuracy;
 pub mod check;
 pub mod convert;
 pub mod discover;
+pub mod fmt;
+pub mod lsp;
 pub mod render;
 pub mod stitch;
 
@@ -52,6 +54,8 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Check(args) => check::run(args),
         Command::Convert(args) => convert::run(args),
+        Command::Fmt(args) => fmt::run(args),
+        Command::Lsp(args) => lsp::run(args),
         Command::Stitch(args) => stitch::run(args),
         Command::Accuracy(args) => accuracy::run(args),
     };

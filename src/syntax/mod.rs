@@ -13,6 +13,7 @@
 //! [`Offset`] trait from the remaining input (as kdl-rs does).
 
 pub mod errors;
+pub mod trivia;
 
 use nom::branch::alt;
 use nom::bytes::complete::{take_till1, take_while1};

@@ -1,0 +1,283 @@
+//! The formatter (`raytracer::format` and `raytracer fmt`):
+//!
+//! - before/after fixtures: each file in tests/format/ and its formatted
+//!   text as an insta snapshot;
+//! - properties over the corpus (tests/corpus/field), scenes/ and generated
+//!   scenes with comments and odd spacing: formatting is idempotent, keeps
+//!   every comment, and never changes meaning (the same syntax tree, the
+//!   same diagnostics, the same checked scene);
+//! - the command: `--check` lists and writes nothing, files are rewritten in
+//!   place, syntax errors refuse, stdin goes to stdout, JSON is refused.
+
+mod support;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use proptest::prelude::*;
+use raytracer::format::format;
+use raytracer::frontend::load_bytes;
+use raytracer::syntax::{self, trivia};
+use support::{run, write};
+
+const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/format");
+const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");
+const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
+
+fn scene_files(dir: &str) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "txt" || e == "scene"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// What a scene means to the toolchain: its diagnostics (code, message,
+/// help and the text each label points at, each without comments and with
+/// its whitespace collapsed, since a message may quote the source) and its
+/// checked scene as JSON.
+fn meaning(text: &str, dir: &Path) -> (Vec<String>, Option<String>) {
+    let loaded = load_bytes("scene.txt", dir, text.as_bytes(), Instant::now());
+    let comments = comments(text);
+    let plain = |s: &str| {
+        let mut s = s.to_string();
+        for comment in &comments {
+            s = s.replace(comment.as_str(), " ");
+        }
+        s.split_whitespace().collect::<Vec<_>>().join(" ")
+    };
+    let diagnostics = loaded
+        .report
+        .entries()
+        .map(|e| {
+            let at: Vec<String> = e
+                .labels
+                .iter()
+                .map(|l| plain(&text[l.byte_offset..l.byte_offset + l.byte_length]))
+                .collect();
+            let help = e.help.as_deref().map(plain);
+            format!("{} {} {help:?} {at:?}", e.code, plain(&e.message))
+        })
+        .collect();
+    let scene = loaded
+        .checked
+        .map(|c| raytracer::convert::json::to_json(&c.scene));
+    (diagnostics, scene)
+}
+
+fn comments(text: &str) -> Vec<String> {
+    trivia::comments(text)
+        .iter()
+        .map(|s| text[s.start()..s.end()].trim_end().to_string())
+        .collect()
+}
+
+/// Format `text` and assert the properties; returns the formatted text.
+fn assert_formats_well(text: &str, dir: &Path, what: &str) -> String {
+    let once = format(text).unwrap_or_else(|e| panic!("{what}: syntax errors {e:?}"));
+    assert_eq!(format(&once).unwrap(), once, "{what}: not idempotent");
+    assert_eq!(
+        syntax::parse(text).file,
+        syntax::parse(&once).file,
+        "{what}: the tree changed\n{once}"
+    );
+    assert_eq!(meaning(text, dir), meaning(&once, dir), "{what}: meaning");
+    assert_eq!(comments(text), comments(&once), "{what}: comments");
+    once
+}
+
+#[test]
+fn fixtures() {
+    let files = scene_files(FIXTURES);
+    assert!(files.len() >= 8, "{files:?}");
+    for path in files {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let name = path.file_stem().unwrap().to_str().unwrap().to_string();
+        let formatted = assert_formats_well(&text, Path::new(FIXTURES), &name);
+        insta::assert_snapshot!(name, formatted);
+    }
+}
+
+#[test]
+fn corpus_and_scenes_keep_their_meaning() {
+    // SOURCE.txt is the corpus's provenance, in prose.
+    let files: Vec<PathBuf> = [CORPUS, SCENES]
+        .iter()
+        .flat_map(|d| scene_files(d))
+        .filter(|p| !p.ends_with("SOURCE.txt"))
+        .collect();
+    assert!(files.len() >= 15, "{files:?}");
+    for path in files {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let dir = path.parent().unwrap();
+        assert_formats_well(&text, dir, &path.display().to_string());
+    }
+}
+
+/// Whitespace between tokens: spaces, tabs, line ends of every kind, blank
+/// lines, and sometimes a comment.
+fn gap() -> impl Strategy<Value = String> {
+    prop_oneof![
+        Just(" ".to_string()),
+        Just("\t".to_string()),
+        Just("\n".to_string()),
+        Just("\r\n  ".to_string()),
+        Just("\n\n\n".to_string()),
+        Just("\u{2028}".to_string()),
+        "[ a-z#.]{0,8}".prop_map(|c| format!(" # {c}\n")),
+        "[ a-z]{0,8}".prop_map(|c| format!("\n#{c}\n    ")),
+    ]
+}
+
+fn number() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (-9i32..9).prop_map(|n| n.to_string()),
+        (0u32..99).prop_map(|n| format!(".{n}")),
+        (-5i32..5).prop_map(|n| format!("{n}.")),
+        (1u32..9, -3i32..3).prop_map(|(m, e)| format!("{m}e{e}")),
+        Just("+0".to_string()),
+    ]
+}
+
+/// One section's tokens: a keyword (sometimes misspelt), values, and
+/// attributes of any section with one to four numbers or a path.
+fn section() -> impl Strategy<Value = Vec<String>> {
+    let keyword = prop_oneof![
+        Just("camera"),
+        Just("sphere"),
+        Just("plane"),
+        Just("light"),
+        Just("sphre")
+    ];
+    let name = prop_oneof![
+        Just("dimension"),
+        Just("center"),
+        Just("color"),
+        Just("reflectivity"),
+        Just("normal"),
+        Just("headup"),
+        Just("location"),
+        Just("colr"),
+    ];
+    let attribute = prop_oneof![
+        (name, prop::collection::vec(number(), 1..4)).prop_map(|(n, v)| {
+            let mut tokens = vec![n.to_string()];
+            tokens.extend(v);
+            tokens
+        }),
+        Just(vec!["texture".to_string(), "\"a #b.ppm\"".to_string()]),
+        Just(vec!["texture".to_string(), "wood.ppm".to_string()]),
+    ];
+    (
+        keyword,
+        prop::collection::vec(number(), 0..2),
+        prop::collection::vec(attribute, 0..5),
+    )
+        .prop_map(|(k, args, attributes)| {
+            let mut tokens = vec![k.to_string()];
+            tokens.extend(args);
+            tokens.extend(attributes.into_iter().flatten());
+            tokens
+        })
+}
+
+fn scene() -> impl Strategy<Value = String> {
+    (
+        prop::collection::vec(section(), 0..5),
+        prop::collection::vec(gap(), 64),
+    )
+        .prop_map(|(sections, gaps)| {
+            let mut text = String::new();
+            for (token, gap) in sections.into_iter().flatten().zip(gaps.iter().cycle()) {
+                text.push_str(&token);
+                text.push_str(gap);
+            }
+            text
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+    #[test]
+    fn generated_scenes_keep_their_meaning(text in scene()) {
+        assert_formats_well(&text, Path::new(FIXTURES), &format!("{text:?}"));
+    }
+}
+
+#[test]
+fn check_lists_changed_files_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let messy = write(dir.path(), "messy.txt", "camera 4 sphere dimension 1 # r\n");
+    let tidy = write(dir.path(), "tidy.scene", "camera 4\n");
+    write(dir.path(), "notes.md", "camera 4 sphere");
+    let output = run(&["fmt", "--check", dir.path().to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&output.stdout),
+        format!("{messy}\n")
+    );
+    assert_eq!(
+        std::fs::read_to_string(&messy).unwrap(),
+        "camera 4 sphere dimension 1 # r\n"
+    );
+    let output = run(&["fmt", &messy, &tidy]);
+    assert_eq!(output.status.code(), Some(0), "{output:?}");
+    assert_eq!(
+        std::fs::read_to_string(&messy).unwrap(),
+        "camera 4\n\nsphere\n  dimension 1 # r\n"
+    );
+    let output = run(&["fmt", "--check", &messy, &tidy]);
+    assert_eq!(output.status.code(), Some(0), "{output:?}");
+    assert!(output.stdout.is_empty());
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert_eq!(names.len(), 3, "no temporary file left behind");
+}
+
+#[test]
+fn syntax_errors_refuse_and_leave_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "camera 4,5\nsphere   dimension 1\n";
+    let bad = write(dir.path(), "bad.txt", text);
+    let output = run(&["fmt", &bad]);
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("syntax::invalid_number"), "{stderr}");
+    assert!(stderr.contains("not formatted"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(&bad).unwrap(), text);
+    let latin1 = dir.path().join("latin1.txt");
+    std::fs::write(&latin1, b"camera 4 # caf\xe9\n").unwrap();
+    let output = run(&["fmt", latin1.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(std::fs::read(&latin1).unwrap(), b"camera 4 # caf\xe9\n");
+}
+
+#[test]
+fn stdin_json_and_missing_files() {
+    use std::io::Write;
+    let mut child = support::command(&["fmt", "-"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(b"camera 4 sphere center 0 0 0")
+        .unwrap();
+    let output = child.wait_with_output().unwrap();
+    assert_eq!(output.status.code(), Some(0));
+    assert_eq!(
+        String::from_utf8_lossy(&output.stdout),
+        "camera 4\n\nsphere\n  center 0 0 0\n"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let json = write(dir.path(), "s.json", "{}");
+    let output = run(&["fmt", &json, "missing.txt"]);
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("io::fmt_json"), "{stderr}");
+    assert!(stderr.contains("missing.txt"), "{stderr}");
+}
