@@ -119,7 +119,7 @@ fn stats(path: &Path) -> Value {
 fn tiles_stitched_in_any_order_are_the_whole_render() {
     let dir = scene_dir();
     let d = dir.path();
-    let cases: [(u32, &[&str]); 7] = [
+    let cases: [(u32, &[&str]); 9] = [
         (1, &[]),
         (2, &[]),
         (3, &["--spp", "4"]),
@@ -130,6 +130,13 @@ fn tiles_stitched_in_any_order_are_the_whole_render() {
             &["--spp", "4", "--precision", "f32", "--max-depth", "2"],
         ),
         (4, &["--no-skip", "--accel", "brute"]),
+        // Adaptive sampling decides from its neighbours' first samples,
+        // including those in the bands above and below.
+        (5, &["--spp", "16", "--aa", "adaptive"]),
+        (
+            29,
+            &["--spp", "4", "--aa", "adaptive", "--aa-threshold", "1"],
+        ),
     ];
     for (case, (n, options)) in cases.into_iter().enumerate() {
         let whole = format!("whole{case}.ppm");

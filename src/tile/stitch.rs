@@ -61,7 +61,7 @@ pub enum StitchError {
     #[diagnostic(
         code(stitch::other_options),
         help(
-            "render every part with the same `--precision`, `--spp`, `--max-depth` and `--no-skip`"
+            "render every part with the same `--precision`, `--spp`, `--aa`, `--aa-threshold`, `--max-depth` and `--no-skip`"
         )
     )]
     OtherOptions {
