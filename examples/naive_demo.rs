@@ -232,9 +232,9 @@ fn trace<R: Real>(scene: &ir::Scene, naive: Naive, ray: Ray<R>, depth: u32) -> D
     } else {
         outward
     };
-    let albedo = match object.material.texture {
+    let albedo = match scene.material(object).texture {
         Some(k) => texel(&scene.textures[k], uv.0, uv.1),
-        None => object.material.color,
+        None => scene.material(object).color,
     };
     let mut color = albedo * AMBIENT;
     for light in &scene.lights {
@@ -254,7 +254,7 @@ fn trace<R: Real>(scene: &ir::Scene, naive: Naive, ray: Ray<R>, depth: u32) -> D
             color += albedo * light.color * cos;
         }
     }
-    let k = object.material.reflectivity;
+    let k = scene.material(object).reflectivity;
     if k > 0.0 && depth < 8 {
         let dir = (ray.dir - n * (R::of(2.0) * ray.dir.dot(n))).normalize();
         color += trace(

@@ -360,8 +360,7 @@ fn random_scene() -> impl Strategy<Value = ir::Scene> {
                 })
             },
         );
-    let object = (prop_oneof![sphere, rect], material)
-        .prop_map(|(shape, material)| ir::Object { shape, material });
+    let object = (prop_oneof![sphere, rect], material);
     let light = point.prop_map(|position| ir::Light {
         position,
         color: DVec3::ONE,
@@ -372,7 +371,12 @@ fn random_scene() -> impl Strategy<Value = ir::Scene> {
     )
         .prop_map(|(objects, lights)| ir::Scene {
             resolution: 6,
-            objects,
+            // One material table entry per object.
+            materials: objects.iter().map(|(_, m)| m.clone()).collect(),
+            objects: (0..)
+                .zip(objects)
+                .map(|(material, (shape, _))| ir::Object { shape, material })
+                .collect(),
             lights,
             textures: vec![ir::Texture {
                 path: "checker".into(),

@@ -1,14 +1,14 @@
 //! Lowering: a checked scene model to the render IR.
 //!
 //! Built in dependency order (the pbrt-v4 way): textures first, each
-//! decoded once however many objects use it, then the materials that index
-//! them, then the shapes with their derived geometry, then the lights, and
-//! the [`Effects`] summary. The checked scene is taken by value: its
-//! decoded textures move into the IR, so peak memory holds their texels
-//! once. Every input was validated by the check
-//! pass, so each step is a total function: there is nothing left to fail.
+//! decoded once however many objects use it, then the table of distinct
+//! materials that index them, then the shapes with their derived geometry,
+//! then the lights, and the [`Effects`] summary. The checked scene is taken
+//! by value: its decoded textures move into the IR, so peak memory holds
+//! their texels once. Every input was validated by the check pass, so each
+//! step is a total function: there is nothing left to fail.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 
 use glam::DVec3;
 
@@ -27,6 +27,8 @@ pub fn lower(checked: Checked) -> Scene {
     let effects = Effects::of(&scene);
     let mut textures: Vec<Texture> = Vec::new();
     let mut texture_index: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut materials: Vec<Material> = Vec::new();
+    let mut material_index: HashMap<MaterialKey, u32> = HashMap::new();
     let objects: Vec<Object> = scene
         .objects
         .iter()
@@ -39,13 +41,20 @@ pub fn lower(checked: Checked) -> Scene {
                 texture_index.insert(path, textures.len() - 1);
                 Some(textures.len() - 1)
             });
+            let material = Material {
+                color: DVec3::from_array(object.material.color),
+                reflectivity: object.material.reflectivity,
+                texture,
+            };
+            let material = *material_index
+                .entry(MaterialKey::of(&material))
+                .or_insert_with(|| {
+                    materials.push(material);
+                    materials.len() as u32 - 1
+                });
             Object {
                 shape: shape(&object.shape),
-                material: Material {
-                    color: DVec3::from_array(object.material.color),
-                    reflectivity: object.material.reflectivity,
-                    texture,
-                },
+                material,
             }
         })
         .collect();
@@ -60,9 +69,22 @@ pub fn lower(checked: Checked) -> Scene {
     Scene {
         resolution: scene.camera.resolution,
         objects,
+        materials,
         lights,
         textures,
         effects,
+    }
+}
+
+/// A material's bits, to find equal materials: two objects share a table
+/// entry only when every field is the same number.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+struct MaterialKey([u64; 4], Option<usize>);
+
+impl MaterialKey {
+    fn of(m: &Material) -> MaterialKey {
+        let [r, g, b] = m.color.to_array().map(f64::to_bits);
+        MaterialKey([r, g, b, m.reflectivity.to_bits()], m.texture)
     }
 }
 
@@ -92,9 +114,9 @@ fn shape(shape: &model::Shape) -> Shape {
     }
 }
 
-/// The plane's frame of docs/rendering.md. The check pass rejects zero and
-/// parallel vectors, so the fallback (the camera's own frame) is never
-/// reached by a checked scene; it keeps lowering total.
+/// The plane's frame of docs/rendering.md. The check pass rejects zero
+/// vectors, so the fallback (the camera's own frame) is never reached by a
+/// checked scene; it keeps lowering total.
 fn frame(normal: [f64; 3], headup: [f64; 3]) -> Basis {
     geometry::plane_basis(normal, headup).unwrap_or(Basis {
         normal: DVec3::Z,
@@ -164,6 +186,23 @@ mod tests {
             &dir,
         );
         assert_eq!(scene.textures.len(), 1);
-        assert_eq!(scene.objects[1].material.texture, Some(0));
+        assert_eq!(scene.material(&scene.objects[1]).texture, Some(0));
+        assert_eq!(scene.materials.len(), 1);
+    }
+
+    #[test]
+    fn objects_made_of_the_same_material_share_its_entry() {
+        let scene = lowered(
+            "camera 8
+             sphere dimension 1 center 0 0 -5 color 1 0 0
+             sphere dimension 1 center 2 0 -5 color 0 1 0
+             sphere dimension 1 center 4 0 -5 color 1 0 0
+             sphere dimension 1 center 6 0 -5 color 1 0 0 reflectivity 0.5",
+            Path::new("."),
+        );
+        let indices: Vec<u32> = scene.objects.iter().map(|o| o.material).collect();
+        assert_eq!(indices, [0, 1, 0, 2]);
+        assert_eq!(scene.materials.len(), 3);
+        assert_eq!(scene.material(&scene.objects[3]).reflectivity, 0.5);
     }
 }

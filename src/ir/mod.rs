@@ -32,17 +32,29 @@ pub struct Scene {
     /// Image width and height in pixels.
     pub resolution: u32,
     pub objects: Vec<Object>,
+    /// The scene's distinct materials; [`Object::material`] indexes this
+    /// list. Most scenes have a handful however many objects they hold, so
+    /// shading reads a small table.
+    pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     /// Decoded textures; [`Material::texture`] indexes this list.
     pub textures: Vec<Texture>,
     pub effects: Effects,
 }
 
+impl Scene {
+    /// The material `object` is made of.
+    pub fn material(&self, object: &Object) -> &Material {
+        &self.materials[object.material as usize]
+    }
+}
+
 /// A primitive with its material.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Object {
     pub shape: Shape,
-    pub material: Material,
+    /// Index into [`Scene::materials`].
+    pub material: u32,
 }
 
 /// Geometry in world space.

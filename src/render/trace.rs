@@ -338,11 +338,12 @@ mod tests {
                     center: DVec3::new(0.0, 0.0, -5.0),
                     radius: 1.0,
                 },
-                material: ir::Material {
-                    color: DVec3::new(0.5, 0.25, 1.0),
-                    reflectivity: 0.0,
-                    texture: None,
-                },
+                material: 0,
+            }],
+            materials: vec![ir::Material {
+                color: DVec3::new(0.5, 0.25, 1.0),
+                reflectivity: 0.0,
+                texture: None,
             }],
             lights: vec![ir::Light {
                 position: DVec3::new(0.0, 0.0, -4.0),

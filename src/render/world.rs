@@ -8,12 +8,9 @@
 //! give the same answers, so the choice is only about speed.
 //!
 //! Each primitive carries what shading needs (its shape, its object's IR
-//! index and a material index into a table of the scene's distinct
-//! materials), laid out in the hierarchy's leaf order: a hit is shaded
+//! index and its index into the IR's table of distinct materials), laid out in the hierarchy's leaf order: a hit is shaded
 //! from the record its test just read, not from the IR's objects, which a
 //! large scene's rays would otherwise fetch from memory at random.
-
-use std::collections::HashMap;
 
 use serde::Serialize;
 
@@ -48,8 +45,9 @@ pub struct World<R: Real> {
     /// order when there is one (so a leaf's primitives lie side by side).
     /// A ray's [`Ray::from`] is a slot of this list.
     pub prims: Vec<Prim<R>>,
-    /// The objects' distinct materials (most scenes have a handful), so
-    /// shading reads a small table rather than the IR object of each hit.
+    /// The IR's table of distinct materials (most scenes have a handful),
+    /// so shading reads a small table rather than the IR object of each
+    /// hit.
     pub materials: Vec<ir::Material>,
     /// The hierarchy, when one is used.
     bvh: Option<Bvh>,
@@ -59,24 +57,14 @@ impl<R: Real> World<R> {
     /// Convert the IR's objects, build a hierarchy if `accel` asks for one
     /// and lay the primitives out in its leaf order.
     pub fn new(scene: &ir::Scene, accel: Accel) -> World<R> {
-        let mut materials: Vec<ir::Material> = Vec::new();
-        let mut known: HashMap<MaterialKey, u32> = HashMap::new();
         let mut prims: Vec<Prim<R>> = scene
             .objects
             .iter()
             .enumerate()
-            .map(|(id, o)| {
-                let material = *known
-                    .entry(MaterialKey::of(&o.material))
-                    .or_insert_with(|| {
-                        materials.push(o.material.clone());
-                        materials.len() as u32 - 1
-                    });
-                Prim {
-                    shape: Shape::from(&o.shape),
-                    id: id as u32,
-                    material,
-                }
+            .map(|(id, o)| Prim {
+                shape: Shape::from(&o.shape),
+                id: id as u32,
+                material: o.material,
             })
             .collect();
         let hierarchy = match accel {
@@ -91,7 +79,7 @@ impl<R: Real> World<R> {
         };
         World {
             prims,
-            materials,
+            materials: scene.materials.clone(),
             bvh,
         }
     }
@@ -130,17 +118,6 @@ impl<R: Real> World<R> {
             .iter()
             .enumerate()
             .any(|(slot, prim)| prim.hit(slot as u32, ray, t_max).is_some())
-    }
-}
-
-/// A material's bits, to find equal materials.
-#[derive(Clone, Copy, PartialEq, Eq, Hash)]
-struct MaterialKey([u64; 4], Option<usize>);
-
-impl MaterialKey {
-    fn of(m: &ir::Material) -> MaterialKey {
-        let [r, g, b] = m.color.to_array().map(f64::to_bits);
-        MaterialKey([r, g, b, m.reflectivity.to_bits()], m.texture)
     }
 }
 

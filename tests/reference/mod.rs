@@ -113,14 +113,14 @@ impl<'a> Reference<'a> {
         } else {
             outward
         };
-        let albedo = match object.material.texture {
+        let albedo = match self.scene.material(object).texture {
             Some(t) => {
                 let texture = &self.scene.textures[t];
                 self.texel_is_clear(uv.0, texture.width)?;
                 self.texel_is_clear(1.0 - uv.1, texture.height)?;
                 texel(texture, uv.0, uv.1)
             }
-            None => object.material.color,
+            None => self.scene.material(object).color,
         };
         let mut color = albedo * AMBIENT;
         for light in &self.scene.lights {
@@ -138,7 +138,7 @@ impl<'a> Reference<'a> {
                 color += albedo * light.color * cos;
             }
         }
-        let k = object.material.reflectivity;
+        let k = self.scene.material(object).reflectivity;
         if k > 0.0 && depth < self.max_depth {
             let reflected = dir - normal * (2.0 * dir.dot(normal));
             let own = self.own_second_root(hit.object, p, reflected);
