@@ -67,13 +67,25 @@ pub struct Basis {
     pub up: DVec3,
 }
 
-/// The basis of a plane, or `None` when normal or headup is zero or they
-/// are parallel (the check pass reports those).
+/// The headup a plane whose headup is parallel to its normal is rendered
+/// with: the coordinate axis least aligned with the normal (y, then z,
+/// then x among equals). Its angle to the normal is at least
+/// arccos(1/√3) ≈ 55°, so its projection onto the plane is well defined.
+pub fn stand_in_headup(normal: DVec3) -> DVec3 {
+    [DVec3::Y, DVec3::Z, DVec3::X]
+        .into_iter()
+        .min_by(|a, b| a.dot(normal).abs().total_cmp(&b.dot(normal).abs()))
+        .unwrap_or(DVec3::Y)
+}
+
+/// The basis of a plane, or `None` when normal or headup is zero (the
+/// check pass reports those). A headup parallel to the normal gives no up
+/// direction, so [`stand_in_headup`] takes its place (the check pass warns).
 pub fn plane_basis(normal: [f64; 3], headup: [f64; 3]) -> Option<Basis> {
     let n = unit(normal)?;
-    let h = unit(headup)?;
+    let mut h = unit(headup)?;
     if n.cross(h).length() <= PARALLEL {
-        return None;
+        h = stand_in_headup(n);
     }
     let up = (h - h.dot(n) * n).normalize();
     Some(Basis {
@@ -131,5 +143,19 @@ mod tests {
         assert!((b.up - DVec3::Y).length() < 1e-15);
         assert!((b.right - DVec3::X).length() < 1e-15);
         assert!(b.normal.dot(b.up).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_parallel_headup_is_replaced_by_the_least_aligned_axis() {
+        // corpus/field/reflection_91b7c2f_headup010.txt: normal = headup = y.
+        let stand_in = plane_basis([0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+        assert_eq!(plane_basis([0.0, 1.0, 0.0], [0.0, 1.0, 0.0]), stand_in);
+        assert_eq!(plane_basis([0.0, 1.0, 0.0], [0.0, -3.0, 1e-12]), stand_in);
+        assert_eq!(stand_in_headup(DVec3::Z), DVec3::Y);
+        assert_eq!(stand_in_headup(DVec3::Y), DVec3::Z);
+        let tilted = DVec3::new(0.0, 1.0, 1.0).normalize();
+        assert_eq!(stand_in_headup(tilted), DVec3::X);
+        assert_eq!(plane_basis([0.0; 3], [0.0, 1.0, 0.0]), None);
+        assert_eq!(plane_basis([0.0, 1.0, 0.0], [0.0; 3]), None);
     }
 }

@@ -131,7 +131,7 @@ static PLANE: [AttrSpec; 7] = [
         json: &["headup"],
         default: None,
         description: "which way is up on the plane (projected onto it)",
-        rule: "not `0 0 0`, not parallel to `normal`",
+        rule: "not `0 0 0`; parallel to `normal` warns (an axis stands in)",
         example: "headup 0 0 -1",
     },
     COLOR,
@@ -167,6 +167,43 @@ static LIGHT: [AttrSpec; 2] = [
 /// The sections that have attributes, for "belongs to" messages.
 const WITH_ATTRIBUTES: [SectionKind; 3] =
     [SectionKind::Sphere, SectionKind::Plane, SectionKind::Light];
+
+impl AttrSpec {
+    /// The example line as the value of the attribute's `i`th JSON field:
+    /// `"wood_tex.ppm"`, `[0, 0, -5]`, or one number of an attribute that
+    /// JSON splits (`dimension 4 4` is `"width": 4, "height": 4`).
+    pub fn json_example(&self, i: usize) -> String {
+        let values: Vec<&str> = self.example.split_whitespace().skip(1).collect();
+        match self.arity {
+            Arity::Path => format!("{:?}", values.join(" ")),
+            Arity::Numbers(n) if self.json.len() == n => {
+                values.get(i).copied().unwrap_or_default().to_string()
+            }
+            Arity::Numbers(_) => format!("[{}]", values.join(", ")),
+        }
+    }
+
+    /// The attribute described in one sentence for the JSON Schema and
+    /// editors: meaning, rule, default and the scene-text spelling.
+    pub fn summary(&self) -> String {
+        let mut out = format!("{}.", capitalised(self.description));
+        if self.rule != "—" {
+            out.push_str(&format!(" Rule: {}.", self.rule));
+        }
+        if let Some(default) = self.default {
+            out.push_str(&format!(" Default: `{default}`."));
+        }
+        out.push_str(&format!(" Scene text: `{}`.", self.example));
+        out
+    }
+}
+
+fn capitalised(text: &str) -> String {
+    let mut chars = text.chars();
+    chars.next().map_or_else(String::new, |first| {
+        first.to_uppercase().chain(chars).collect()
+    })
+}
 
 /// The attributes `kind` takes, in documentation order (none for the camera
 /// and for unknown sections).

@@ -64,7 +64,8 @@ pub enum Shape {
         height: f64,
         /// Non-zero; as written, not normalised.
         normal: Vec3,
-        /// Non-zero, not parallel to `normal`; as written, not projected.
+        /// Non-zero; as written, not projected (one parallel to `normal` is
+        /// warned about and an axis stands in).
         headup: Vec3,
     },
 }

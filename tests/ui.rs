@@ -160,6 +160,7 @@ fn fixes_show_in_the_json_format() {
         with_fixes,
         [
             "scene::headup_not_perpendicular",
+            "scene::headup_parallel_to_normal",
             "scene::unknown_attribute",
             "scene::unknown_section"
         ]

@@ -239,9 +239,10 @@ pub enum CheckError {
     },
 
     /// Fires when headup points along the normal (|n̂ × ĥ| ≤ 1e-9), so the
-    /// plane has no up direction.
+    /// plane has no up direction of its own; the renderer uses the axis
+    /// least aligned with the normal.
     #[error("the plane headup is parallel to its normal")]
-    #[diagnostic(code(scene::headup_parallel_to_normal))]
+    #[diagnostic(code(scene::headup_parallel_to_normal), severity(Warning))]
     HeadupParallelToNormal {
         #[label("normal")]
         normal: SourceSpan,
@@ -249,6 +250,8 @@ pub enum CheckError {
         headup: SourceSpan,
         #[help]
         help: String,
+        /// Writing the stand-in headup (safe: the render is unchanged).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a texture file does not exist (or cannot be read).
@@ -403,7 +406,8 @@ impl CheckError {
         match self {
             CheckError::UnknownSection { fix, .. }
             | CheckError::UnknownAttribute { fix, .. }
-            | CheckError::HeadupNotPerpendicular { fix, .. } => fix.as_deref(),
+            | CheckError::HeadupNotPerpendicular { fix, .. }
+            | CheckError::HeadupParallelToNormal { fix, .. } => fix.as_deref(),
             _ => None,
         }
     }

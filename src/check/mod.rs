@@ -343,11 +343,19 @@ mod tests {
     }
 
     #[test]
+    fn the_parallel_headup_fix_writes_the_stand_in() {
+        let text = "camera 4 plane dimension 1 1 center 0 0 -5 normal 0 1 0 headup 0 2 0 # up";
+        assert_eq!(
+            fixed(text, Applicability::Safe),
+            "camera 4 plane dimension 1 1 center 0 0 -5 normal 0 1 0 headup 0 0 1 # up"
+        );
+    }
+
+    #[test]
     fn good_and_hopeless_planes_get_no_fix() {
         for plane in [
             "plane normal 0 1 0 headup 0 0 1",
             "plane normal 0 2 0 headup 0 0 1",
-            "plane normal 0 1 0 headup 0 2 0",
             "plane normal 0 0 0 headup 0 1 0",
             "plane normal 0 1 0 normal 0 1 0 headup 0 1 1",
             "sphere normal 0 2 0",

@@ -2,8 +2,6 @@
 //! then the range rules and warnings of its own attributes (docs/language.md), and
 //! returns the model value when everything it needs is valid.
 
-use glam::DVec3;
-
 use crate::ast::{AttrName, Section, Value};
 use crate::fix::{Applicability, Edit, Fix};
 use crate::model;
@@ -252,31 +250,45 @@ fn orientation(
             fix: attrs
                 .numbers(&AttrName::Headup)
                 .filter(|_| unique)
-                .and_then(|written| projection(written, projected))
+                .and_then(|written| {
+                    rewrite_headup(written, projected, "projected `headup` onto the plane")
+                })
                 .map(Box::new),
         }),
         Headup::Parallel => {
+            let stand_in = geometry::stand_in_headup(geometry::unit(*normal)?).to_array();
             cx.problems.push(CheckError::HeadupParallelToNormal {
                 normal: normal.span.into(),
                 headup: headup.span.into(),
                 help: format!(
-                    "headup must not point along the normal: write `headup {}`",
-                    perpendicular_to(*normal)
+                    "the renderer uses `headup {}` instead: write it, or the up direction you mean",
+                    format::vector(stand_in)
                 ),
+                fix: attrs
+                    .numbers(&AttrName::Headup)
+                    .filter(|_| unique)
+                    .and_then(|written| {
+                        rewrite_headup(
+                            written,
+                            stand_in,
+                            "replaced the parallel `headup` with the one the renderer uses",
+                        )
+                    })
+                    .map(Box::new),
             });
-            return None;
         }
     }
     Some((*normal, *headup))
 }
 
-/// The safe fix of a headup that is not perpendicular: one edit per
-/// number whose text changes, so comments and spacing stay as written.
-/// `None` when no written number would change.
-fn projection(written: &[Spanned<f64>], projected: [f64; 3]) -> Option<Fix> {
+/// The safe fix that writes the headup the renderer uses (a projection, or
+/// the stand-in for a parallel one): one edit per number whose text
+/// changes, so comments and spacing stay as written. `None` when no
+/// written number would change.
+fn rewrite_headup(written: &[Spanned<f64>], used: [f64; 3], message: &str) -> Option<Fix> {
     let edits: Vec<Edit> = written
         .iter()
-        .zip(projected)
+        .zip(used)
         .filter(|(value, new)| value.value != format::number(*new).parse().unwrap_or(*new))
         .map(|(value, new)| Edit {
             span: value.span,
@@ -284,22 +296,19 @@ fn projection(written: &[Spanned<f64>], projected: [f64; 3]) -> Option<Fix> {
         })
         .collect();
     (!edits.is_empty()).then(|| Fix {
-        message: "projected `headup` onto the plane".to_string(),
+        message: message.to_string(),
         applicability: Applicability::Safe,
         edits,
     })
 }
 
-/// A vector perpendicular to `normal` for help lines: the axis least
-/// aligned with it (y first), projected onto the plane.
+/// A vector perpendicular to `normal` for help lines: the stand-in headup
+/// of [`geometry::stand_in_headup`] projected onto the plane.
 fn perpendicular_to(normal: [f64; 3]) -> String {
     let Some(n) = geometry::unit(normal) else {
         return "0 1 0".to_string();
     };
-    let axis = [DVec3::Y, DVec3::Z, DVec3::X]
-        .into_iter()
-        .min_by(|a, b| a.dot(n).abs().total_cmp(&b.dot(n).abs()))
-        .unwrap_or(DVec3::Y);
+    let axis = geometry::stand_in_headup(n);
     format::vector((axis - axis.dot(n) * n).to_array())
 }
 

@@ -3,11 +3,14 @@
 //!
 //! Both come from the serde model ([`crate::model::Scene`]) and its
 //! `schemars` derive, so neither can drift from what `.json` scenes are read
-//! as. The output is serde's, laid out for people: two-space indentation,
+//! as; the schema's attribute descriptions and examples come from the
+//! language table ([`crate::language`]), as docs/language.md's do. The output is serde's, laid out for people: two-space indentation,
 //! one field per line, and vectors (arrays of numbers) on one line.
 
 use serde_json::Value;
 
+use crate::ast::SectionKind;
+use crate::language;
 use crate::model;
 
 /// `scene` as pretty JSON, ending in a newline.
@@ -22,12 +25,52 @@ pub fn to_json(scene: &model::Scene) -> String {
     out
 }
 
-/// The JSON Schema of the scene layout, pretty, ending in a newline.
+/// The JSON Schema of the scene layout, pretty, ending in a newline: the
+/// shape from the serde model, each attribute's description and example
+/// from the language table.
 pub fn schema() -> String {
-    let schema = schemars::schema_for!(model::Scene);
+    let mut schema = serde_json::to_value(schemars::schema_for!(model::Scene)).unwrap_or_default();
+    describe_attributes(&mut schema);
     let mut out = serde_json::to_string_pretty(&schema).unwrap_or_default();
     out.push('\n');
     out
+}
+
+/// Give every attribute field of the schema's objects and lights the
+/// description and example of its row in the language table.
+fn describe_attributes(schema: &mut Value) {
+    let definitions = &mut schema["definitions"];
+    describe(&mut definitions["Light"]["properties"], &SectionKind::Light);
+    let object = &mut definitions["Object"];
+    // The material's fields are the same row for spheres and planes.
+    describe(&mut object["properties"], &SectionKind::Sphere);
+    if let Some(Value::Array(shapes)) = object.get_mut("oneOf") {
+        for shape in shapes {
+            let kind = match shape["properties"]["type"]["enum"][0].as_str() {
+                Some("sphere") => SectionKind::Sphere,
+                Some("plane") => SectionKind::Plane,
+                _ => continue,
+            };
+            describe(&mut shape["properties"], &kind);
+        }
+    }
+}
+
+fn describe(properties: &mut Value, kind: &SectionKind) {
+    let Some(properties) = properties.as_object_mut() else {
+        return;
+    };
+    for spec in language::attributes_of(kind) {
+        for (i, name) in spec.json.iter().enumerate() {
+            let Some(Value::Object(field)) = properties.get_mut(*name) else {
+                continue;
+            };
+            field.insert("description".to_string(), Value::String(spec.summary()));
+            if let Ok(example) = serde_json::from_str::<Value>(&spec.json_example(i)) {
+                field.insert("examples".to_string(), Value::Array(vec![example]));
+            }
+        }
+    }
 }
 
 /// The model fills in white when no colour is given, and a colour beside a

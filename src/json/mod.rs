@@ -21,8 +21,11 @@ use jsonc_parser::ast::{Array, Object, ObjectProp, Value as Json};
 use jsonc_parser::common::Ranged;
 use jsonc_parser::{CollectOptions, ParseOptions};
 
+use std::borrow::Cow;
+
 use crate::ast::{AttrName, Attribute, File, Section, SectionKind, Value};
 use crate::diagnostic::lowercase_first;
+use crate::language::{self, Arity, AttrSpec};
 use crate::model;
 use crate::span::{floor_char_boundary, Span, Spanned};
 use crate::suggest;
@@ -193,22 +196,17 @@ fn describe(value: &Json<'_>) -> String {
 /// One field an object takes: its name and a value to show in help lines.
 struct Field {
     name: &'static str,
-    example: &'static str,
+    example: Cow<'static, str>,
     required: bool,
 }
 
 const fn field(name: &'static str, example: &'static str, required: bool) -> Field {
     Field {
         name,
-        example,
+        example: Cow::Borrowed(example),
         required,
     }
 }
-
-const COLOR: Field = field("color", "[1, 1, 1]", false);
-const REFLECTIVITY: Field = field("reflectivity", "0.5", false);
-const TEXTURE: Field = field("texture", "\"wood_tex.ppm\"", false);
-const CENTER: Field = field("center", "[0, 0, -5]", true);
 
 const ROOT: [Field; 4] = [
     field("format", "\"raytracer-scene/1\"", true),
@@ -217,31 +215,28 @@ const ROOT: [Field; 4] = [
     field("lights", "[]", false),
 ];
 const CAMERA: [Field; 1] = [field("resolution", "400", true)];
-const SPHERE: [Field; 6] = [
-    field("type", "\"sphere\"", true),
-    CENTER,
-    field("radius", "1", true),
-    COLOR,
-    REFLECTIVITY,
-    TEXTURE,
-];
-const PLANE: [Field; 9] = [
-    field("type", "\"plane\"", true),
-    CENTER,
-    field("width", "4", true),
-    field("height", "4", true),
-    field("normal", "[0, 1, 0]", true),
-    field("headup", "[0, 0, -1]", true),
-    COLOR,
-    REFLECTIVITY,
-    TEXTURE,
-];
-const LIGHT: [Field; 2] = [
-    field("location", "[0, 2, 0]", true),
-    field("color", "[1, 1, 1]", true),
-];
 /// The `type` of an object, in documentation order.
 const TYPES: [&str; 2] = ["sphere", "plane"];
+
+/// The fields an object of `kind` takes, read off the language table
+/// ([`language::attributes_of`]): an object's `type` (lights have none),
+/// then each attribute's JSON fields in the table's order, with examples
+/// taken from the table's example lines.
+fn fields_of(kind: &SectionKind) -> Vec<Field> {
+    let type_field = match kind {
+        SectionKind::Sphere => Some(field("type", "\"sphere\"", true)),
+        SectionKind::Plane => Some(field("type", "\"plane\"", true)),
+        _ => None,
+    };
+    let attributes = language::attributes_of(kind).iter().flat_map(|spec| {
+        spec.json.iter().enumerate().map(|(i, name)| Field {
+            name,
+            example: Cow::Owned(spec.json_example(i)),
+            required: spec.required,
+        })
+    });
+    type_field.into_iter().chain(attributes).collect()
+}
 
 /// The fields of one object that it takes, first occurrence of each.
 struct Fields<'v, 'a> {
@@ -366,9 +361,9 @@ impl Reader<'_> {
             return;
         };
         let type_path = path.child("type");
-        let (kind, fields): (SectionKind, &[Field]) = match &type_prop.value {
-            Json::StringLit(s) if s.value == "sphere" => (SectionKind::Sphere, &SPHERE),
-            Json::StringLit(s) if s.value == "plane" => (SectionKind::Plane, &PLANE),
+        let kind = match &type_prop.value {
+            Json::StringLit(s) if s.value == "sphere" => SectionKind::Sphere,
+            Json::StringLit(s) if s.value == "plane" => SectionKind::Plane,
             other => {
                 let help = match other {
                     Json::StringLit(s) => suggest::nearest(&s.value, &TYPES)
@@ -387,36 +382,8 @@ impl Reader<'_> {
                 return;
             }
         };
-        let given = self.fields(object, path, fields);
-        self.require(&given, fields, brace(object));
-        let mut attributes = Vec::new();
-        let center = self.vector_attribute(&given, "center", AttrName::Center, brace(object));
-        if kind == SectionKind::Sphere {
-            attributes.push(self.dimension(&given, &["radius"], brace(object)));
-            attributes.push(center);
-        } else {
-            attributes.push(self.dimension(&given, &["width", "height"], brace(object)));
-            attributes.push(center);
-            for (name, attr) in [("normal", AttrName::Normal), ("headup", AttrName::Headup)] {
-                attributes.push(self.vector_attribute(&given, name, attr, brace(object)));
-            }
-        }
-        if let Some(color) = given.get("color") {
-            attributes.push(self.vector(color, AttrName::Color, &path.child("color")));
-        }
-        if let Some(k) = given.get("reflectivity") {
-            let value = self.number(&k.value, &path.child("reflectivity"));
-            attributes.push(attribute(k, AttrName::Reflectivity, vec![value]));
-        }
-        if let Some(texture) = given.get("texture") {
-            attributes.extend(self.texture(texture, &path.child("texture")));
-        }
-        (self.each)(Section {
-            kind: Spanned::new(span_of(&type_prop.value), kind),
-            args: Box::default(),
-            attributes,
-            span: span_of(object),
-        });
+        let section = self.section(object, path, kind, span_of(&type_prop.value));
+        (self.each)(section);
     }
 
     /// One element of `lights`.
@@ -424,27 +391,72 @@ impl Reader<'_> {
         let Some(object) = self.object(value, path) else {
             return;
         };
-        let given = self.fields(object, path, &LIGHT);
-        self.require(&given, &LIGHT, brace(object));
-        let attributes = vec![
-            self.vector_attribute(&given, "location", AttrName::Location, brace(object)),
-            self.vector_attribute(&given, "color", AttrName::Color, brace(object)),
-        ];
-        (self.each)(Section {
-            kind: Spanned::new(brace(object), SectionKind::Light),
+        let section = self.section(object, path, SectionKind::Light, brace(object));
+        (self.each)(section);
+    }
+
+    /// The section an object of `kind` describes: its fields checked
+    /// against the language table, then one attribute per row of the table
+    /// that the object gives (or must give: a missing required one gets a
+    /// placeholder, reported once as a missing field).
+    fn section(
+        &mut self,
+        object: &Object<'_>,
+        path: &Pointer,
+        kind: SectionKind,
+        keyword: Span,
+    ) -> Section {
+        let takes = fields_of(&kind);
+        let given = self.fields(object, path, &takes);
+        self.require(&given, &takes, brace(object));
+        let attributes = language::attributes_of(&kind)
+            .iter()
+            .filter_map(|spec| self.attribute(&given, spec, brace(object)))
+            .collect();
+        Section {
+            kind: Spanned::new(keyword, kind),
             args: Box::default(),
             attributes,
             span: span_of(object),
-        });
+        }
     }
 
-    /// The `dimension` attribute from the fields `names` (`radius`, or
-    /// `width` and `height`), with a placeholder for each missing one.
-    fn dimension(&mut self, given: &Fields<'_, '_>, names: &[&str], missing: Span) -> Attribute {
+    /// The attribute `spec` from its JSON fields, `None` when an optional
+    /// one is absent (or a texture is `null`).
+    fn attribute(
+        &mut self,
+        given: &Fields<'_, '_>,
+        spec: &AttrSpec,
+        missing: Span,
+    ) -> Option<Attribute> {
+        let first = given.get(spec.json[0]);
+        match spec.arity {
+            Arity::Path => self.texture(first?, spec.name.clone(), &given.path.child(spec.json[0])),
+            Arity::Numbers(n) if spec.json.len() == n => {
+                let any = spec.json.iter().any(|name| given.get(name).is_some());
+                (any || spec.required).then(|| self.scalars(given, spec, missing))
+            }
+            Arity::Numbers(n) => match first {
+                Some(prop) => {
+                    Some(self.vector(prop, spec.name.clone(), n, &given.path.child(spec.json[0])))
+                }
+                None => spec.required.then(|| Attribute {
+                    name: Spanned::new(missing, spec.name.clone()),
+                    values: vec![Spanned::new(missing, Value::Invalid); n].into(),
+                    span: missing,
+                }),
+            },
+        }
+    }
+
+    /// An attribute whose numbers are separate fields, one each (`radius`;
+    /// `width` and `height`; `reflectivity`), with a placeholder for each
+    /// missing one.
+    fn scalars(&mut self, given: &Fields<'_, '_>, spec: &AttrSpec, missing: Span) -> Attribute {
         let mut values = Vec::new();
         let mut name_span = None;
         let mut span = missing;
-        for name in names {
+        for name in spec.json {
             match given.get(name) {
                 Some(prop) => {
                     name_span.get_or_insert(span_of(&prop.name));
@@ -459,34 +471,22 @@ impl Reader<'_> {
             }
         }
         Attribute {
-            name: Spanned::new(name_span.unwrap_or(missing), AttrName::Dimension),
+            name: Spanned::new(name_span.unwrap_or(missing), spec.name.clone()),
             values: values.into(),
             span,
         }
     }
 
-    /// A required three-number attribute, or a placeholder when missing.
-    fn vector_attribute(
+    /// `[x, y, z]` as an attribute of `n` (three) values.
+    fn vector(
         &mut self,
-        given: &Fields<'_, '_>,
-        name: &str,
+        prop: &ObjectProp<'_>,
         attr: AttrName,
-        missing: Span,
+        n: usize,
+        path: &Pointer,
     ) -> Attribute {
-        match given.get(name) {
-            Some(prop) => self.vector(prop, attr, &given.path.child(name)),
-            None => Attribute {
-                name: Spanned::new(missing, attr),
-                values: vec![Spanned::new(missing, Value::Invalid); 3].into(),
-                span: missing,
-            },
-        }
-    }
-
-    /// `[x, y, z]` as an attribute of three values.
-    fn vector(&mut self, prop: &ObjectProp<'_>, attr: AttrName, path: &Pointer) -> Attribute {
         let values = match &prop.value {
-            Json::Array(array) if array.elements.len() == 3 => array
+            Json::Array(array) if array.elements.len() == n => array
                 .elements
                 .iter()
                 .enumerate()
@@ -499,14 +499,19 @@ impl Reader<'_> {
                     "an array of 3 numbers",
                     "write three numbers, such as `[0, 1, -5]`".to_string(),
                 );
-                vec![Spanned::new(span_of(other), Value::Invalid); 3]
+                vec![Spanned::new(span_of(other), Value::Invalid); n]
             }
         };
         attribute(prop, attr, values)
     }
 
     /// `"texture": "path"`; `null` means no texture, as in the serde model.
-    fn texture(&mut self, prop: &ObjectProp<'_>, path: &Pointer) -> Option<Attribute> {
+    fn texture(
+        &mut self,
+        prop: &ObjectProp<'_>,
+        attr: AttrName,
+        path: &Pointer,
+    ) -> Option<Attribute> {
         let value = match &prop.value {
             Json::NullKeyword(_) => return None,
             Json::StringLit(s) => Spanned::new(span_of(s), Value::Text(s.value.as_ref().into())),
@@ -520,7 +525,7 @@ impl Reader<'_> {
                 Spanned::new(span_of(other), Value::Invalid)
             }
         };
-        Some(attribute(prop, AttrName::Texture, vec![value]))
+        Some(attribute(prop, attr, vec![value]))
     }
 
     /// A number value, or a placeholder after reporting what is there.
@@ -616,7 +621,7 @@ impl Reader<'_> {
             } else {
                 let help = match suggest::nearest(name, &names) {
                     Some((near, _)) => format!("did you mean `{near}`?"),
-                    None => format!("this object takes {}", crate::language::list(&names)),
+                    None => format!("this object takes {}", language::list(&names)),
                 };
                 self.errors.push(JsonError::UnknownField {
                     found: name.to_string(),
@@ -648,7 +653,7 @@ impl Reader<'_> {
             .map(|f| format!("\"{}\": {}", f.name, f.example))
             .collect();
         self.errors.push(JsonError::MissingField {
-            names: crate::language::list(&names),
+            names: language::list(&names),
             place: given.path.place(),
             span: at.into(),
             help: format!("add `{}` to this object", example.join(", ")),
