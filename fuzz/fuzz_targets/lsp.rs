@@ -174,6 +174,7 @@ fn unit_index(units: &[u16], position: Position) -> usize {
         .map_or(units.len(), |i| start + i);
     let index = start.saturating_add(position.character as usize).min(line_end);
     let inside_pair = index > start
+        && index < units.len()
         && (0xDC00..0xE000).contains(&units[index])
         && (0xD800..0xDC00).contains(&units[index - 1]);
     index + usize::from(inside_pair)
