@@ -87,5 +87,7 @@ mod tests {
         assert_eq!(index.offset(Position::new(99, 0)), text.len());
         // Inside the surrogate pair: the character's start.
         assert_eq!(index.position(6), Position::new(1, 1));
+        // A column inside the surrogate pair: the character's end.
+        assert_eq!(index.offset(Position::new(1, 2)), 8);
     }
 }
