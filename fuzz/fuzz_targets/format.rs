@@ -34,7 +34,10 @@ fuzz_target!(|bytes: &[u8]| {
             return;
         }
     };
-    assert!(parsed.errors.is_empty(), "formatted text with syntax errors");
+    assert!(
+        parsed.errors.is_empty(),
+        "formatted text with syntax errors"
+    );
     assert_eq!(format(&once).as_ref(), Ok(&once), "not idempotent");
     assert_eq!(parsed.file, syntax::parse(&once).file, "the tree changed");
     assert_eq!(comments(text), comments(&once), "the comments changed");

@@ -90,7 +90,10 @@ fuzz_target!(|bytes: &[u8]| {
             .iter()
             .filter_map(|l| Some((range_of(l.byte_offset, l.byte_length), l.label.clone()?)))
             .collect();
-        let related = diagnostic.related_information.as_deref().unwrap_or_default();
+        let related = diagnostic
+            .related_information
+            .as_deref()
+            .unwrap_or_default();
         assert!(related.len() >= labelled.len(), "{}", entry.code);
         for (info, (range, label)) in related.iter().zip(&labelled) {
             assert_eq!((&info.location.range, &info.message), (range, label));
@@ -172,7 +175,9 @@ fn unit_index(units: &[u16], position: Position) -> usize {
         .iter()
         .position(|&u| u == CR || u == LF)
         .map_or(units.len(), |i| start + i);
-    let index = start.saturating_add(position.character as usize).min(line_end);
+    let index = start
+        .saturating_add(position.character as usize)
+        .min(line_end);
     let inside_pair = index > start
         && index < units.len()
         && (0xDC00..0xE000).contains(&units[index])
