@@ -64,7 +64,8 @@ accuracy: raytracer
 	scripts/accuracy.sh
 
 # Fuzz the front end (docs/reliability.md): `make fuzz` runs each target
-# (scene text, JSON scenes, texture decoding) for FUZZ_SECONDS of wall
+# (scene text, JSON scenes, texture decoding, the formatter, the language
+# server's edits) for FUZZ_SECONDS of wall
 # clock, or FUZZ_CPU_SECONDS of the fuzzer's CPU time when that is set, with
 # one libFuzzer job, growing fuzz/corpus/TARGET (git ignores it) from the
 # committed fuzz/seeds/TARGET, and appends a dated line per target (wall and
@@ -75,7 +76,7 @@ accuracy: raytracer
 # nightly-only rustc flags: RUSTC_BOOTSTRAP=1 allows them on the stable
 # toolchain (use FUZZ_FLAGS="--sanitizer none" to fuzz without ASan).
 FUZZ_SECONDS ?= 600
-FUZZ_TARGETS ?= scene json texture
+FUZZ_TARGETS ?= scene json texture format lsp
 FUZZ_CPU_SECONDS ?=
 FUZZ_FLAGS ?=
 fuzz:

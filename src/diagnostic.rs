@@ -79,8 +79,11 @@ impl SourceFile {
 }
 
 /// One source file and every diagnostic reported against it, sorted by
-/// position (errors before warnings at the same position), each with the
-/// fix it carries, if any.
+/// position (errors before warnings at the same position, then a point
+/// before a longer label, so the order does not depend on layout: a
+/// diagnostic about the whole file, placed at its start, stays first when
+/// formatting moves the first token there), each with the fix it carries,
+/// if any.
 pub struct Report {
     pub source: SourceFile,
     pub diagnostics: Vec<BoxedDiagnostic>,
@@ -99,7 +102,10 @@ impl Report {
         source: SourceFile,
         mut fixed: Vec<(BoxedDiagnostic, Option<Fix>)>,
     ) -> Report {
-        fixed.sort_by_key(|(d, _)| (first_offset(d.as_ref()), severity_rank(d.as_ref())));
+        fixed.sort_by_key(|(d, _)| {
+            let (offset, length) = first_label(d.as_ref());
+            (offset, severity_rank(d.as_ref()), length)
+        });
         let (diagnostics, fixes) = fixed.into_iter().unzip();
         Report {
             source,
@@ -336,10 +342,11 @@ fn severity_rank(d: &dyn Diagnostic) -> u8 {
     }
 }
 
-fn first_offset(d: &dyn Diagnostic) -> usize {
+/// The offset and length of the first label (a point at 0 when none).
+fn first_label(d: &dyn Diagnostic) -> (usize, usize) {
     d.labels()
         .and_then(|mut labels| labels.next())
-        .map_or(0, |l| l.offset())
+        .map_or((0, 0), |l| (l.offset(), l.len()))
 }
 
 #[cfg(test)]

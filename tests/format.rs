@@ -116,6 +116,21 @@ fn corpus_and_scenes_keep_their_meaning() {
     }
 }
 
+/// Found by the `format` fuzz target (fuzz/seeds/format/crash_missing_camera_order): with no
+/// camera, the missing-camera error (placed at the file's start) and the
+/// error at the first section came in one order before formatting and the
+/// other after it, once the section moved to the start.
+#[test]
+fn a_file_without_camera_keeps_its_diagnostics_in_order() {
+    for text in [
+        "\u{feff}camerah\r ps4ere\r  dimension 1 # cr only\r\r\r# end",
+        "  sphre center 0 0 -5\n",
+        "\n\n# lead\nsphre\n",
+    ] {
+        assert_formats_well(text, Path::new(FIXTURES), &format!("{text:?}"));
+    }
+}
+
 /// Whitespace between tokens: spaces, tabs, line ends of every kind, blank
 /// lines, and sometimes a comment.
 fn gap() -> impl Strategy<Value = String> {

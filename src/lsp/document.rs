@@ -49,7 +49,8 @@ impl Document {
     }
 
     /// Apply the changes of a `didChange`: a whole new text, or a range
-    /// replaced (clamped to the text, so no edit can fail).
+    /// replaced (clamped to the text as [`LineIndex::offset`] says, and an
+    /// end before the start taken as the start, so no edit can fail).
     pub fn apply(&mut self, changes: Vec<TextDocumentContentChangeEvent>, version: i32) {
         for change in changes {
             match change.range {

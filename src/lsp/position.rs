@@ -40,7 +40,9 @@ impl<'a> LineIndex<'a> {
     }
 
     /// The byte offset of `position`; a line past the end is the end of the
-    /// text, a column past its line's end is that end.
+    /// text, a column past its line's end is that end (before its line
+    /// end), and a column inside a surrogate pair is the end of that
+    /// character.
     pub fn offset(&self, position: Position) -> usize {
         let Some(&start) = self.starts.get(position.line as usize) else {
             return self.text.len();
@@ -85,5 +87,7 @@ mod tests {
         assert_eq!(index.offset(Position::new(99, 0)), text.len());
         // Inside the surrogate pair: the character's start.
         assert_eq!(index.position(6), Position::new(1, 1));
+        // A column inside the surrogate pair: the character's end.
+        assert_eq!(index.offset(Position::new(1, 2)), 8);
     }
 }
