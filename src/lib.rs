@@ -20,7 +20,7 @@
 pub mod accuracy;
 pub mod ast;
 pub mod check;
-pub mod ci;
+pub(crate) mod ci;
 pub mod cli;
 pub mod commands;
 pub mod convert;
@@ -39,7 +39,7 @@ pub mod model;
 pub mod output;
 pub mod render;
 pub mod span;
-pub mod suggest;
+pub(crate) mod suggest;
 pub mod syntax;
 pub mod texture;
 pub mod tile;
