@@ -12,10 +12,11 @@
 // skips of work that cannot change an 8-bit value. Geometry is single
 // precision (Embree's); colours are double, as ours.
 //
-// Usage: harness SCENE OUT.ppm [COMPARE.ppm]
-// Prints `key value` lines: the rays cast, the seconds spent building
-// (rtcCommitScene) and tracing, and with COMPARE the largest and mean
-// absolute difference from that image, in 8-bit steps over all channels.
+// Usage: harness SCENE OUT.ppm [COMPARE.ppm...]
+// Prints `key value` lines: the rays cast and the seconds spent building
+// (rtcCommitScene) and tracing; then for each COMPARE image a line
+// `diff PATH MAX MEAN`, the largest and mean absolute difference from it
+// in 8-bit steps over all channels.
 // Errors go to stderr with exit code 2.
 
 #include <embree3/rtcore.h>
@@ -425,13 +426,13 @@ void compare(const std::string& path, int size, const std::vector<unsigned char>
     largest = std::max(largest, d);
     sum += d;
   }
-  std::printf("max_diff %d\nmean_diff %.4f\n", largest, sum / double(rgb.size()));
+  std::printf("diff %s %d %.4f\n", path.c_str(), largest, sum / double(rgb.size()));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3 || argc > 4) fail("usage: harness SCENE OUT.ppm [COMPARE.ppm]");
+  if (argc < 3) fail("usage: harness SCENE OUT.ppm [COMPARE.ppm...]");
   Scene scene = read_scene(argv[1]);
   RTCDevice device = rtcNewDevice("threads=1");
   if (!device) fail("cannot create an Embree device");
@@ -458,7 +459,7 @@ int main(int argc, char** argv) {
   std::printf("build %.6f\ntrace %.6f\nseconds %.6f\n", seconds(built - start), seconds(done - built),
               seconds(done - start));
   write_ppm(argv[2], n, rgb);
-  if (argc == 4) compare(argv[3], n, rgb);
+  for (int k = 3; k < argc; k++) compare(argv[k], n, rgb);
   rtcReleaseDevice(device);
   return 0;
 }
