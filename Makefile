@@ -43,8 +43,9 @@ render-scenes: raytracer
 	    echo '```'; \
 	  done; } > docs/gallery.md
 
-# Ours against POV-Ray 3.7 (installed when missing), alternating, one
-# thread: a table of medians (docs/performance.md). REPS=N for more samples.
+# Ours against POV-Ray 3.7 and Embree 3 (bench/embree/, installed and built
+# when missing), alternating, one thread: tables of medians written into
+# docs/performance.md. REPS=N for more samples.
 bench:
 	scripts/bench.sh
 

@@ -1,65 +1,94 @@
 #!/usr/bin/env bash
-# `make bench`: our tracer against POV-Ray 3.7, side by side in one run.
+# `make bench`: our tracer against POV-Ray 3.7 and Embree 3, side by side
+# in one run, written into docs/performance.md.
 #
-# Scenes (generated into bench/, which git ignores): scenes/sample.txt at
-# 400² and 1000², and grids of 10,000 and 100,000 reflective spheres at
-# 1000² (examples/grid_scene.rs). Each is exported with
-# `raytracer convert --to pov` and rendered REPS times by each tracer,
-# alternately (ours, POV-Ray, ours with 2 threads), one thread each, no
-# anti-aliasing, no display. Prints a table of medians: our render time
-# (`--stats-json` seconds.render) and POV-Ray's trace time (its "Trace
-# Time"), their ratio, our rays per second, both peak resident memories,
-# our whole-process time and our 2-thread render time. The raw samples go
-# to bench/samples.csv, the medians to bench/results.csv.
+# Scenes (generated into target/bench/): scenes/sample.txt at 400² and
+# 1000², and grids of 10,000, 100,000 and 1,000,000 reflective spheres at
+# 1000² (examples/grid_scene.rs). In every repetition each scene is
+# rendered, one after the other, by ours (`--threads 1`), POV-Ray (`+WT1`,
+# from `raytracer convert --to pov`; not the million-sphere grid, whose
+# parse alone would take most of the run), Embree (bench/embree/harness.cpp,
+# built here with g++, from `raytracer convert --to scene`) and ours with
+# `--threads 2`. No anti-aliasing anywhere. Embree's ray counts and image
+# are compared with ours (and with ours in single precision, rendered once
+# per scene, as Embree's geometry is); a scene where they disagree fails
+# the run.
+#
+# Then the front end on the million-sphere file: `raytracer check` against
+# `wc -w`, alternating, and check's peak memory against the file size.
+#
+# The tables (medians), the machine and the targets replace the part of
+# docs/performance.md between its `bench:begin` and `bench:end` markers.
+# Raw samples go to target/bench/samples.csv and frontend.csv.
 #
 # REPS=7 make bench   (default 5)
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
 REPS=${REPS:-5}
-OUT=bench
+OUT=target/bench
 BIN=target/release/raytracer
+DOC=docs/performance.md
+STARTED=$(date -u '+%F %H:%M UTC')
+LOAD_BEFORE=$(cut -d' ' -f1-3 /proc/loadavg)
+SECONDS=0
 
 need_apt() {
-  # $1 command, $2 Debian package
-  if ! command -v "$1" >/dev/null; then
+  # $1 a file or command that shows the package is there, $2 the package
+  if ! command -v "$1" >/dev/null && [ ! -e "$1" ]; then
     echo "installing $2" >&2
     apt-get update -qq && apt-get install -y -qq "$2" >/dev/null
   fi
 }
 need_apt povray povray
-[ -x /usr/bin/time ] || { apt-get update -qq && apt-get install -y -qq time >/dev/null; }
+need_apt /usr/bin/time time
+need_apt g++ g++
+need_apt /usr/include/embree3/rtcore.h libembree-dev
 
 cargo build --release --locked --quiet
 cargo build --release --locked --quiet --example grid_scene
 mkdir -p "$OUT"
+g++ -O2 -std=c++17 -o "$OUT/embree_harness" bench/embree/harness.cpp -lembree3
 cp scenes/wood_tex.ppm "$OUT/"
 cp scenes/sample.txt "$OUT/sample400.txt"
 sed 's/^camera 400/camera 1000/' scenes/sample.txt >"$OUT/sample1000.txt"
-for n in 10000 100000; do
+for n in 10000 100000 1000000; do
   target/release/examples/grid_scene "$n" "$OUT/grid$n.txt" 1000
 done
-SCENES=(sample400 sample1000 grid10000 grid100000)
+SCENES=(sample400 sample1000 grid10000 grid100000 grid1000000)
+POV_SCENES=" sample400 sample1000 grid10000 grid100000 "
 for s in "${SCENES[@]}"; do
-  "$BIN" convert "$OUT/$s.txt" --to pov -o "$OUT/$s.pov"
+  case "$POV_SCENES" in *" $s "*) "$BIN" convert "$OUT/$s.txt" --to pov -o "$OUT/$s.pov" ;; esac
+  "$BIN" convert "$OUT/$s.txt" --to scene -o "$OUT/$s.scene.txt"
 done
 
-# Each run appends: scene,tracer,threads,seconds,wall,peak_kb,rays
-echo "scene,tracer,threads,seconds,wall,peak_kb,rays" >"$OUT/samples.csv"
+# Each run appends: scene,tracer,threads,seconds,wall,peak_kb,rays,primary,front_s,cpu_s
+echo "scene,tracer,threads,seconds,wall,peak_kb,rays,primary,front_s,cpu_s" >"$OUT/samples.csv"
+# Embree against ours, per run: scene,ours_rays,embree_rays, then the
+# largest and mean difference from our image and from our f32 image
+echo "scene,ours_rays,embree_rays,max_diff,mean_diff,max_diff_f32,mean_diff_f32" >"$OUT/agreement.csv"
+
+json_number() {
+  # $1 key, $2 file: the number after "key":
+  sed -n 's/^ *"'"$1"'": \([0-9.e-]*\),*$/\1/p' "$2"
+}
 
 ours() {
-  # $1 scene, $2 threads
+  # $1 scene, $2 threads; the image is PPM so Embree's can be compared with it
   local json="$OUT/$1.stats.json" timing="$OUT/$1.time" start end
   start=$EPOCHREALTIME
-  /usr/bin/time -f "%e %M" -o "$timing" \
-    "$BIN" render "$OUT/$1.txt" "$OUT/$1.ours.png" --threads "$2" --quiet --stats-json "$json"
+  /usr/bin/time -f "%e %M %U %S" -o "$timing" \
+    "$BIN" render "$OUT/$1.txt" "$OUT/$1.ours.ppm" --threads "$2" --quiet --stats-json "$json"
   end=$EPOCHREALTIME
-  local render rays
-  render=$(sed -n 's/^ *"render": \([0-9.e-]*\),*$/\1/p' "$json")
+  local render rays primary front user system
+  render=$(json_number render "$json")
   rays=$(awk -F'[:,]' '/"(primary|shadow|reflection)_rays"/ {s += $2} END {print s}' "$json")
-  read -r _ peak <"$timing"
+  primary=$(json_number primary_rays "$json")
+  front=$(awk -v p="$(json_number parse "$json")" -v c="$(json_number check "$json")" \
+    -v l="$(json_number lower "$json")" 'BEGIN {printf "%.4f", p + c + l}')
+  read -r _ peak user system <"$timing"
   wall=$(awk -v a="$start" -v b="$end" 'BEGIN {printf "%.4f", b - a}')
-  echo "$1,ours,$2,$render,$wall,$peak,$rays" >>"$OUT/samples.csv"
+  echo "$1,ours,$2,$render,$wall,$peak,$rays,$primary,$front,$(awk -v u="$user" -v s="$system" 'BEGIN {print u + s}')" >>"$OUT/samples.csv"
 }
 
 pov() {
@@ -71,42 +100,192 @@ pov() {
   local trace
   trace=$(sed -n 's/.*Trace Time:.*(\([0-9.]*\) seconds).*/\1/p' "$log" | head -1)
   read -r wall peak <"$OUT/$1.pov.time"
-  echo "$1,povray,1,$trace,$wall,$peak," >>"$OUT/samples.csv"
+  echo "$1,povray,1,$trace,$wall,$peak,,,," >>"$OUT/samples.csv"
 }
 
+embree() {
+  # $1 scene: Embree's build + trace seconds, compared with ours' last image
+  local report="$OUT/$1.embree.txt"
+  /usr/bin/time -f "%e %M %U %S" -o "$OUT/$1.embree.time" \
+    "$OUT/embree_harness" "$OUT/$1.scene.txt" "$OUT/$1.embree.ppm" "$OUT/$1.ours.ppm" "$OUT/$1.ours-f32.ppm" >"$report"
+  local rays wall peak user system
+  value() { sed -n "s/^$1 //p" "$report"; }
+  rays=$(awk '/^(primary|shadow|reflection)_rays / {s += $2} END {print s}' "$report")
+  read -r wall peak user system <"$OUT/$1.embree.time"
+  echo "$1,embree,1,$(value seconds),$wall,$peak,$rays,$(value primary_rays),,$(awk -v u="$user" -v s="$system" 'BEGIN {print u + s}')" >>"$OUT/samples.csv"
+  local ours_rays diffs
+  ours_rays=$(awk -F, -v s="$1" '$1 == s && $2 == "ours" {r = $7} END {print r}' "$OUT/samples.csv")
+  diffs=$(awk '/^diff / {printf ",%s,%s", $3, $4}' "$report")
+  echo "$1,$ours_rays,$rays$diffs" >>"$OUT/agreement.csv"
+}
+
+for s in "${SCENES[@]}"; do
+  echo "$s in single precision, for comparing with Embree" >&2
+  "$BIN" render "$OUT/$s.txt" "$OUT/$s.ours-f32.ppm" --precision f32 --quiet
+done
 for rep in $(seq "$REPS"); do
   for s in "${SCENES[@]}"; do
     echo "rep $rep/$REPS: $s" >&2
     ours "$s" 1
-    pov "$s"
+    case "$POV_SCENES" in *" $s "*) pov "$s" ;; esac
+    embree "$s"
     ours "$s" 2
   done
 done
 
+# The front end on the million-sphere file, alternating with `wc -w`.
+BIG="$OUT/grid1000000.txt"
+echo "tool,wall,peak_kb" >"$OUT/frontend.csv"
+for rep in $(seq "$REPS"); do
+  echo "rep $rep/$REPS: check and wc -w" >&2
+  /usr/bin/time -f "%e %M" -o "$OUT/check.time" "$BIN" check "$BIG" >/dev/null 2>&1
+  read -r wall peak <"$OUT/check.time"
+  echo "check,$wall,$peak" >>"$OUT/frontend.csv"
+  /usr/bin/time -f "%e %M" -o "$OUT/wc.time" wc -w "$BIG" >/dev/null
+  read -r wall peak <"$OUT/wc.time"
+  echo "wc,$wall,$peak" >>"$OUT/frontend.csv"
+done
+
 median() {
-  # median of column $3 for scene $1, tracer and threads $2 ("ours,1")
+  # the median of column $3 of the rows of file $4 whose first columns are $1 and $2
+  awk -F, -v a="$1" -v b="$2" -v col="$3" '$1 == a && ($2 == b || b == "") && $col != "" {print $col}' "$4" |
+    sort -g | awk '{v[NR] = $1} END {if (NR == 0) print ""; else if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2}'
+}
+sample() {
+  # median of column $3 for scene $1 and "tracer,threads" $2
   awk -F, -v key="$1,$2" -v col="$3" '($1 "," $2 "," $3) == key {print $col}' "$OUT/samples.csv" |
-    sort -g | awk '{v[NR] = $1} END {if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2}'
+    sort -g | awk '{v[NR] = $1} END {if (NR == 0) print ""; else if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2}'
 }
 
-echo "scene,ours_s,povray_s,ratio,mrays_per_s,ours_peak_mb,povray_peak_mb,ours_wall_s,ours_2threads_s" >"$OUT/results.csv"
-printf '\n%s, %s samples each, alternating; one thread unless noted\n' "$(date -u +%F)" "$REPS"
-printf '%-11s %9s %10s %7s %8s %9s %9s %9s %10s\n' \
-  scene "ours s" "POV-Ray s" ratio "Mrays/s" "ours MB" "POV MB" "ours wall" "ours 2thr"
-for s in "${SCENES[@]}"; do
-  o=$(median "$s" "ours,1" 4)
-  p=$(median "$s" "povray,1" 4)
-  w=$(median "$s" "ours,1" 5)
-  om=$(median "$s" "ours,1" 6)
-  pm=$(median "$s" "povray,1" 6)
-  rays=$(median "$s" "ours,1" 7)
-  two=$(median "$s" "ours,2" 4)
-  awk -v s="$s" -v o="$o" -v p="$p" -v w="$w" -v om="$om" -v pm="$pm" -v r="$rays" -v t="$two" 'BEGIN {
-    printf "%-11s %9.3f %10.3f %7.3f %8.2f %9.1f %9.1f %9.3f %10.3f\n", s, o, p, o / p, r / o / 1e6, om / 1024, pm / 1024, w, t
-    printf "%s,%.4f,%.4f,%.4f,%.3f,%.1f,%.1f,%.4f,%.4f\n", s, o, p, o / p, r / o / 1e6, om / 1024, pm / 1024, w, t >> "'"$OUT"'/results.csv"
+# The generated section of docs/performance.md.
+GEN="$OUT/performance.generated.md"
+failed=0
+{
+  echo "<!-- bench:begin: written by \`make bench\` (scripts/bench.sh); edit the script, not this section -->"
+  echo
+  echo "### The run"
+  echo
+  echo "\`make bench\`, REPS=$REPS, started $STARTED, took $((SECONDS / 60)) min $((SECONDS % 60)) s"
+  echo "on $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'),"
+  echo "$(nproc) logical CPUs ($(grep -c '^processor' /proc/cpuinfo) in /proc/cpuinfo), $(awk '/MemTotal/ {printf "%.1f GiB", $2 / 1048576}' /proc/meminfo) memory,"
+  echo "load average $LOAD_BEFORE at the start and $(cut -d' ' -f1-3 /proc/loadavg) at the end"
+  echo "(the machine is shared: loads above $(nproc) mean other jobs took turns on our core)."
+  echo "Binary: \`$BIN\` of commit $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src Cargo.toml Cargo.lock || echo ' plus uncommitted changes'); $(rustc --version | cut -d' ' -f1-2);"
+  echo "$(povray --version 2>&1 | sed -n 's/^POV-Ray \(3[.0-9]*[0-9]\).*/POV-Ray \1/p' | head -1); Embree $(dpkg-query -W -f '${Version}' libembree-dev 2>/dev/null | cut -d+ -f1) (Debian's \`libembree-dev\`, $(g++ --version | head -1 | sed 's/ (.*)//'), -O2)."
+  echo
+  echo "### Renders, one thread, medians of $REPS"
+  echo
+  echo "ours: \`seconds.render\` (building the hierarchy and tracing); POV-Ray: its Trace Time; Embree:"
+  echo "\`rtcCommitScene\` plus tracing. Rays are primary + shadow + reflection. MB is the peak"
+  echo "resident set (\`/usr/bin/time %M\` / 1024); wall is the whole process, reading the scene included;"
+  echo "CPU is the whole process's user + system time, which other tenants' load does not inflate the"
+  echo "way it inflates wall times."
+  echo
+  echo "| scene | ours s | POV-Ray s | Embree s | ours/POV-Ray | ours/Embree | ours Mrays/s | ours ns/primary ray | ours MB | POV-Ray MB | Embree MB | ours wall s | ours CPU s | Embree wall s | Embree CPU s | ours 2 threads s |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  for s in "${SCENES[@]}"; do
+    awk -v s="$s" -v o="$(sample "$s" ours,1 4)" -v p="$(sample "$s" povray,1 4)" -v e="$(sample "$s" embree,1 4)" \
+      -v r="$(sample "$s" ours,1 7)" -v pr="$(sample "$s" ours,1 8)" -v om="$(sample "$s" ours,1 6)" \
+      -v pm="$(sample "$s" povray,1 6)" -v em="$(sample "$s" embree,1 6)" -v w="$(sample "$s" ours,1 5)" \
+      -v ew="$(sample "$s" embree,1 5)" -v t="$(sample "$s" ours,2 4)" -v oc="$(sample "$s" ours,1 10)" \
+      -v ec="$(sample "$s" embree,1 10)" '
+      function f(x, fmt) { return x == "" ? "—" : sprintf(fmt, x) }
+      BEGIN {
+        printf "| %s | %.3f | %s | %.3f | %s | %.2f | %.1f | %.0f | %.1f | %s | %.1f | %.3f | %.3f | %.3f | %.3f | %.3f |\n",
+          s, o, f(p, "%.3f"), e, p == "" ? "—" : sprintf("%.2f", o / p), o / e, r / o / 1e6, o / pr * 1e9,
+          om / 1024, pm == "" ? "—" : sprintf("%.1f", pm / 1024), em / 1024, w, oc, ew, ec, t
+      }'
+  done
+  echo
+  echo "POV-Ray does not render the million-sphere grid here: parsing its 1,000,000 \`sphere\` blocks"
+  echo "alone would take longer than the rest of the run."
+  echo
+  echo "### Embree against ours: the same picture"
+  echo
+  echo "Embree's geometry is single precision, ours double by default, so a ray grazing an edge may"
+  echo "go the other way, and in the sphere grids, where rays bounce up to 8 times between mirrors,"
+  echo "such differences spread. Per scene (the last repetition): the rays each cast (primary + shadow"
+  echo "+ reflection), and the largest and mean absolute difference of Embree's image from ours and"
+  echo "from ours rendered with \`--precision f32\`, in 8-bit steps over every channel. The run fails"
+  echo "when the ray counts differ by more than 1 % or the mean difference from our f32 image exceeds 0.5."
+  echo
+  echo "| scene | ours rays | Embree rays | difference | max diff | mean diff | max diff (f32) | mean diff (f32) | agree |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+  for s in "${SCENES[@]}"; do
+    line=$(awk -F, -v s="$s" '$1 == s {l = $0} END {print l}' "$OUT/agreement.csv")
+    IFS=, read -r _ our_rays emb_rays max_diff mean_diff max32 mean32 <<<"$line"
+    verdict=$(awk -v a="$our_rays" -v b="$emb_rays" -v m="$mean32" 'BEGIN {
+      d = (b - a) / a; if (d < 0) d = -d; print (d <= 0.01 && m <= 0.5) ? "yes" : "NO" }')
+    [ "$verdict" = yes ] || failed=1
+    awk -v s="$s" -v a="$our_rays" -v b="$emb_rays" -v x="$max_diff" -v m="$mean_diff" -v x32="$max32" \
+      -v m32="$mean32" -v v="$verdict" 'BEGIN {
+      printf "| %s | %d | %d | %+.3f %% | %d | %.4f | %d | %.4f | %s |\n", s, a, b, (b - a) / a * 100, x, m, x32, m32, v }'
+  done
+  echo
+  echo "### The front end on the million-sphere scene"
+  echo
+  size=$(stat -c %s "$BIG")
+  check_s=$(median check "" 2 "$OUT/frontend.csv")
+  check_kb=$(median check "" 3 "$OUT/frontend.csv")
+  wc_s=$(median wc "" 2 "$OUT/frontend.csv")
+  front_s=$(sample grid1000000 ours,1 9)
+  awk -v size="$size" -v c="$check_s" -v ck="$check_kb" -v w="$wc_s" -v f="$front_s" -v reps="$REPS" 'BEGIN {
+    printf "`examples/grid_scene 1000000` at 1000², %.1f MB; `raytracer check` and `wc -w` on it\n", size / 1e6
+    printf "alternating, %d runs each (wall time, medians; `/usr/bin/time` has 10 ms steps), and\n", reps
+    printf "`render`'"'"'s parse + check + lower from its `--stats-json` seconds (median of the renders above).\n\n"
+    print "| measure | value |"
+    print "|---|---|"
+    printf "| file size | %.1f MB |\n", size / 1e6
+    printf "| `raytracer check` wall | %.2f s (%.0f MB/s) |\n", c, size / c / 1e6
+    printf "| `wc -w` wall | %.2f s (%.0f MB/s) |\n", w, size / w / 1e6
+    printf "| check / wc -w | %.2f |\n", c / w
+    printf "| check peak resident | %.1f MB (%.2f × the file) |\n", ck * 1024 / 1e6, ck * 1024 / size
+    printf "| render: parse + check + lower | %.3f s |\n", f
   }'
-done
-echo
-echo "ours s: seconds.render; POV-Ray s: its Trace Time; MB: peak resident set (/usr/bin/time %M);"
-echo "ours wall: whole process; ours 2thr: seconds.render with --threads 2. Samples: $OUT/samples.csv"
+  echo
+  echo "### Scaling: whole process, one thread, 1000²"
+  echo
+  w100k=$(sample grid100000 ours,1 5)
+  w1m=$(sample grid1000000 ours,1 5)
+  echo "| 100,000 spheres s | 1,000,000 spheres s | ratio |"
+  echo "|---|---|---|"
+  awk -v a="$w100k" -v b="$w1m" 'BEGIN {printf "| %.3f | %.3f | %.2f |\n", a, b, b / a}'
+  echo
+  echo "### Against the targets of issue 18"
+  echo
+  echo "| target | measured | |"
+  echo "|---|---|---|"
+  for s in "${SCENES[@]}"; do
+    awk -v s="$s" -v o="$(sample "$s" ours,1 4)" -v e="$(sample "$s" embree,1 4)" 'BEGIN {
+      printf "| %s: ours/Embree ≤ 0.8 | %.2f | %s |\n", s, o / e, o / e <= 0.8 ? "met" : "not met" }'
+  done
+  awk -v o="$(sample sample1000 ours,1 4)" -v p="$(sample sample1000 ours,1 8)" -v c="$(sample sample1000 ours,1 10)" 'BEGIN {
+    ns = o / p * 1e9
+    printf "| sample1000: ≤ 40 ns per primary ray (`seconds.render` / primary rays) | %.0f ns (whole-process CPU time / primary rays: %.0f ns) | %s |\n",
+      ns, c / p * 1e9, ns <= 40 ? "met" : "not met" }'
+  awk -v c="$check_s" -v w="$wc_s" 'BEGIN {
+    printf "| `check` of 1M spheres no slower than `wc -w` | %.2f s against %.2f s | %s |\n", c, w, c <= w ? "met" : "not met" }'
+  awk -v ck="$check_kb" -v size="$size" 'BEGIN {
+    r = ck * 1024 / size; printf "| `check` peak ≤ 1.2 × file size | %.2f × | %s |\n", r, r <= 1.2 ? "met" : "not met" }'
+  awk -v f="$front_s" 'BEGIN {printf "| `render` parse + check + lower ≤ 1 s | %.3f s | %s |\n", f, f <= 1 ? "met" : "not met" }'
+  awk -v a="$w100k" -v b="$w1m" 'BEGIN {
+    printf "| 1M spheres within 2 × the 100k time (whole process) | %.2f × | %s |\n", b / a, b / a <= 2 ? "met" : "not met" }'
+  echo
+  echo "<!-- bench:end -->"
+} >"$GEN"
+
+# Splice the section into the document between its markers.
+awk -v gen="$GEN" '
+  /^<!-- bench:begin/ {while ((getline line < gen) > 0) print line; skip = 1; next}
+  /^<!-- bench:end -->/ {skip = 0; next}
+  !skip {print}' "$DOC" >"$OUT/performance.md.new"
+grep -q '^<!-- bench:begin' "$DOC" || { echo "bench: $DOC has no bench:begin marker" >&2; exit 2; }
+mv "$OUT/performance.md.new" "$DOC"
+cat "$GEN"
+echo "samples: $OUT/samples.csv, $OUT/agreement.csv, $OUT/frontend.csv; wrote $DOC" >&2
+
 scripts/bench_lsp.sh
+if [ "$failed" = 1 ]; then
+  echo "bench: Embree and ours disagree on some scene (see the agreement table)" >&2
+  exit 1
+fi

@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Part of `make bench`: the language server's re-check latency after a
 # keystroke in a 1 MiB scene (examples/lsp_latency.rs; target ≤ 50 ms).
-# Prints the summary and appends it, dated, to bench/lsp_latency.csv.
+# Prints the summary and appends it, dated, to target/bench/lsp_latency.csv.
 #
 # KEYS=N scripts/bench_lsp.sh   (default 31 edits)
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
-OUT=bench
+OUT=target/bench
 KEYS=${KEYS:-31}
 cargo build --release --locked --quiet
 cargo build --release --locked --quiet --example lsp_latency

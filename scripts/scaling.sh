@@ -11,7 +11,7 @@ set -euo pipefail
 
 cd "$(dirname "$0")/.."
 REPS=${REPS:-3}
-OUT=bench
+OUT=target/bench
 BIN=target/release/raytracer
 COUNTS=(10 100 1000 10000 100000 1000000)
 

@@ -136,6 +136,7 @@ impl<R: Real> Sphere<R> {
 }
 
 impl<R: Real> Rect<R> {
+    #[inline(always)]
     fn hit(&self, ray: &Ray<R>, t_max: R) -> Option<R> {
         let denom = ray.dir.dot(self.normal);
         if denom.is_zero() {

@@ -177,20 +177,23 @@ fn render_pixels<R: Real, T: Copy + Default + Send>(
         .zip(rows)
         .map(|(row, j)| {
             let mut counters = Counters::default();
-            for (i, pixel) in (0..size).zip(row.iter_mut()) {
-                let value = match &first {
-                    None => sampler.pixel(&tracer, (i, j), &mut counters),
-                    Some((first, threshold)) => {
+            match &first {
+                None => sampler.row(&tracer, j, &mut counters, |i, value| {
+                    row[i] = finish(value);
+                }),
+                Some((first, threshold)) => {
+                    for (i, pixel) in (0..size).zip(row.iter_mut()) {
                         let sample = first.get((i, j));
-                        if sampler.count() > 1 && first.needs_refining((i, j), *threshold) {
-                            counters.pixels_refined += 1;
-                            sampler.complete(&tracer, (i, j), sample, &mut counters)
-                        } else {
-                            sample
-                        }
+                        let value =
+                            if sampler.count() > 1 && first.needs_refining((i, j), *threshold) {
+                                counters.pixels_refined += 1;
+                                sampler.complete(&tracer, (i, j), sample, &mut counters)
+                            } else {
+                                sample
+                            };
+                        *pixel = finish(value);
                     }
-                };
-                *pixel = finish(value);
+                }
             }
             row_done();
             counters

@@ -11,6 +11,7 @@
 use glam::DVec3;
 
 use super::camera_ray;
+use super::geometry::Ray;
 use super::real::Real;
 use super::trace::{Counters, Tracer};
 
@@ -61,6 +62,35 @@ impl Sampler {
     ) -> DVec3 {
         let first = self.sample(tracer, pixel, 0, counters);
         self.complete(tracer, pixel, first, counters)
+    }
+
+    /// Every pixel of row `j`, left to right, each handed to `put` with its
+    /// column: the values [`Sampler::pixel`] gives. With one sample per
+    /// pixel the row's camera rays are made first, in a loop of their own:
+    /// each needs a division and a square root whose latency, inside the
+    /// trace of a pixel, would stall it, while a loop of independent rays
+    /// overlaps them. (The mean of one sample is that sample.)
+    pub(super) fn row<R: Real>(
+        &self,
+        tracer: &Tracer<'_, R>,
+        j: u32,
+        counters: &mut Counters,
+        mut put: impl FnMut(usize, DVec3),
+    ) {
+        if self.count() > 1 {
+            for i in 0..self.size {
+                put(i as usize, self.pixel(tracer, (i, j), counters));
+            }
+            return;
+        }
+        let y = f64::from(j) + 0.5;
+        let rays: Vec<Ray<R>> = (0..self.size)
+            .map(|i| camera_ray::<R>(self.size, f64::from(i) + 0.5, y))
+            .collect();
+        for (i, ray) in rays.into_iter().enumerate() {
+            let color = tracer.radiance(ray, counters);
+            put(i, color.clamp(DVec3::ZERO, DVec3::ONE));
+        }
     }
 
     /// The mean of every sample of pixel (i, j) given sample 0, `first`:
@@ -142,6 +172,81 @@ mod tests {
     fn another_seed_moves_every_jittered_sample() {
         for s in 0..16 {
             assert_ne!(sample_offset(5, 9, s, 4, 0), sample_offset(5, 9, s, 4, 1));
+        }
+    }
+
+    /// A reflective sphere over a rectangle, lit: every path of the tracer.
+    fn mirror_over_floor() -> crate::ir::Scene {
+        use crate::ir;
+        let material = |color: DVec3, reflectivity| ir::Material {
+            color,
+            reflectivity,
+            texture: None,
+        };
+        ir::Scene {
+            resolution: 24,
+            objects: vec![
+                ir::Object {
+                    shape: ir::Shape::Sphere {
+                        center: DVec3::new(0.0, 0.2, -3.0),
+                        radius: 0.8,
+                    },
+                    material: material(DVec3::splat(0.4), 0.6),
+                },
+                ir::Object {
+                    shape: ir::Shape::Rect {
+                        center: DVec3::new(0.0, -1.0, -3.0),
+                        normal: DVec3::Y,
+                        right: DVec3::X,
+                        up: DVec3::NEG_Z,
+                        width: 4.0,
+                        height: 4.0,
+                    },
+                    material: material(DVec3::new(0.9, 0.5, 0.2), 0.0),
+                },
+            ],
+            lights: vec![ir::Light {
+                position: DVec3::new(-1.0, 2.0, -1.0),
+                color: DVec3::new(1.0, 0.8, 0.8),
+            }],
+            textures: Vec::new(),
+            effects: ir::Effects {
+                shadows: true,
+                reflection: true,
+                textures: false,
+            },
+        }
+    }
+
+    /// `row`, which makes a row's camera rays before tracing them, gives
+    /// every pixel bit for bit as `pixel` does, with the same counts.
+    #[test]
+    fn a_row_is_its_pixels() {
+        let scene = mirror_over_floor();
+        for spp in [1, 4] {
+            let tracer = Tracer::<f64>::new(&scene, 8, true);
+            let sampler = Sampler::new(scene.resolution, spp, 0);
+            let mut total = Counters::default();
+            for j in 0..scene.resolution {
+                let (mut by_row, mut by_pixel) = (Counters::default(), Counters::default());
+                let mut row = Vec::new();
+                sampler.row(&tracer, j, &mut by_row, |i, c| row.push((i, c)));
+                let pixels: Vec<_> = (0..scene.resolution)
+                    .map(|i| (i as usize, sampler.pixel(&tracer, (i, j), &mut by_pixel)))
+                    .collect();
+                let bits = |v: &[(usize, DVec3)]| -> Vec<(usize, [u64; 3])> {
+                    v.iter()
+                        .map(|&(i, c)| (i, c.to_array().map(f64::to_bits)))
+                        .collect()
+                };
+                assert_eq!(bits(&row), bits(&pixels), "spp {spp}, row {j}");
+                assert_eq!(by_row, by_pixel, "spp {spp}, row {j}");
+                total += by_row;
+            }
+            assert!(
+                total.reflection_rays > 0 && total.shadow_rays > 0,
+                "{total:?}"
+            );
         }
     }
 
