@@ -34,9 +34,10 @@ pub enum Accel {
     Brute,
 }
 
-/// Up to this many primitives, every one is tested: scenes/sample.txt (2)
-/// renders a third faster so, while at 11 the hierarchy was already a
-/// little faster and at 101 five times (docs/performance.md).
+/// Up to this many primitives, every one is tested: when the threshold was
+/// chosen, scenes/sample.txt (2) rendered in a quarter less time so, while
+/// at 11 the hierarchy was already a little faster and at 101 five times
+/// (docs/performance.md, "Brute force").
 pub const BRUTE_FORCE_MAX: usize = 4;
 
 /// The primitives of a scene in precision `R`.
