@@ -52,15 +52,21 @@ impl SourceFile {
     /// Decode `bytes` read from `name`. Invalid UTF-8 is replaced with
     /// U+FFFD and reported at the first bad byte, so parsing can continue.
     pub fn from_bytes(name: &str, dir: &Path, bytes: &[u8]) -> (SourceFile, Option<SyntaxError>) {
-        let error = std::str::from_utf8(bytes).err().map(|e| {
-            let len = e.error_len().unwrap_or(bytes.len() - e.valid_up_to());
-            SyntaxError::InvalidUtf8 {
-                span: Span::new(e.valid_up_to(), e.valid_up_to() + len).into(),
+        // Valid text (the usual case) is validated once, and only invalid
+        // text goes through the lossy decoder.
+        let (text, error): (Arc<str>, _) = match std::str::from_utf8(bytes) {
+            Ok(text) => (Arc::from(text), None),
+            Err(e) => {
+                let len = e.error_len().unwrap_or(bytes.len() - e.valid_up_to());
+                let error = SyntaxError::InvalidUtf8 {
+                    span: Span::new(e.valid_up_to(), e.valid_up_to() + len).into(),
+                };
+                (String::from_utf8_lossy(bytes).into(), Some(error))
             }
-        });
+        };
         let file = SourceFile {
             name: name.to_string(),
-            text: String::from_utf8_lossy(bytes).into(),
+            text,
             dir: dir.to_path_buf(),
         };
         (file, error)
@@ -152,6 +158,11 @@ impl Report {
         } else {
             GraphicalTheme::unicode_nocolor()
         };
+        if self.diagnostics.is_empty() {
+            // No snippet to show: the source is not escaped (a scan of all
+            // of a large scene's text).
+            return String::new();
+        }
         let handler = GraphicalReportHandler::new_themed(theme).with_width(width);
         let source = ShownSource::new(&self.source.name, &self.source.text);
         let mut out = String::new();

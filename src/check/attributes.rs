@@ -4,6 +4,8 @@
 //! belong and missing required attributes. What survives is an
 //! [`Attributes`] the per-section builders query by name.
 
+use arrayvec::ArrayVec;
+
 use crate::ast::{AttrName, Attribute, Section, SectionKind, Value};
 use crate::fix::{Applicability, Fix};
 use crate::span::{Span, Spanned};
@@ -13,10 +15,18 @@ use super::errors::CheckError;
 use super::Problems;
 use crate::language::{self as schema, Arity, AttrSpec};
 
+/// The most numbers an attribute takes (a vector's three); the language
+/// table is held to it by a test.
+const MAX_NUMBERS: usize = 3;
+
+/// The most attribute lines a section keeps: one per attribute name.
+const MAX_GIVEN: usize = AttrName::KEYWORDS.len();
+
 /// The values of one attribute line that passed the generic checks.
+/// Inline, not on the heap: a large scene has millions of attribute lines.
 #[derive(Debug)]
 pub enum Read<'a> {
-    Numbers(Vec<Spanned<f64>>),
+    Numbers(ArrayVec<Spanned<f64>, MAX_NUMBERS>),
     Path(Spanned<&'a str>),
 }
 
@@ -31,7 +41,7 @@ pub struct Given<'a> {
 /// The attributes of one section, first occurrence of each name.
 #[derive(Debug)]
 pub struct Attributes<'a> {
-    given: Vec<Given<'a>>,
+    given: ArrayVec<Given<'a>, MAX_GIVEN>,
 }
 
 impl<'a> Attributes<'a> {
@@ -47,7 +57,7 @@ impl<'a> Attributes<'a> {
     /// The numbers of `name`, when given and valid.
     pub fn numbers(&self, name: &AttrName) -> Option<&[Spanned<f64>]> {
         match self.find(name)?.read.as_ref()? {
-            Read::Numbers(numbers) => Some(numbers),
+            Read::Numbers(numbers) => Some(numbers.as_slice()),
             Read::Path(_) => None,
         }
     }
@@ -73,7 +83,9 @@ impl<'a> Attributes<'a> {
 /// generic problem into `problems`.
 pub fn collect<'a>(section: &'a Section, problems: &mut Problems) -> Attributes<'a> {
     let kind = &*section.kind;
-    let mut given: Vec<Given<'a>> = Vec::new();
+    // At most one line per known name: unknown and repeated names are
+    // reported and left out.
+    let mut given = ArrayVec::<Given<'a>, MAX_GIVEN>::new();
     // Names that "did you mean" already offered: not reported missing too.
     let mut suggested: Vec<&'static str> = Vec::new();
     for attribute in &section.attributes {
@@ -221,10 +233,13 @@ fn read_values<'a>(
     }
     match spec.arity {
         Arity::Numbers(_) => {
-            let mut numbers = Vec::new();
+            let mut numbers = ArrayVec::new();
             for value in &attribute.values {
                 match &value.value {
-                    Value::Number(n) => numbers.push(Spanned::new(value.span, *n)),
+                    // Kept only while the count is right (then at most
+                    // MAX_NUMBERS); otherwise nothing is built anyway.
+                    Value::Number(n) if ok => numbers.push(Spanned::new(value.span, *n)),
+                    Value::Number(_) => {}
                     Value::Text(text) => {
                         problems.push(CheckError::NotANumber {
                             name: name.to_string(),
@@ -314,4 +329,22 @@ fn report_missing(
         span: section.kind.span.into(),
         help,
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_attribute_fits_the_inline_buffers() {
+        for keyword in SectionKind::KEYWORDS {
+            let specs = schema::attributes_of(&SectionKind::from_word(keyword));
+            assert!(specs.len() <= MAX_GIVEN, "{keyword}");
+            for spec in specs {
+                if let Arity::Numbers(n) = spec.arity {
+                    assert!(n <= MAX_NUMBERS, "{keyword} {}", spec.name.as_str());
+                }
+            }
+        }
+    }
 }

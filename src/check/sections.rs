@@ -2,6 +2,8 @@
 //! then the range rules and warnings of its own attributes (docs/language.md), and
 //! returns the model value when everything it needs is valid.
 
+use arrayvec::ArrayVec;
+
 use crate::ast::{AttrName, Section, Value};
 use crate::fix::{Applicability, Edit, Fix};
 use crate::model;
@@ -186,12 +188,20 @@ fn no_positional_values(section: &Section, example: &str, cx: &mut Checker<'_>) 
 }
 
 /// The `dimension` values, each checked > 0; `names` says what each is.
-fn dimensions(attrs: &Attributes<'_>, names: &[&str], cx: &mut Checker<'_>) -> Option<Vec<f64>> {
+fn dimensions(
+    attrs: &Attributes<'_>,
+    names: &[&str],
+    cx: &mut Checker<'_>,
+) -> Option<ArrayVec<f64, 2>> {
     let values = attrs.numbers(&AttrName::Dimension)?;
-    let fixed: Vec<String> = values
-        .iter()
-        .map(|v| format::number(if **v == 0.0 { 1.0 } else { v.abs() }))
-        .collect();
+    // The suggested line, written only when a value is wrong.
+    let fixed = || {
+        let fixed: Vec<String> = values
+            .iter()
+            .map(|v| format::number(if **v == 0.0 { 1.0 } else { v.abs() }))
+            .collect();
+        fixed.join(" ")
+    };
     let mut ok = true;
     for (value, what) in values.iter().zip(names) {
         if **value > 0.0 {
@@ -202,7 +212,7 @@ fn dimensions(attrs: &Attributes<'_>, names: &[&str], cx: &mut Checker<'_>) -> O
             what: what.to_string(),
             found: cx.text(value.span),
             span: value.span.into(),
-            help: format!("write `dimension {}`", fixed.join(" ")),
+            help: format!("write `dimension {}`", fixed()),
         });
     }
     ok.then(|| values.iter().map(|v| **v).collect())

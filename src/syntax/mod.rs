@@ -11,8 +11,14 @@
 //!
 //! Spans are byte offsets into the parsed text, computed with nom's
 //! [`Offset`] trait from the remaining input (as kdl-rs does).
+//!
+//! The cursor first tries the byte-level fast paths of [`fast`] for
+//! trivia, words and plain decimals, and falls back to the nom rules
+//! wherever the text leaves their ASCII subset; the `parity` tests hold the
+//! two routes to the same tree, spans and errors.
 
 pub mod errors;
+mod fast;
 pub mod trivia;
 
 use nom::branch::alt;
@@ -53,10 +59,25 @@ pub fn parse(text: &str) -> Parsed {
 /// scene's tree then never exists whole). The syntax errors come after the
 /// last section, from [`Sections::into_errors`].
 pub fn sections(text: &str) -> Sections<'_> {
+    sections_by(text, Route::Fast)
+}
+
+/// How the cursor reads tokens: the fast paths first, or the nom rules
+/// alone (the reference the parity tests compare against).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Route {
+    Fast,
+    #[cfg(test)]
+    General,
+}
+
+fn sections_by(text: &str, route: Route) -> Sections<'_> {
     Sections {
         cursor: Cursor {
             src: text,
             rest: text,
+            route,
+            last_word: None,
             errors: Vec::new(),
             scratch: Vec::new(),
         },
@@ -186,18 +207,20 @@ fn looks_numeric(word: &str) -> bool {
 
 /// True for `nan`, `inf` and `infinity` in any case and with any sign.
 fn is_non_finite_word(word: &str) -> bool {
-    let bare = word.trim_start_matches(['+', '-']).to_ascii_lowercase();
-    matches!(bare.as_str(), "nan" | "inf" | "infinity")
+    let bare = word.trim_start_matches(['+', '-']);
+    ["nan", "inf", "infinity"]
+        .iter()
+        .any(|w| bare.eq_ignore_ascii_case(w))
 }
 
 /// True when a word in attribute position starts a new section: a section
 /// keyword, or an unknown word nearer to a section keyword than to any
 /// attribute name (`sphre` starts a section; `colr` is an attribute).
 fn starts_section(word: &str) -> bool {
-    if !matches!(SectionKind::from_word(word), SectionKind::Unknown(_)) {
+    if SectionKind::KEYWORDS.contains(&word) {
         return true;
     }
-    if !matches!(AttrName::from_word(word), AttrName::Unknown(_)) {
+    if AttrName::KEYWORDS.contains(&word) {
         return false;
     }
     match suggest::nearest(word, &SectionKind::KEYWORDS) {
@@ -214,10 +237,25 @@ enum Token<'a> {
     UnterminatedStr,
 }
 
+/// The last word [`Cursor::peek`] read, kept because the rule that reads
+/// a keyword or attribute name peeks it again after the loop that stopped
+/// at it.
+#[derive(Clone, Copy)]
+struct PeekedWord<'a> {
+    /// Where the word starts in the source.
+    start: usize,
+    text: &'a str,
+    span: Span,
+    /// The input after it.
+    rest: &'a str,
+}
+
 /// The structural parser: the remaining input and the errors found so far.
 struct Cursor<'a> {
     src: &'a str,
     rest: &'a str,
+    route: Route,
+    last_word: Option<PeekedWord<'a>>,
     errors: Vec<SyntaxError>,
     /// The buffer [`Cursor::values`] gathers into.
     scratch: Vec<Spanned<Value>>,
@@ -229,9 +267,30 @@ impl<'a> Cursor<'a> {
     }
 
     fn skip_trivia(&mut self) {
+        if self.route == Route::Fast {
+            let ascii = fast::ascii_trivia(self.rest.as_bytes());
+            // Only ASCII bytes were skipped: still a character boundary.
+            self.rest = &self.rest[ascii..];
+            if self.rest.as_bytes().first().is_none_or(u8::is_ascii) && !self.rest.starts_with('#')
+            {
+                return;
+            }
+        }
         if let Ok((rest, _)) = trivia(self.rest) {
             self.rest = rest;
         }
+    }
+
+    /// The `word` at the start of the remaining input, by the fast path
+    /// when it is all ASCII.
+    fn word(&self) -> Option<(&'a str, &'a str)> {
+        let rest = self.rest;
+        if self.route == Route::Fast {
+            if let Some(len) = fast::ascii_word(rest.as_bytes()) {
+                return Some((&rest[len..], &rest[..len]));
+            }
+        }
+        word(rest).ok()
     }
 
     /// The next token after trivia with its span and the input after it, or
@@ -242,24 +301,36 @@ impl<'a> Cursor<'a> {
             return None;
         }
         let start = self.offset();
-        let (rest, token) = match string(self.rest) {
-            Ok((rest, text)) => (rest, Token::Str(text)),
-            Err(nom::Err::Failure(_)) => {
+        if let Some(word) = self.last_word.filter(|word| word.start == start) {
+            return Some((Token::Word(word.text), word.span, word.rest));
+        }
+        // A quote opens a string, closed or not; anything else is a word.
+        let (rest, token) = match self.rest.starts_with('"').then(|| string(self.rest)) {
+            Some(Ok((rest, text))) => (rest, Token::Str(text)),
+            Some(Err(_)) => {
                 let line = rest_of_line(self.rest).map_or("", |(rest, _)| rest);
                 (line, Token::UnterminatedStr)
             }
-            Err(_) => match word(self.rest) {
-                Ok((rest, text)) => (rest, Token::Word(text)),
+            None => match self.word() {
+                Some((rest, text)) => (rest, Token::Word(text)),
                 // Unreachable by construction (trivia stopped on a word or
                 // string character), but never loop: treat one char as a word.
-                Err(_) => {
+                None => {
                     let len = self.rest.chars().next().map_or(0, char::len_utf8);
                     (&self.rest[len..], Token::Word(&self.rest[..len]))
                 }
             },
         };
-        let end = self.src.offset(rest);
-        Some((token, Span::new(start, end), rest))
+        let span = Span::new(start, self.src.offset(rest));
+        if let Token::Word(text) = token {
+            self.last_word = Some(PeekedWord {
+                start,
+                text,
+                span,
+                rest,
+            });
+        }
+        Some((token, span, rest))
     }
 
     /// `file = trivia , { section } ;`
@@ -352,8 +423,8 @@ impl<'a> Cursor<'a> {
                 Token::Word(w)
                     if path_allowed
                         && values.is_empty()
-                        && matches!(SectionKind::from_word(w), SectionKind::Unknown(_))
-                        && matches!(AttrName::from_word(w), AttrName::Unknown(_)) =>
+                        && !SectionKind::KEYWORDS.contains(&w)
+                        && !AttrName::KEYWORDS.contains(&w) =>
                 {
                     values.push(Spanned::new(span, Value::Text(w.into())));
                 }
@@ -375,28 +446,33 @@ impl<'a> Cursor<'a> {
 
     /// Convert a numeric-looking word, reporting why it is not a number.
     fn number_value(&mut self, w: &str, span: Span) -> Option<f64> {
-        let found = w.to_string();
-        let error = match number(w) {
-            Ok(("", text)) => match text.parse::<f64>() {
+        let plain = self.route == Route::Fast && fast::is_plain_decimal(w.as_bytes());
+        let found = || w.to_string();
+        let error = if plain || matches!(number(w), Ok(("", _))) {
+            match w.parse::<f64>() {
                 Ok(n) if n.is_finite() => return Some(n),
                 _ => SyntaxError::NumberOutOfRange {
-                    found,
+                    found: found(),
                     span: span.into(),
                 },
-            },
-            _ if is_non_finite_word(w) => SyntaxError::NonFiniteNumber {
-                found,
+            }
+        } else if is_non_finite_word(w) {
+            SyntaxError::NonFiniteNumber {
+                found: found(),
                 span: span.into(),
-            },
-            _ => SyntaxError::InvalidNumber {
-                found,
+            }
+        } else {
+            SyntaxError::InvalidNumber {
+                found: found(),
                 span: span.into(),
-            },
+            }
         };
         self.errors.push(error);
         None
     }
 }
 
+#[cfg(test)]
+mod parity;
 #[cfg(test)]
 mod tests;
