@@ -43,7 +43,9 @@ pub fn boxed<D: Diagnostic + Send + Sync + 'static>(diagnostics: Vec<D>) -> Vec<
 pub struct SourceFile {
     /// As given on the command line (`-` shows as `<stdin>`).
     pub name: String,
-    pub text: Arc<str>,
+    /// Shared with the diagnostics' snippets; an `Arc<String>` so the
+    /// buffer a file was read into becomes the text without a copy.
+    pub text: Arc<String>,
     /// The scene file's folder (the working directory for stdin).
     pub dir: PathBuf,
 }
@@ -54,19 +56,26 @@ impl SourceFile {
     pub fn from_bytes(name: &str, dir: &Path, bytes: &[u8]) -> (SourceFile, Option<SyntaxError>) {
         // Valid text (the usual case) is validated once, and only invalid
         // text goes through the lossy decoder.
-        let (text, error): (Arc<str>, _) = match std::str::from_utf8(bytes) {
-            Ok(text) => (Arc::from(text), None),
+        SourceFile::from_vec(name, dir, bytes.to_vec())
+    }
+
+    /// [`SourceFile::from_bytes`], taking the buffer: valid UTF-8 (the
+    /// usual case) is validated once and becomes the text as it is.
+    pub fn from_vec(name: &str, dir: &Path, bytes: Vec<u8>) -> (SourceFile, Option<SyntaxError>) {
+        let (text, error) = match String::from_utf8(bytes) {
+            Ok(text) => (text, None),
             Err(e) => {
+                let (bytes, e) = (e.as_bytes(), e.utf8_error());
                 let len = e.error_len().unwrap_or(bytes.len() - e.valid_up_to());
                 let error = SyntaxError::InvalidUtf8 {
                     span: Span::new(e.valid_up_to(), e.valid_up_to() + len).into(),
                 };
-                (String::from_utf8_lossy(bytes).into(), Some(error))
+                (String::from_utf8_lossy(bytes).into_owned(), Some(error))
             }
         };
         let file = SourceFile {
             name: name.to_string(),
-            text,
+            text: Arc::new(text),
             dir: dir.to_path_buf(),
         };
         (file, error)

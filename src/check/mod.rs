@@ -16,6 +16,7 @@ pub mod errors;
 pub mod format;
 
 mod sections;
+mod sink;
 mod text_direction;
 mod textures;
 
@@ -32,6 +33,7 @@ use crate::suggest;
 use crate::texture::Texture;
 
 pub use errors::CheckError;
+pub use sink::{Collect, Sink, Summarise, Summary};
 
 /// A scene that passed the check pass: its model and its decoded textures,
 /// keyed by the path as written in the scene.
@@ -44,12 +46,14 @@ pub struct Checked {
 /// The check pass, the one way in: fed one section at a time, as the
 /// parser (or the JSON reader) yields them, so a caller that drops each
 /// section once checked never holds a large scene's whole syntax tree.
-/// [`crate::frontend`] drives it for every command.
-pub struct SceneCheck<'a> {
+/// Each valid object goes to the [`Sink`] `S`: [`Collect`] (the default)
+/// builds the model, [`Summarise`] only counts. [`crate::frontend`] drives
+/// it for every command.
+pub struct SceneCheck<'a, S: Sink = Collect> {
     cx: Checker<'a>,
     /// The first camera's keyword and its resolution, if valid.
     camera: Option<(Span, Option<u32>)>,
-    objects: Vec<model::Object>,
+    objects: S,
     /// Whether every object so far was valid.
     objects_valid: bool,
     lights: Vec<Option<model::Light>>,
@@ -67,8 +71,16 @@ struct Count {
 }
 
 impl<'a> SceneCheck<'a> {
-    /// A check of the scene whose text is `source`.
+    /// A check of the scene whose text is `source` that builds its model.
     pub fn new(source: &'a SourceFile) -> SceneCheck<'a> {
+        SceneCheck::with_sink(source, Collect::default())
+    }
+}
+
+impl<'a, S: Sink> SceneCheck<'a, S> {
+    /// A check of the scene whose text is `source` that hands each valid
+    /// object to `objects`.
+    pub fn with_sink(source: &'a SourceFile, objects: S) -> SceneCheck<'a, S> {
         let count = |what, kinds, limit| Count {
             what,
             kinds,
@@ -85,7 +97,7 @@ impl<'a> SceneCheck<'a> {
                 lights: Vec::new(),
             },
             camera: None,
-            objects: Vec::new(),
+            objects,
             objects_valid: true,
             lights: Vec::new(),
             counts: [
@@ -128,7 +140,7 @@ impl<'a> SceneCheck<'a> {
                     sections::plane(section, cx)
                 };
                 match object {
-                    Some(object) => self.objects.push(object),
+                    Some(object) => self.objects.object(object),
                     None => self.objects_valid = false,
                 }
             }
@@ -139,13 +151,14 @@ impl<'a> SceneCheck<'a> {
         }
     }
 
-    /// The checks that need the whole file, then the checked scene when
-    /// there were no errors, and every diagnostic in the order found.
-    pub fn finish(self) -> (Option<Checked>, Vec<CheckError>) {
+    /// The checks that need the whole file, then what the sink makes of
+    /// the scene when there were no errors, and every diagnostic in the
+    /// order found.
+    pub fn finish(self) -> (Option<S::Scene>, Vec<CheckError>) {
         let SceneCheck {
             mut cx,
             camera,
-            mut objects,
+            objects,
             objects_valid,
             lights,
             counts,
@@ -168,19 +181,10 @@ impl<'a> SceneCheck<'a> {
         let resolution = camera.and_then(|(_, resolution)| resolution);
         let checked = match (problems.clean(), resolution) {
             (true, Some(resolution)) => objects_valid
-                .then(|| {
-                    objects.shrink_to_fit();
-                    objects
-                })
+                .then_some(objects)
                 .zip(lights.into_iter().collect::<Option<Vec<_>>>())
-                .map(|(objects, lights)| Checked {
-                    scene: model::Scene {
-                        format: model::FORMAT.to_string(),
-                        camera: model::Camera { resolution },
-                        objects,
-                        lights,
-                    },
-                    textures: textures.into_loaded(),
+                .map(|(objects, lights)| {
+                    objects.scene(model::Camera { resolution }, lights, textures.into_loaded())
                 }),
             _ => None,
         };

@@ -20,12 +20,14 @@ use miette::Diagnostic;
 
 use super::discover::discover;
 use super::{Outcome, WriteStdoutError};
+use crate::check::Summary;
 use crate::ci::{self, github, sarif, Finding};
 use crate::cli::{CheckArgs, Format};
 use crate::diagnostic::{terminal_width, use_color, BoxedDiagnostic, JsonDiagnostic, Report};
 use crate::escape::escape;
 use crate::fix::{self, Applicability};
-use crate::frontend::{load, Loaded};
+use crate::frontend::{load_summary, Loaded};
+use crate::ir::Effects;
 use crate::output;
 
 /// Run `raytracer check`.
@@ -56,7 +58,7 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
                 }
             }
         }
-        match load(path) {
+        match load_summary(path) {
             Ok(loaded) => {
                 let report = &loaded.report;
                 failed |=
@@ -140,7 +142,7 @@ impl Output {
         }
     }
 
-    fn scene(&mut self, loaded: &Loaded) {
+    fn scene(&mut self, loaded: &Loaded<Summary>) {
         let report = &loaded.report;
         match self.format {
             Format::Human => {
@@ -247,7 +249,7 @@ fn fix_in_place(path: &Path, applicability: Applicability) -> Result<Vec<String>
             "<stdin>: not fixed: `--fix` rewrites files, not stdin".to_string(),
         ]);
     }
-    let Ok(loaded) = load(path) else {
+    let Ok(loaded) = load_summary(path) else {
         return Ok(Vec::new());
     };
     let report = &loaded.report;
@@ -290,7 +292,7 @@ fn is_invalid_utf8(diagnostic: &dyn Diagnostic) -> bool {
 
 /// `scene.txt: 2 errors, 1 warning`, or for a scene without errors
 /// `scene.txt: ok; effects: shadows, reflection` (the name escaped).
-fn summary(loaded: &Loaded) -> String {
+fn summary(loaded: &Loaded<Summary>) -> String {
     let report = &loaded.report;
     let (errors, warnings) = (report.error_count(), report.warning_count());
     let name = escape(&report.source.name);
@@ -303,8 +305,8 @@ fn summary(loaded: &Loaded) -> String {
         ),
     };
     match &loaded.checked {
-        Some(checked) => {
-            let used = checked.effects().summary();
+        Some(summary) => {
+            let used = Effects::of_summary(summary).summary();
             format!("{name}: {counts}; effects: {used}")
         }
         None => format!("{name}: {counts}"),

@@ -21,18 +21,18 @@ use crate::escape::{escape, EscapedSource};
 
 /// A source file as snippets show it.
 pub struct ShownSource {
-    named: NamedSource<Arc<str>>,
-    original: Arc<str>,
+    named: NamedSource<Arc<String>>,
+    original: Arc<String>,
     /// The offset map when the text had something to escape.
     escaped: Option<EscapedSource>,
 }
 
 impl ShownSource {
     /// `text` named `name`, both escaped.
-    pub fn new(name: &str, text: &Arc<str>) -> ShownSource {
+    pub fn new(name: &str, text: &Arc<String>) -> ShownSource {
         let escaped = EscapedSource::new(text);
         let shown_text = match &escaped {
-            Some(escaped) => Arc::from(escaped.text()),
+            Some(escaped) => Arc::new(escaped.text().to_string()),
             None => text.clone(),
         };
         ShownSource {

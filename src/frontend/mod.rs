@@ -6,11 +6,15 @@
 //! in memory; both decode the text, pick the [`Language`], and stream the
 //! sections the parser (or the JSON reader) yields through the one check
 //! pass, [`SceneCheck`], a batch at a time: neither language ever holds a
-//! large scene's whole syntax tree. [`parse`] stops after parsing, for
-//! callers that want the tree itself. Nothing here knows about the command
-//! line.
+//! large scene's whole syntax tree. [`load_summary`] does the same but keeps
+//! only a [`Summary`] of a valid scene, never its model, for callers that
+//! want only the diagnostics and the effects. [`parse`] stops after
+//! parsing, for callers that want the tree itself. Nothing here knows about
+//! the command line.
 
 mod read;
+#[cfg(test)]
+mod summary_parity;
 
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -18,16 +22,17 @@ use std::time::{Duration, Instant};
 pub use read::{read_scene, ReadSceneError};
 
 use crate::ast::{self, Section};
-use crate::check::{Checked, SceneCheck};
+use crate::check::{Checked, Collect, SceneCheck, Sink, Summarise, Summary};
 use crate::diagnostic::{boxed, io_reason, BoxedDiagnostic, Report, SourceFile};
 use crate::fix::Fix;
 use crate::{json, syntax};
 
-/// A scene run through the front end: every diagnostic, and the checked
-/// scene when there were no errors.
-pub struct Loaded {
+/// A scene run through the front end: every diagnostic, and what was kept
+/// of the scene (its [`Checked`] model, or a [`Summary`]) when there were no
+/// errors.
+pub struct Loaded<T = Checked> {
     pub report: Report,
-    pub checked: Option<Checked>,
+    pub checked: Option<T>,
     /// Seconds spent reading and parsing the file.
     pub parse_seconds: f64,
     /// Seconds spent in the check pass (including texture decoding).
@@ -82,6 +87,17 @@ pub fn parse(language: Language, text: &str) -> (Option<ast::File>, Vec<BoxedDia
 /// Read `path` (`-` is stdin), parse it as scene text or JSON (see
 /// [`Language::of`]) and check it.
 pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
+    load_into(path, Collect::default())
+}
+
+/// [`load`], keeping only the [`Summary`] of a valid scene: each object is
+/// summarised and dropped as soon as it is checked.
+pub fn load_summary(path: &Path) -> Result<Loaded<Summary>, ReadSceneError> {
+    load_into(path, Summarise::default())
+}
+
+/// [`load`] with each valid object handed to `sink`.
+fn load_into<S: Sink>(path: &Path, sink: S) -> Result<Loaded<S::Scene>, ReadSceneError> {
     let start = Instant::now();
     let bytes = read_scene(path)?;
     let (name, dir) = if path == Path::new("-") {
@@ -95,11 +111,10 @@ pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
         (path.display().to_string(), dir)
     };
     let language = Language::of(path, &bytes);
-    let (source, utf8_error) = SourceFile::from_bytes(&name, &dir, &bytes);
-    // The text lives on in `source`: one copy of a large scene, not two,
-    // while its sections are checked.
-    drop(bytes);
-    Ok(load_source(source, utf8_error, language, start))
+    // The buffer read becomes the text: one copy of a large scene, never
+    // two.
+    let (source, utf8_error) = SourceFile::from_vec(&name, &dir, bytes);
+    Ok(load_source(source, utf8_error, language, start, sink))
 }
 
 /// Parse and check scene bytes named `name` (scene text, or JSON when the
@@ -124,7 +139,7 @@ pub fn load_bytes_as(
     start: Instant,
 ) -> Loaded {
     let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
-    load_source(source, utf8_error, language, start)
+    load_source(source, utf8_error, language, start, Collect::default())
 }
 
 /// A diagnostic with the fix it carries.
@@ -136,16 +151,16 @@ const CHECK_BATCH: usize = 1024;
 /// The check pass fed a batch of sections at a time, so the clock is read
 /// twice a batch, not twice a section (a million readings cost 1 % of the
 /// time).
-struct Batches<'a> {
-    check: SceneCheck<'a>,
+struct Batches<'a, S: Sink> {
+    check: SceneCheck<'a, S>,
     batch: Vec<Section>,
     checking: Duration,
 }
 
-impl<'a> Batches<'a> {
-    fn new(source: &'a SourceFile) -> Batches<'a> {
+impl<'a, S: Sink> Batches<'a, S> {
+    fn new(source: &'a SourceFile, sink: S) -> Batches<'a, S> {
         Batches {
-            check: SceneCheck::new(source),
+            check: SceneCheck::with_sink(source, sink),
             batch: Vec::with_capacity(CHECK_BATCH),
             checking: Duration::ZERO,
         }
@@ -168,7 +183,7 @@ impl<'a> Batches<'a> {
 
     /// The whole-file checks; the checked scene and the check's
     /// diagnostics with their fixes, and the time spent checking.
-    fn finish(mut self) -> (Option<Checked>, Vec<Fixable>, Duration) {
+    fn finish(mut self) -> (Option<S::Scene>, Vec<Fixable>, Duration) {
         self.flush();
         let started = Instant::now();
         let (checked, problems) = self.check.finish();
@@ -189,12 +204,13 @@ impl<'a> Batches<'a> {
 /// 100,000 spheres never holds its whole syntax tree (docs/performance.md).
 /// The diagnostics come in the same order as from [`parse`] then the check
 /// pass: syntax (or JSON) errors, then the check's.
-fn load_source(
+fn load_source<S: Sink>(
     source: SourceFile,
     utf8_error: Option<syntax::SyntaxError>,
     language: Language,
     start: Instant,
-) -> Loaded {
+    sink: S,
+) -> Loaded<S::Scene> {
     let mut diagnostics: Vec<Fixable> = Vec::new();
     let unfixed = |d: Vec<BoxedDiagnostic>| d.into_iter().map(|d| (d, None));
     diagnostics.extend(unfixed(
@@ -203,7 +219,7 @@ fn load_source(
             .map(|e| Box::new(e) as BoxedDiagnostic)
             .collect(),
     ));
-    let mut batches = Batches::new(&source);
+    let mut batches = Batches::new(&source, sink);
     let is_scene = match language {
         Language::Text => {
             let mut sections = syntax::sections(&source.text);

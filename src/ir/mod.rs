@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 pub use lower::lower;
 
-use crate::check::Checked;
+use crate::check::{Checked, Summary};
 use crate::model;
 pub use crate::texture::Texture;
 
@@ -114,11 +114,16 @@ impl Effects {
     /// The effects `scene` calls for: shadows when it has lights,
     /// reflection when an object reflects, textures when one is textured.
     pub fn of(scene: &model::Scene) -> Effects {
-        let objects = &scene.objects;
+        Effects::of_summary(&Summary::of(scene))
+    }
+
+    /// The effects of the scene `summary` describes, as [`Effects::of`]
+    /// gives them for the scene itself.
+    pub fn of_summary(summary: &Summary) -> Effects {
         Effects {
-            shadows: !scene.lights.is_empty(),
-            reflection: objects.iter().any(|o| o.material.reflectivity > 0.0),
-            textures: objects.iter().any(|o| o.material.texture.is_some()),
+            shadows: summary.lights > 0,
+            reflection: summary.reflective,
+            textures: summary.textured,
         }
     }
 
