@@ -88,8 +88,11 @@ for target in "$@"; do
   case " ${FUZZ_FLAGS:-} " in *" none "*) sanitizer=none ;; esac
   asked="$seconds"
   [ -z "$cpu_budget" ] || asked="$cpu_budget CPU"
-  printf '| %s | `%s` | %s | %s | %s | %s | %s MiB | %s | %s |\n' \
-    "$(date -u +%Y-%m-%dT%H:%MZ)" "$target" "$asked" "$elapsed" "$cpu" "$executions" \
+  # The code fuzzed: the commit, marked when the sources differ from it.
+  commit=$(git rev-parse --short HEAD 2>/dev/null || echo '?')
+  git diff --quiet HEAD -- src fuzz/fuzz_targets Cargo.toml 2>/dev/null || commit="$commit+changes"
+  printf '| %s | `%s` | `%s` | %s | %s | %s | %s | %s MiB | %s | %s |\n' \
+    "$(date -u +%Y-%m-%dT%H:%MZ)" "$target" "$commit" "$asked" "$elapsed" "$cpu" "$executions" \
     "${peak:-?}" "$sanitizer" "$crashes" >>"$log"
   if [ "$code" -ne 0 ] || [ "$crashes" -ne 0 ]; then
     echo "fuzz: $target exited $code with $crashes crash file(s) in fuzz/artifacts/$target" >&2
