@@ -38,12 +38,16 @@ pub fn read_scene(path: &Path) -> Result<Vec<u8>, ReadSceneError> {
         path: shown.clone(),
         reason: io_reason(&source),
     };
-    let input: Box<dyn Read> = if path == Path::new("-") {
-        Box::new(std::io::stdin().lock())
+    // A file's buffer is allocated at its size, so the text is read into
+    // exactly the memory it keeps (no doubling while it grows).
+    let (input, size): (Box<dyn Read>, u64) = if path == Path::new("-") {
+        (Box::new(std::io::stdin().lock()), 0)
     } else {
-        Box::new(std::fs::File::open(path).map_err(read_error)?)
+        let file = std::fs::File::open(path).map_err(read_error)?;
+        let size = file.metadata().map_or(0, |m| m.len());
+        (Box::new(file), size)
     };
-    let mut bytes = Vec::new();
+    let mut bytes = Vec::with_capacity(usize::try_from(size.min(MAX_SCENE_BYTES)).unwrap_or(0));
     input
         .take(MAX_SCENE_BYTES + 1)
         .read_to_end(&mut bytes)
