@@ -68,7 +68,10 @@ fn an_image_without_edges_has_no_sampling_error() {
     let dir = tempfile::tempdir().expect("temp dir");
     let scene = write(dir.path(), "flat.txt", FLAT);
     let assets = dir.path().join("assets");
-    let output = accuracy(&scene, &["--size", "6", "--assets", assets.to_str().unwrap()]);
+    let output = accuracy(
+        &scene,
+        &["--size", "6", "--assets", assets.to_str().unwrap()],
+    );
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success());
     assert!(stdout.contains("at 6×6"), "{stdout}");
