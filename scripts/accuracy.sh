@@ -1,8 +1,9 @@
 #!/bin/sh
 # `make accuracy`: run `raytracer accuracy` over scenes/ and scenes/hard/,
 # each at its own resolution (the one its comments say keeps its point),
-# plot each scene's RMSE against samples per pixel and its error against
-# time, and write docs/accuracy.md with docs/accuracy/ beside it.
+# with `--assets`, so it also charts each scene's RMSE against samples per
+# pixel and its error against time; write docs/accuracy.md with
+# docs/accuracy/ beside it.
 #
 # The far spheres (scenes/hard/far_sphere_*.txt) are left out: their disks
 # need 2000 to 16384 pixels a side to be seen, and their accuracy is
@@ -17,9 +18,6 @@ REFERENCE_SPP=${REFERENCE_SPP:-256}
 BIN=./raytracer
 ASSETS=docs/accuracy
 OUT=docs/accuracy.md
-
-cargo build --release --locked --quiet --example plot
-PLOT=target/release/examples/plot
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -38,18 +36,10 @@ for scene in $scenes; do
             --assets "$ASSETS"
         echo
         images=""
-        if [ "$(wc -l < "$ASSETS/$name.sampling.csv")" -gt 1 ]; then
-            "$PLOT" "$ASSETS/$name.sampling.csv" "$ASSETS/$name.sampling.png" \
-                --title "$name: RMSE against spp" --x-label "samples per pixel" \
-                --y-label "RMSE, 1/255" --log-x --log-y --lines --size 480x340 \
-                --guide "N^-1/2" --guide "N^-1" --legend lower-left
-            "$PLOT" "$ASSETS/$name.pareto.csv" "$ASSETS/$name.pareto.png" \
-                --title "$name: error against time" --x-label "time, × the default" \
-                --y-label "RMSE, 1/255" --log-x --log-y --lines --size 480x340 \
-                --legend lower-left
+        if [ -e "$ASSETS/$name.sampling.png" ]; then
             images="![$name: RMSE against spp]($(basename "$ASSETS")/$name.sampling.png) ![$name: RMSE against time]($(basename "$ASSETS")/$name.pareto.png)"
         else
-            rm -f "$ASSETS/$name.sampling.csv" "$ASSETS/$name.pareto.csv"
+            rm -f "$ASSETS/$name".sampling.* "$ASSETS/$name".pareto.*
             images="No sampling plots: every uniform render has RMSE 0 here."
         fi
         echo "$images"
@@ -116,10 +106,15 @@ summary() {
     echo "  ≤ 0.1% of 8-bit pixels or no channel by more than 1/255; the depth finding names the"
     echo "  shallowest depth equal to depth 64, whichever it is; adaptive meets its target at N"
     echo "  when its RMSE is ≤ 1.25× uniform N's in ≤ 0.5× uniform N's time."
-    echo "- **Adaptive antialiasing** (\`render --aa adaptive\`, \`src/render/adaptive.rs\`): a first"
-    echo "  pass takes each pixel's first grid sample; a pixel whose first sample differs from one"
-    echo "  of its 8 neighbours' by at least the threshold its findings name in some channel takes the"
-    echo "  rest of its N samples, the others keep one."
+    echo "- **Adaptive antialiasing** (\`render --aa adaptive\`, \`src/render/adaptive.rs\`), in three"
+    echo "  levels: a first pass samples every pixel corner (about one sample per pixel, each"
+    echo "  shared by four pixels); a pixel is the mean of its corners when they agree within the"
+    echo "  threshold its findings name, in every channel, or when their steps continue its"
+    echo "  neighbours' corners' steps within it (no bend: a gradient); otherwise it takes 4 of its N"
+    echo "  grid samples, one per quadrant, and if each is within the threshold of the corners'"
+    echo "  bilinear interpolation"
+    echo "  (the pixel is flat or a smooth gradient) it is their mean; otherwise it takes all N and"
+    echo "  equals the uniform pixel. Samples taken count the corners."
     echo
     echo "## Adaptive against uniform 16 spp"
     echo

@@ -100,11 +100,11 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub spp: u32,
     /// Which pixels take all `--spp` samples: every one, or only those
-    /// whose first sample differs from a neighbour's by `--aa-threshold`.
+    /// whose corners, then four samples, differ by `--aa-threshold`.
     #[arg(long, value_enum, default_value_t = Antialias::Uniform)]
     pub aa: Antialias,
-    /// The contrast with a neighbour, in steps of 1/255, that refines a
-    /// pixel under `--aa adaptive` (0 refines every pixel).
+    /// The contrast within a pixel, in steps of 1/255, that refines it
+    /// under `--aa adaptive` (0 refines every pixel).
     #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "STEPS")]
     pub aa_threshold: u8,
     /// Maximum number of reflections per primary ray.

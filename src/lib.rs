@@ -37,6 +37,7 @@ pub mod limits;
 pub mod lsp;
 pub mod model;
 pub mod output;
+pub mod plot;
 pub mod render;
 pub mod span;
 pub(crate) mod suggest;

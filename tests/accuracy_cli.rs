@@ -56,13 +56,22 @@ fn the_report_has_every_setting_and_its_findings() {
     assert!(pareto.contains("\nadaptive,"), "{pareto}");
     let map = std::fs::read(assets.join("ball.f32_f64.png")).expect("map");
     assert!(map.starts_with(b"\x89PNG"));
+    for chart in ["ball.sampling.png", "ball.pareto.png"] {
+        let png = std::fs::read(assets.join(chart)).expect(chart);
+        let image = image::load_from_memory(&png).expect(chart);
+        assert_eq!((image.width(), image.height()), (480, 340), "{chart}");
+    }
 }
 
 #[test]
 fn an_image_without_edges_has_no_sampling_error() {
     let dir = tempfile::tempdir().expect("temp dir");
     let scene = write(dir.path(), "flat.txt", FLAT);
-    let output = accuracy(&scene, &["--size", "6"]);
+    let assets = dir.path().join("assets");
+    let output = accuracy(
+        &scene,
+        &["--size", "6", "--assets", assets.to_str().unwrap()],
+    );
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success());
     assert!(stdout.contains("at 6×6"), "{stdout}");
@@ -76,9 +85,12 @@ fn an_image_without_edges_has_no_sampling_error() {
         .find(|line| line.starts_with("| adaptive 64 spp |"))
         .expect("the adaptive 64 spp row");
     assert!(
-        row.contains("| 36 | 0.000 |"),
-        "a flat 6×6 image takes 36 camera rays at any adaptive N: {row}"
+        row.contains("| 49 | 0.000 |"),
+        "a flat 6×6 image takes its 7×7 corner samples at any adaptive N: {row}"
     );
+    // A log axis cannot show RMSE 0: no empty chart is drawn.
+    assert!(assets.join("flat.sampling.csv").exists());
+    assert!(!assets.join("flat.sampling.png").exists());
 }
 
 #[test]

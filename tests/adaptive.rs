@@ -1,7 +1,7 @@
 //! Adaptive antialiasing (`render --aa adaptive`): the same image for any
-//! number of threads, the uniform image where every pixel is refined, one
-//! sample per pixel where the image is flat, and never more than `spp`
-//! samples in a pixel.
+//! number of threads, the uniform image where every pixel is refined, only
+//! the shared corner samples (one per pixel, about) where the image is
+//! flat, and never more than `spp` samples of a pixel's own.
 
 mod support;
 
@@ -71,7 +71,11 @@ fn refining_every_pixel_gives_the_uniform_image_bit_for_bit() {
         assert!(all == same, "{name}: refined radiance differs from uniform");
         let pixels = u64::from(scene.resolution).pow(2);
         assert_eq!(all_counters.pixels_refined, pixels, "{name}");
-        assert_eq!(all_counters.primary_rays, counters.primary_rays, "{name}");
+        assert_eq!(
+            all_counters.primary_rays,
+            counters.primary_rays + corners(scene.resolution),
+            "{name}: the corners and every pixel's samples"
+        );
         assert!(
             render::<f32>(&scene, &adaptive(0), &|| {}).0
                 == render::<f32>(&scene, &uniform, &|| {}).0,
@@ -80,17 +84,31 @@ fn refining_every_pixel_gives_the_uniform_image_bit_for_bit() {
     }
 }
 
-/// Samples per pixel never exceed `spp`: unrefined pixels take one,
-/// refined ones `spp`, and nothing else casts a camera ray.
+/// The corner samples of a `size`² frame, shared by the pixels.
+fn corners(size: u32) -> u64 {
+    u64::from(size + 1).pow(2)
+}
+
+/// A pixel's own samples never exceed `spp`: unrefined pixels take none
+/// beyond the shared corners, partly refined ones 4, refined ones `spp`,
+/// and nothing else casts a camera ray.
 fn assert_samples_bounded(name: &str, size: u32, counters: &Counters) {
     let pixels = u64::from(size).pow(2);
-    assert!(counters.pixels_refined <= pixels, "{name}");
+    assert!(
+        counters.pixels_refined + counters.pixels_partly_refined <= pixels,
+        "{name}"
+    );
     assert_eq!(
         counters.primary_rays,
-        pixels + counters.pixels_refined * u64::from(SPP - 1),
-        "{name}: samples are not 1 per pixel plus the refined pixels' rest"
+        corners(size)
+            + counters.pixels_partly_refined * 4
+            + counters.pixels_refined * u64::from(SPP),
+        "{name}: samples are not the corners plus the refined pixels' own"
     );
-    assert!(counters.primary_rays <= pixels * u64::from(SPP), "{name}");
+    assert!(
+        counters.primary_rays <= corners(size) + pixels * u64::from(SPP),
+        "{name}"
+    );
 }
 
 #[test]
@@ -112,11 +130,12 @@ fn adaptive_never_takes_more_than_spp_samples() {
 const FLAT: &str = "camera 32\nsphere dimension 50 center 0 0 0 color .5 .3 .2\n";
 
 #[test]
-fn a_flat_image_takes_one_sample_per_pixel() {
+fn a_flat_image_takes_only_its_corner_samples() {
     let scene = lower(FLAT);
     let (image, counters) = render::<f64>(&scene, &adaptive(DEFAULT_THRESHOLD), &|| {});
     assert_eq!(counters.pixels_refined, 0);
-    assert_eq!(counters.primary_rays, 32 * 32);
+    assert_eq!(counters.pixels_partly_refined, 0);
+    assert_eq!(counters.primary_rays, corners(32));
     let (one, _) = render::<f64>(&scene, &Options::default(), &|| {});
     assert!(image == one, "a flat image is its 1-spp image");
 }
@@ -130,7 +149,8 @@ fn only_pixels_near_an_edge_are_refined() {
     let (image, counters) = render::<f64>(&scene, &adaptive(DEFAULT_THRESHOLD), &|| {});
     assert_samples_bounded("ball", 32, &counters);
     // The ball's disk is about 5 px across: its edge ring, not the frame.
-    assert!((8..=200).contains(&counters.pixels_refined), "{counters:?}");
+    let refined = counters.pixels_refined + counters.pixels_partly_refined;
+    assert!((8..=100).contains(&refined), "{counters:?}");
     let Image { rgb, .. } = image;
     let corner = &rgb[..3];
     assert_eq!(corner, [13, 8, 5], "the flat wall keeps its 1-spp value");
@@ -163,12 +183,15 @@ fn the_cli_reports_adaptive_samples() {
         serde_json::from_slice(&std::fs::read(json).expect("stats")).expect("JSON");
     let refined = stats["pixels_refined"].as_u64().expect("pixels_refined");
     assert!(refined > 0 && refined < 32 * 32, "{refined}");
-    assert_eq!(stats["primary_rays"], 32 * 32 + refined * 15);
+    let partly = stats["pixels_partly_refined"]
+        .as_u64()
+        .expect("pixels_partly_refined");
+    assert_eq!(stats["primary_rays"], 33 * 33 + partly * 4 + refined * 16);
     assert_eq!(stats["antialias"], "adaptive");
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
         stderr.contains(&format!(
-            "adaptive: {refined} of 1024 pixels took 16, the rest 1"
+            "adaptive: of 1024 pixels {refined} took 16 samples, {partly} took 4, the rest only their corners"
         )),
         "{stderr}"
     );

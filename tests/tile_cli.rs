@@ -130,8 +130,8 @@ fn tiles_stitched_in_any_order_are_the_whole_render() {
             &["--spp", "4", "--precision", "f32", "--max-depth", "2"],
         ),
         (4, &["--no-skip", "--accel", "brute"]),
-        // Adaptive sampling decides from its neighbours' first samples,
-        // including those in the bands above and below.
+        // Adaptive sampling decides from each pixel's corners, the
+        // band's bottom edge (the next band's top) included.
         (5, &["--spp", "16", "--aa", "adaptive"]),
         (
             29,

@@ -226,9 +226,12 @@ pub fn findings(m: &Measurement) -> Vec<String> {
         let rmse = ratio(a.error.rmse, u.error.rmse);
         let time = a.ratio.median / u.ratio.median;
         let met = rmse <= ADAPTIVE_RMSE && time <= ADAPTIVE_TIME;
+        let share = |count: u64| 100.0 * count as f64 / f64::from(m.size).powi(2);
         comparisons.push(format!(
-            "{n} spp: RMSE ×{rmse:.2}, time ×{time:.2}, {:.1}% of pixels refined ({})",
-            100.0 * a.counters.pixels_refined as f64 / f64::from(m.size).powi(2),
+            "{n} spp: RMSE ×{rmse:.2}, time ×{time:.2}, {:.1}% of pixels took all {n} samples \
+             and {:.1}% took 4 ({})",
+            share(a.counters.pixels_refined),
+            share(a.counters.pixels_partly_refined),
             if met { "meets" } else { "misses" }
         ));
     }
@@ -301,9 +304,16 @@ fn ratio(a: f64, b: f64) -> f64 {
     }
 }
 
+/// The guide series of [`sampling_csv`] for error falling as N^-1/2, the
+/// rate of noise.
+pub const GUIDE_HALF: &str = "N^-1/2";
+/// The guide series for error falling as N^-1, the rate of stratified
+/// sampling across edges.
+pub const GUIDE_ONE: &str = "N^-1";
+
 /// `series,x,y` rows of RMSE against spp: uniform (named with its
-/// fitted slope), adaptive, and N^-1/2 and N^-1 guide lines through
-/// uniform 1 spp. Rows with RMSE 0 are left out (a log axis cannot show
+/// fitted slope), adaptive, and guide lines ([`GUIDE_HALF`], [`GUIDE_ONE`])
+/// through uniform 1 spp. Rows with RMSE 0 are left out (a log axis cannot show
 /// them); empty when every uniform RMSE is 0.
 pub fn sampling_csv(m: &Measurement) -> String {
     let mut csv = String::from("series,spp,rmse\n");
@@ -320,7 +330,7 @@ pub fn sampling_csv(m: &Measurement) -> String {
         let _ = writeln!(csv, "adaptive,{n},{}", e.rmse);
     }
     let start = m.row(Kind::Default).error.rmse;
-    for (guide, power) in [("N^-1/2", 0.5), ("N^-1", 1.0)] {
+    for (guide, power) in [(GUIDE_HALF, 0.5), (GUIDE_ONE, 1.0)] {
         for n in [1, 4, 16, 64] {
             let _ = writeln!(csv, "{guide},{n},{}", start / f64::from(n).powf(power));
         }

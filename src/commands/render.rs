@@ -357,8 +357,8 @@ impl Stats {
         if self.antialias == "adaptive" {
             let pixels = u64::from(self.resolution).pow(2);
             format!(
-                "adaptive: {} of {pixels} pixels took {}, the rest 1",
-                self.counters.pixels_refined, self.spp
+                "adaptive: of {pixels} pixels {} took {} samples, {} took 4, the rest only their corners",
+                self.counters.pixels_refined, self.spp, self.counters.pixels_partly_refined
             )
         } else {
             format!("uniform: every pixel took {}", self.spp)

@@ -5,7 +5,7 @@
 //! stratified samples on a jittered √spp×√spp grid ([`sampling`]); each
 //! sample's colour is clamped to [0, 1] before the samples are averaged
 //! and rounded to 8 bits. Adaptive antialiasing ([`adaptive`]) takes the
-//! whole grid only where a first pass finds contrast. Rows are rendered in
+//! whole grid only where its corners, then four of its samples, disagree. Rows are rendered in
 //! parallel on the current rayon pool; every pixel depends only on the
 //! scene, the options and its own position (the jitter is a hash of the
 //! pixel and sample), so the image is identical for any number of
@@ -31,7 +31,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::ir;
-use adaptive::FirstPass;
+use adaptive::Corners;
 use geometry::Ray;
 pub use real::Real;
 use real::Vector;
@@ -82,9 +82,9 @@ impl Default for Options {
 pub enum Antialias {
     /// Every pixel.
     Uniform,
-    /// Pixels whose first sample differs from a neighbour's by at least
-    /// `threshold`/255 in some channel; the others keep their first
-    /// sample ([`adaptive`]).
+    /// Pixels whose corners, then four of their samples, span at least
+    /// `threshold`/255 in some channel; the others are the mean of their
+    /// corners or of those four ([`adaptive`]).
     Adaptive { threshold: u8 },
 }
 
@@ -164,12 +164,13 @@ fn render_pixels<R: Real, T: Copy + Default + Send>(
     let size = scene.resolution;
     let tracer = Tracer::<R>::with_accel(scene, options.max_depth, options.skip, options.accel);
     let sampler = Sampler::new(size, options.spp, options.seed);
-    let (first, mut counters) = match options.antialias {
-        Antialias::Adaptive { threshold } => {
-            let (first, counters) = FirstPass::rows(&sampler, &tracer, size, rows.clone());
-            (Some((first, threshold)), counters)
+    let adaptive = sampler.count() > 1;
+    let (corners, mut counters) = match options.antialias {
+        Antialias::Adaptive { threshold } if adaptive => {
+            let (corners, counters) = Corners::rows(&sampler, &tracer, size, rows.clone());
+            (Some((corners, threshold)), counters)
         }
-        Antialias::Uniform => (None, Counters::default()),
+        _ => (None, Counters::default()),
     };
     let mut pixels = vec![T::default(); size as usize * rows.len()];
     counters += pixels
@@ -177,20 +178,20 @@ fn render_pixels<R: Real, T: Copy + Default + Send>(
         .zip(rows)
         .map(|(row, j)| {
             let mut counters = Counters::default();
-            match &first {
+            match &corners {
                 None => sampler.row(&tracer, j, &mut counters, |i, value| {
                     row[i] = finish(value);
                 }),
-                Some((first, threshold)) => {
+                Some((corners, threshold)) => {
                     for (i, pixel) in (0..size).zip(row.iter_mut()) {
-                        let sample = first.get((i, j));
-                        let value =
-                            if sampler.count() > 1 && first.needs_refining((i, j), *threshold) {
-                                counters.pixels_refined += 1;
-                                sampler.complete(&tracer, (i, j), sample, &mut counters)
-                            } else {
-                                sample
-                            };
+                        let value = adaptive::pixel(
+                            &sampler,
+                            &tracer,
+                            corners,
+                            (i, j),
+                            *threshold,
+                            &mut counters,
+                        );
                         *pixel = finish(value);
                     }
                 }

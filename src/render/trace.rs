@@ -49,6 +49,9 @@ pub struct Counters {
     /// uniform sampling, where every pixel has them).
     #[serde(default)]
     pub pixels_refined: u64,
+    /// Pixels adaptive antialiasing gave four of their samples, not all.
+    #[serde(default)]
+    pub pixels_partly_refined: u64,
 }
 
 impl std::ops::AddAssign for Counters {
@@ -62,6 +65,7 @@ impl std::ops::AddAssign for Counters {
         self.non_finite += other.non_finite;
         self.bvh_nodes = self.bvh_nodes.max(other.bvh_nodes);
         self.pixels_refined += other.pixels_refined;
+        self.pixels_partly_refined += other.pixels_partly_refined;
     }
 }
 
