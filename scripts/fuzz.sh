@@ -35,6 +35,11 @@ hertz=$(getconf CLK_TCK)
 triple=$(rustc -vV | sed -n 's/^host: //p')
 [ -z "$cpu_budget" ] || seconds=$((cpu_budget * 20))
 
+# The code fuzzed, read when it is built: the commit, marked `+changes`
+# when the sources differ from it.
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo '?')
+git diff --quiet HEAD -- src fuzz/fuzz_targets Cargo.toml 2>/dev/null || commit="$commit+changes"
+
 # Build every target first, so the times below are the fuzzers' alone.
 (cd fuzz && for target in "$@"; do
   RUSTC_BOOTSTRAP=1 "$cargo" fuzz build -O "${flags[@]}" "$target" || exit 2
@@ -88,9 +93,6 @@ for target in "$@"; do
   case " ${FUZZ_FLAGS:-} " in *" none "*) sanitizer=none ;; esac
   asked="$seconds"
   [ -z "$cpu_budget" ] || asked="$cpu_budget CPU"
-  # The code fuzzed: the commit, marked when the sources differ from it.
-  commit=$(git rev-parse --short HEAD 2>/dev/null || echo '?')
-  git diff --quiet HEAD -- src fuzz/fuzz_targets Cargo.toml 2>/dev/null || commit="$commit+changes"
   printf '| %s | `%s` | `%s` | %s | %s | %s | %s | %s MiB | %s | %s |\n' \
     "$(date -u +%Y-%m-%dT%H:%MZ)" "$target" "$commit" "$asked" "$elapsed" "$cpu" "$executions" \
     "${peak:-?}" "$sanitizer" "$crashes" >>"$log"
