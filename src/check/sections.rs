@@ -248,6 +248,15 @@ fn orientation(
         });
     }
     let (normal, headup) = (normal?, headup?);
+    // Both headup fixes write the vector the renderer uses, when headup is
+    // written once.
+    let headup_fix = |used: [f64; 3], message: &str| {
+        attrs
+            .numbers(&AttrName::Headup)
+            .filter(|_| unique)
+            .and_then(|written| rewrite_headup(written, used, message))
+            .map(Box::new)
+    };
     match geometry::classify_headup(*normal, *headup)? {
         Headup::Perpendicular => {}
         Headup::Projected(projected) => cx.problems.push(CheckError::HeadupNotPerpendicular {
@@ -257,13 +266,7 @@ fn orientation(
                 "the renderer projects it onto the plane: write `headup {}`",
                 format::vector(projected)
             ),
-            fix: attrs
-                .numbers(&AttrName::Headup)
-                .filter(|_| unique)
-                .and_then(|written| {
-                    rewrite_headup(written, projected, "projected `headup` onto the plane")
-                })
-                .map(Box::new),
+            fix: headup_fix(projected, "projected `headup` onto the plane"),
         }),
         Headup::Parallel => {
             let stand_in = geometry::stand_in_headup(geometry::unit(*normal)?).to_array();
@@ -274,17 +277,10 @@ fn orientation(
                     "the renderer uses `headup {}` instead: write it, or the up direction you mean",
                     format::vector(stand_in)
                 ),
-                fix: attrs
-                    .numbers(&AttrName::Headup)
-                    .filter(|_| unique)
-                    .and_then(|written| {
-                        rewrite_headup(
-                            written,
-                            stand_in,
-                            "replaced the parallel `headup` with the one the renderer uses",
-                        )
-                    })
-                    .map(Box::new),
+                fix: headup_fix(
+                    stand_in,
+                    "replaced the parallel `headup` with the one the renderer uses",
+                ),
             });
         }
     }
