@@ -196,14 +196,30 @@ fn describe(value: &Json<'_>) -> String {
 /// One field an object takes: its name and a value to show in help lines.
 struct Field {
     name: &'static str,
-    example: Cow<'static, str>,
+    example: Example,
     required: bool,
+}
+
+/// A field's example value, written out only for a help line.
+enum Example {
+    Written(&'static str),
+    /// The `i`th JSON field of a row of the language table.
+    Table(&'static AttrSpec, usize),
+}
+
+impl Example {
+    fn text(&self) -> Cow<'static, str> {
+        match *self {
+            Example::Written(text) => Cow::Borrowed(text),
+            Example::Table(spec, i) => Cow::Owned(spec.json_example(i)),
+        }
+    }
 }
 
 const fn field(name: &'static str, example: &'static str, required: bool) -> Field {
     Field {
         name,
-        example: Cow::Borrowed(example),
+        example: Example::Written(example),
         required,
     }
 }
@@ -231,7 +247,7 @@ fn fields_of(kind: &SectionKind) -> Vec<Field> {
     let attributes = language::attributes_of(kind).iter().flat_map(|spec| {
         spec.json.iter().enumerate().map(|(i, name)| Field {
             name,
-            example: Cow::Owned(spec.json_example(i)),
+            example: Example::Table(spec, i),
             required: spec.required,
         })
     });
@@ -650,7 +666,7 @@ impl Reader<'_> {
         let names: Vec<&str> = missing.iter().map(|f| f.name).collect();
         let example: Vec<String> = missing
             .iter()
-            .map(|f| format!("\"{}\": {}", f.name, f.example))
+            .map(|f| format!("\"{}\": {}", f.name, f.example.text()))
             .collect();
         self.errors.push(JsonError::MissingField {
             names: language::list(&names),

@@ -122,7 +122,7 @@ fn an_object_of_every_example_reads_cleanly() {
         let fields = super::fields_of(&kind);
         let members: Vec<String> = fields
             .iter()
-            .map(|f| format!("\"{}\": {}", f.name, f.example))
+            .map(|f| format!("\"{}\": {}", f.name, f.example.text()))
             .collect();
         let list = if kind == SectionKind::Light {
             "lights"
