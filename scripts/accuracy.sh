@@ -1,6 +1,7 @@
 #!/bin/sh
 # `make accuracy`: run `raytracer accuracy` over scenes/ and scenes/hard/,
-# each at its own resolution (the one its comments say keeps its point),
+# each at its own resolution (the one its comments say keeps its point) or
+# the smallest odd multiple of it of at least 128 px,
 # with `--assets`, so it also charts each scene's RMSE against samples per
 # pixel and its error against time; write docs/accuracy.md with
 # docs/accuracy/ beside it.
@@ -93,8 +94,12 @@ summary() {
     echo "- **Error by source**: sampling (uniform and adaptive 1–64 spp in f64, against the"
     echo "  reference); numeric (f32 against f64 at 1 spp, pixel for pixel, with a difference"
     echo "  map for each hard scene); depth truncation (each depth against depth 64 at 1 spp)."
-    echo "- **Resolution**: each scene's own (its \`camera\` line), which its comments say keeps"
-    echo "  its point (tangent_sphere's 17 px, eye_in_plane's 63). The far spheres are left out:"
+    echo "- **Resolution**: each scene's own (its \`camera\` line, which its comments say keeps"
+    echo "  its point: tangent_sphere's 17 px, eye_in_plane's 63), or, below 128 px, its smallest"
+    echo "  odd multiple of at least 128 (\`accuracy::measured_size\`): a 17-px frame is a quarter"
+    echo "  edges and times nothing people render, and an odd multiple keeps every pixel centre"
+    echo "  of the scene's own frame, so its camera rays, tangent_sphere's exactly tangent one"
+    echo "  included, are among the measured ones bit for bit. The far spheres are left out:"
     echo "  their disks need 2000–16384 px a side; see docs/numerics.md and tests/stability.rs."
     echo "- **Timings**: whole frames of the current binary on one thread, timed by that thread's CPU
   time (other processes on the shared machine disturb it far less than wall time), every setting once per"

@@ -83,7 +83,8 @@ pub enum Antialias {
     /// Every pixel takes all of them.
     #[default]
     Uniform,
-    /// One sample per pixel, all of them where the first pass finds contrast.
+    /// Corner samples first, four more where they disagree, all of them
+    /// where those four do.
     Adaptive,
 }
 
@@ -103,10 +104,10 @@ pub struct RenderArgs {
     /// whose corners, then four samples, differ by `--aa-threshold`.
     #[arg(long, value_enum, default_value_t = Antialias::Uniform)]
     pub aa: Antialias,
-    /// The contrast within a pixel, in steps of 1/255, that refines it
-    /// under `--aa adaptive` (0 refines every pixel).
-    #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "STEPS")]
-    pub aa_threshold: u8,
+    /// The contrast within a pixel, in steps of 1/255 (fractions allowed),
+    /// that refines it under `--aa adaptive` (0 refines every pixel).
+    #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "STEPS", value_parser = contrast_steps)]
+    pub aa_threshold: f64,
     /// Maximum number of reflections per primary ray.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(0..=64))]
     pub max_depth: u32,
@@ -227,7 +228,8 @@ impl ConvertArgs {
 pub struct AccuracyArgs {
     /// Scene file (`.json` is read as JSON; `-` reads stdin).
     pub scene: PathBuf,
-    /// Render at N×N instead of the scene's own resolution.
+    /// Render at N×N [default: the scene's own side, or its smallest odd
+    /// multiple of at least 128, which keeps every pixel centre].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub size: Option<u32>,
     /// Timed repetitions of every setting (interleaved).
@@ -241,9 +243,9 @@ pub struct AccuracyArgs {
     #[arg(long, value_name = "DIR")]
     pub assets: Option<PathBuf>,
     /// The contrast that refines a pixel in the adaptive rows, in steps
-    /// of 1/255.
-    #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "STEPS")]
-    pub aa_threshold: u8,
+    /// of 1/255 (fractions allowed).
+    #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "STEPS", value_parser = contrast_steps)]
+    pub aa_threshold: f64,
     /// Worker threads for the reference (timed renders use one).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
@@ -265,6 +267,19 @@ pub struct LspArgs {
     /// Milliseconds a document must go unchanged before it is re-checked.
     #[arg(long, default_value_t = 150, value_name = "MS")]
     pub debounce_ms: u64,
+}
+
+/// A contrast for `--aa-threshold`: a number of 1/255 steps from 0 to
+/// 255, fractions allowed (0.5 is half an 8-bit step).
+fn contrast_steps(text: &str) -> Result<f64, String> {
+    let steps: f64 = text
+        .parse()
+        .map_err(|_| format!("expected a number of 1/255 steps, found `{text}`"))?;
+    if (0.0..=255.0).contains(&steps) {
+        Ok(steps)
+    } else {
+        Err(format!("expected a number from 0 to 255, found `{text}`"))
+    }
 }
 
 /// Parse the process arguments, accepting `raytracer SCENE OUT` for
@@ -339,5 +354,30 @@ mod tests {
     fn clap_definition_is_consistent() {
         use clap::CommandFactory;
         Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn the_threshold_takes_fractions_of_a_step_and_nothing_outside_0_to_255() {
+        let threshold = |value: &str| match parse(&[
+            "raytracer",
+            "render",
+            "s.txt",
+            "o.png",
+            "--aa-threshold",
+            value,
+        ]) {
+            Ok(Cli {
+                command: Command::Render(args),
+                ..
+            }) => Ok(args.aa_threshold),
+            Ok(_) => panic!("not render"),
+            Err(e) => Err(e.exit_code()),
+        };
+        assert_eq!(threshold("0.5"), Ok(0.5));
+        assert_eq!(threshold("0"), Ok(0.0));
+        assert_eq!(threshold("255"), Ok(255.0));
+        for bad in ["-1", "256", "NaN", "inf", "two"] {
+            assert_eq!(threshold(bad), Err(2), "{bad}");
+        }
     }
 }

@@ -40,7 +40,10 @@ fn the_report_has_every_setting_and_its_findings() {
     ] {
         assert!(stdout.contains(row), "no `{row}` in\n{stdout}");
     }
-    assert!(stdout.contains("at 16×16"), "{stdout}");
+    assert!(
+        stdout.contains("at 144×144 (9 × its own 16, the smallest odd multiple"),
+        "a 16-px scene is measured at 144 px: {stdout}"
+    );
     assert!(
         stdout.contains("**Sampling**: the RMSE falls as N^-"),
         "{stdout}"
@@ -74,7 +77,10 @@ fn an_image_without_edges_has_no_sampling_error() {
     );
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success());
-    assert!(stdout.contains("at 6×6"), "{stdout}");
+    assert!(
+        stdout.contains("at 6×6 (`--size`; its own is 8×8)"),
+        "{stdout}"
+    );
     assert!(
         stdout.contains("the RMSE is 0 at every sample count"),
         "{stdout}"

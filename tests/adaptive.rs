@@ -14,7 +14,7 @@ use support::{lower, lower_in, run};
 
 const SPP: u32 = 16;
 
-fn adaptive(threshold: u8) -> Options {
+fn adaptive(threshold: f64) -> Options {
     Options {
         spp: SPP,
         antialias: Antialias::Adaptive { threshold },
@@ -66,7 +66,7 @@ fn refining_every_pixel_gives_the_uniform_image_bit_for_bit() {
         ..Options::default()
     };
     for (name, scene) in scenes() {
-        let (all, all_counters) = render_radiance::<f64>(&scene, &adaptive(0), &|| {});
+        let (all, all_counters) = render_radiance::<f64>(&scene, &adaptive(0.0), &|| {});
         let (same, counters) = render_radiance::<f64>(&scene, &uniform, &|| {});
         assert!(all == same, "{name}: refined radiance differs from uniform");
         let pixels = u64::from(scene.resolution).pow(2);
@@ -77,7 +77,7 @@ fn refining_every_pixel_gives_the_uniform_image_bit_for_bit() {
             "{name}: the corners and every pixel's samples"
         );
         assert!(
-            render::<f32>(&scene, &adaptive(0), &|| {}).0
+            render::<f32>(&scene, &adaptive(0.0), &|| {}).0
                 == render::<f32>(&scene, &uniform, &|| {}).0,
             "{name}: f32 differs"
         );
@@ -115,7 +115,7 @@ fn assert_samples_bounded(name: &str, size: u32, counters: &Counters) {
 fn adaptive_never_takes_more_than_spp_samples() {
     let mut refined_some = false;
     for (name, scene) in scenes() {
-        for threshold in [0, 1, DEFAULT_THRESHOLD, 64] {
+        for threshold in [0.0, 0.25, 1.0, DEFAULT_THRESHOLD, 64.0] {
             let (_, counters) = render::<f64>(&scene, &adaptive(threshold), &|| {});
             assert_samples_bounded(&name, scene.resolution, &counters);
             let pixels = u64::from(scene.resolution).pow(2);

@@ -24,6 +24,24 @@ use crate::render::{self, Antialias, Counters, Options, Radiance};
 use error::{average, compare, Error};
 use timing::{seconds_per_run, Spread};
 
+/// The smallest frame measured: a side at which a frame is mostly flat
+/// areas and not mostly edges, as the images people render are. At 17 px
+/// (tangent_sphere's own size) a quarter of the pixels straddle an edge,
+/// which no sampler can save work on.
+pub const MIN_MEASURED_SIZE: u32 = 128;
+
+/// The side a scene of side `own` is measured at when the user gives none:
+/// `own`, or its smallest odd multiple of at least [`MIN_MEASURED_SIZE`].
+/// An odd multiple `k·own` keeps every pixel centre of the scene's own
+/// frame: pixel `i` of `own` is pixel `k·i + (k − 1)/2` of `k·own`, whose
+/// centre `k·(i + ½) / (k·own)` is the same division, so the camera ray is
+/// the same bit for bit, and a scene built around one pixel's ray (the
+/// ray exactly tangent to tangent_sphere's sphere) keeps it.
+pub fn measured_size(own: u32) -> u32 {
+    let k = MIN_MEASURED_SIZE.div_ceil(own.max(1));
+    own.max(1) * (k | 1)
+}
+
 /// How much to measure.
 #[derive(Clone, Copy, Debug)]
 pub struct Plan {
@@ -32,7 +50,10 @@ pub struct Plan {
     /// Samples per pixel of each half of the reference (a square).
     pub reference_spp: u32,
     /// The adaptive rows' threshold, in steps of 1/255.
-    pub threshold: u8,
+    pub threshold: f64,
+    /// The scene's own side, which the report names beside the side
+    /// measured.
+    pub own_size: u32,
 }
 
 /// The precision of a render.
@@ -71,7 +92,7 @@ impl Kind {
     }
 
     /// The precision and options of this setting.
-    pub fn configure(self, threshold: u8) -> (Precision, Options) {
+    pub fn configure(self, threshold: f64) -> (Precision, Options) {
         let default = Options::default();
         match self {
             Kind::Default => (Precision::F64, default),
@@ -145,8 +166,11 @@ pub struct Reference {
 #[derive(Clone, Debug)]
 pub struct Measurement {
     pub size: u32,
+    /// The scene's own side (its `camera` line), which `size` is an odd
+    /// multiple of unless the user chose another.
+    pub own_size: u32,
     /// The adaptive rows' threshold, in steps of 1/255.
-    pub threshold: u8,
+    pub threshold: f64,
     pub reps: usize,
     pub reference: Reference,
     /// In the order of [`Kind::all`]; the default first.
@@ -234,6 +258,7 @@ pub fn measure(
         .collect();
     Measurement {
         size: scene.resolution,
+        own_size: plan.own_size,
         threshold: plan.threshold,
         reps: plan.reps.max(1),
         reference,
@@ -244,4 +269,43 @@ pub fn measure(
 /// Camera, shadow and reflection rays.
 pub fn total_rays(counters: &Counters) -> u64 {
     counters.primary_rays + counters.shadow_rays + counters.reflection_rays
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::camera_ray;
+
+    #[test]
+    fn small_scenes_are_measured_at_their_smallest_odd_multiple_of_at_least_128() {
+        for (own, measured) in [
+            (17, 153),
+            (16, 144),
+            (63, 189),
+            (64, 192),
+            (127, 381),
+            (128, 128),
+            (400, 400),
+        ] {
+            assert_eq!(measured_size(own), measured, "{own}");
+        }
+    }
+
+    #[test]
+    fn an_odd_multiple_keeps_every_pixel_centre_ray_bit_for_bit() {
+        for own in [1, 2, 5, 16, 17, 63, 64] {
+            let big = measured_size(own);
+            let k = big / own;
+            for i in 0..own {
+                let (x, y) = (f64::from(i) + 0.5, f64::from(own - 1 - i) + 0.5);
+                let (kx, ky) = (
+                    f64::from(k * i + k / 2) + 0.5,
+                    f64::from(k * (own - 1 - i) + k / 2) + 0.5,
+                );
+                let small = camera_ray::<f64>(own, x, y).dir;
+                let large = camera_ray::<f64>(big, kx, ky).dir;
+                assert_eq!(small.to_array(), large.to_array(), "pixel {i} of {own}");
+            }
+        }
+    }
 }

@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 
 use super::error::{compare, difference_map, Error};
-use super::{total_rays, Kind, Measurement, DEEP, DEPTHS, SPPS};
+use super::{measured_size, total_rays, Kind, Measurement, DEEP, DEPTHS, MIN_MEASURED_SIZE, SPPS};
 use crate::render::Image;
 
 /// Sampling has converged for this scene once the linear RMSE is at most
@@ -27,6 +27,20 @@ pub const ADAPTIVE_TIME: f64 = 0.5;
 /// resolved by the reference.
 pub const RESOLVED: f64 = 2.0;
 
+/// How the side measured relates to the scene's own, when they differ.
+fn scaled(m: &Measurement) -> String {
+    match m.size {
+        size if size == m.own_size => String::new(),
+        size if size == measured_size(m.own_size) => format!(
+            " ({k} × its own {own}, the smallest odd multiple of at least {MIN_MEASURED_SIZE} px, \
+             which keeps every pixel centre of its own frame)",
+            k = size / m.own_size,
+            own = m.own_size,
+        ),
+        _ => format!(" (`--size`; its own is {own}×{own})", own = m.own_size),
+    }
+}
+
 /// The full report: setup, table, splits and findings.
 pub fn markdown(m: &Measurement, scene: &str) -> String {
     let mut out = String::new();
@@ -34,13 +48,14 @@ pub fn markdown(m: &Measurement, scene: &str) -> String {
     let default = m.row(Kind::Default);
     let _ = writeln!(
         out,
-        "`{scene}` at {size}×{size}. Reference: f64, depth {DEEP}, the mean of two \
+        "`{scene}` at {size}×{size}{scaled}. Reference: f64, depth {DEEP}, the mean of two \
          renders of {spp} spp with independent jitter ({rays} rays, {secs:.1} s); its own \
          RMSE, estimated from its halves, is {own:.3}/255. Times: whole frames on one \
          thread (its CPU time), {reps} repetitions with the settings interleaved; × is the median \
          ratio to the default in the same repetition (range in brackets); the default \
          takes {median:.4} CPU s ({min:.4}–{max:.4}).\n",
         size = m.size,
+        scaled = scaled(m),
         spp = r.spp,
         rays = r.rays,
         secs = r.seconds,

@@ -1,5 +1,5 @@
 //! `raytracer accuracy SCENE`: load and check the scene, lower it (at
-//! `--size` if given), measure every accuracy setting against a converged
+//! `--size` if given, else at [`measured_size`] of its own), measure every accuracy setting against a converged
 //! reference ([`crate::accuracy`]) and print the report as Markdown on
 //! stdout; with `--assets DIR`, also write the plot data, its charts
 //! ([`crate::plot`]) and the f32 − f64 difference map there, each file
@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use miette::Diagnostic;
 
 use super::Outcome;
-use crate::accuracy::{measure, report, Plan};
+use crate::accuracy::{measure, measured_size, report, Plan};
 use crate::cli::AccuracyArgs;
 use crate::diagnostic::BoxedDiagnostic;
 use crate::diagnostic::{terminal_width, use_color};
@@ -104,13 +104,13 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
         return Ok(Outcome::SceneErrors);
     };
     let mut scene = ir::lower(checked);
-    if let Some(size) = args.size {
-        scene.resolution = size;
-    }
+    let own_size = scene.resolution;
+    scene.resolution = args.size.unwrap_or_else(|| measured_size(own_size));
     let plan = Plan {
         reps: args.reps as usize,
         reference_spp: args.reference_spp,
         threshold: args.aa_threshold,
+        own_size,
     };
     let show_progress = stderr.is_terminal();
     let progress = |step: &str| {

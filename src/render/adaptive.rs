@@ -28,7 +28,9 @@
 //! corner. On the 64-px scaled scenes the samples per pixel at 16 spp fell
 //! from 8.9 to 3.3. What no level sees is detail between samples whose
 //! contrast is under the threshold: textures.txt's grain, dimmed to a
-//! tenth by ambient-only light, changes by less than 2/255 a texel.
+//! tenth by ambient-only light, changes by less than 2/255 a texel, which
+//! is why the default threshold is a fraction of a step
+//! ([`DEFAULT_THRESHOLD`]).
 //!
 //! With threshold 0 every pixel takes all its samples and the image is
 //! uniform `spp`'s (the corners are then spent for nothing). A pixel takes
@@ -49,13 +51,15 @@ use super::real::Real;
 use super::sampling::{mean, Sampler};
 use super::trace::{Counters, Tracer};
 
-/// The default contrast that refines a pixel, in steps of 1/255. Measured
-/// over docs/accuracy.md's scenes at 16 spp against uniform 16 spp: at 2,
-/// 10 of 12 measured meet the target (RMSE within 1.25× in half the
-/// time), the closest sample.txt at RMSE ×1.21 and reflection.txt at
-/// ×1.20; at 1 the RMSE is within ×1.09 wherever it is met, but
-/// inside_sphere.txt, textured all over, takes 0.6× the time and misses.
-pub const DEFAULT_THRESHOLD: u8 = 2;
+/// The default contrast that refines a pixel, in steps of 1/255: a
+/// quarter step, under which a pixel's error seldom moves its rounded
+/// 8-bit value. Measured over docs/accuracy.md's scenes at 16 spp against
+/// uniform 16 spp (2 repetitions, 2 × 64-spp references): at 0.25 all 16
+/// meet the target (RMSE within 1.25× in half the time), the closest
+/// textures.txt at RMSE ×1.19 and sample.txt at time ×0.44; at 0.5
+/// textures.txt's grain, contrast under a step, leaves RMSE ×1.34; at 2,
+/// the earlier default, ×2.4.
+pub const DEFAULT_THRESHOLD: f64 = 0.25;
 
 /// The corner samples of a band of rows and of the corner rows either
 /// side of it, each row `size + 1` corners wide.
@@ -119,9 +123,9 @@ impl Corners {
     /// however steep: the mean of its corners is its mean. An edge
     /// inside it bends it and not its neighbours, whose own steps are
     /// flat on one side.
-    fn bends(&self, (i, j): (u32, u32), threshold: u8) -> bool {
+    fn bends(&self, (i, j): (u32, u32), threshold: f64) -> bool {
         let (x, y) = (i64::from(i), i64::from(j));
-        let limit = f64::from(threshold) / 255.0;
+        let limit = threshold / 255.0;
         // Along rows y and y + 1, then along columns x and x + 1: the
         // corner before, the pixel's two, and the corner after.
         let lines = [0, 1].into_iter().flat_map(|k| {
@@ -153,7 +157,7 @@ pub(super) fn pixel<R: Real>(
     tracer: &Tracer<'_, R>,
     corners: &Corners,
     pixel: (u32, u32),
-    threshold: u8,
+    threshold: f64,
     counters: &mut Counters,
 ) -> DVec3 {
     let (four_corners, bends) = (corners.of(pixel), || corners.bends(pixel, threshold));
@@ -195,13 +199,13 @@ fn bilinear([tl, tr, bl, br]: &[DVec3; 4], (u, v): (f64, f64)) -> DVec3 {
 
 /// Whether some channel of `samples` spans at least `threshold`/255
 /// (always, for threshold 0).
-fn disagree(samples: &[DVec3], threshold: u8) -> bool {
+fn disagree(samples: &[DVec3], threshold: f64) -> bool {
     let (low, high) = samples
         .iter()
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), &s| {
             (low.min(s), high.max(s))
         });
-    (high - low).max_element() >= f64::from(threshold) / 255.0
+    (high - low).max_element() >= threshold / 255.0
 }
 
 #[cfg(test)]
@@ -212,13 +216,18 @@ mod tests {
     fn a_channel_spanning_the_threshold_disagrees() {
         let dark = DVec3::ZERO;
         let green = DVec3::new(0.0, 4.0 / 255.0, 0.0);
-        assert!(disagree(&[dark, green, dark, dark], 4));
+        assert!(disagree(&[dark, green, dark, dark], 4.0));
         assert!(
-            !disagree(&[dark, green, dark, dark], 5),
+            !disagree(&[dark, green, dark, dark], 5.0),
             "below the threshold"
         );
-        assert!(!disagree(&[green; 4], 1), "equal samples agree");
-        assert!(disagree(&[green; 4], 0), "0 refines everything");
+        assert!(!disagree(&[green; 4], 1.0), "equal samples agree");
+        assert!(
+            disagree(&[dark, green / 8.0, dark, dark], 0.5),
+            "half a step is a threshold of its own"
+        );
+        assert!(!disagree(&[dark, green / 8.0, dark, dark], 0.51));
+        assert!(disagree(&[green; 4], 0.0), "0 refines everything");
     }
 
     /// Corners `size + 1` a side, all rows held, valued `f(x, y)`.
@@ -238,12 +247,12 @@ mod tests {
     fn a_gradient_does_not_bend_and_an_edge_bends_only_its_pixels() {
         let step = 3.0 / 255.0;
         let ramp = frame(6, |x, y| f64::from(x + y) * step);
-        assert!((0..6).all(|i| !ramp.bends((i, 2), 2)), "a ramp is linear");
+        assert!((0..6).all(|i| !ramp.bends((i, 2), 2.0)), "a ramp is linear");
         // A vertical edge between corner columns 3 and 4: in pixel 3.
         let edge = frame(6, |x, _| if x >= 4 { 1.0 } else { 0.0 });
-        let bent: Vec<u32> = (0..6).filter(|&i| edge.bends((i, 2), 2)).collect();
+        let bent: Vec<u32> = (0..6).filter(|&i| edge.bends((i, 2), 2.0)).collect();
         assert_eq!(bent, [3]);
-        assert!(ramp.bends((2, 2), 0), "0 refines everything");
+        assert!(ramp.bends((2, 2), 0.0), "0 refines everything");
     }
 
     #[test]

@@ -43,7 +43,7 @@ pub use world::Accel;
 /// How to render. Its serialisation is the part of the options hash of
 /// tiles ([`crate::tile::PixelOptions`]) that is not the precision: a field
 /// that can change a pixel must serialise.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Options {
     /// Samples per pixel; a square number (1, 4, 9, …).
     pub spp: u32,
@@ -77,7 +77,7 @@ impl Default for Options {
 }
 
 /// Which pixels take all `spp` samples.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Antialias {
     /// Every pixel.
@@ -85,7 +85,8 @@ pub enum Antialias {
     /// Pixels whose corners, then four of their samples, span at least
     /// `threshold`/255 in some channel; the others are the mean of their
     /// corners or of those four ([`adaptive`]).
-    Adaptive { threshold: u8 },
+    /// `threshold` is finite and at least 0 (the CLI refuses others).
+    Adaptive { threshold: f64 },
 }
 
 /// A rendered image: `size × size` pixels, 3 bytes each, row 0 at the top.
