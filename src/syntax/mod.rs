@@ -447,6 +447,12 @@ impl<'a> Cursor<'a> {
     /// Convert a numeric-looking word, reporting why it is not a number.
     fn number_value(&mut self, w: &str, span: Span) -> Option<f64> {
         let plain = self.route == Route::Fast && fast::is_plain_decimal(w.as_bytes());
+        if let Some(n) = plain
+            .then(|| fast::plain_decimal_value(w.as_bytes()))
+            .flatten()
+        {
+            return Some(n);
+        }
         let found = || w.to_string();
         let error = if plain || matches!(number(w), Ok(("", _))) {
             match w.parse::<f64>() {
