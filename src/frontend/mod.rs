@@ -158,9 +158,13 @@ struct Batches<'a, S: Sink> {
 }
 
 impl<'a, S: Sink> Batches<'a, S> {
-    fn new(source: &'a SourceFile, sink: S) -> Batches<'a, S> {
+    fn new(source: &'a SourceFile, sink: S, language: Language) -> Batches<'a, S> {
+        let check = SceneCheck::with_sink(source, sink);
         Batches {
-            check: SceneCheck::with_sink(source, sink),
+            check: match language {
+                Language::Text => check.fed_from_scene_text(),
+                Language::Json => check,
+            },
             batch: Vec::with_capacity(CHECK_BATCH),
             checking: Duration::ZERO,
         }
@@ -219,7 +223,7 @@ fn load_source<S: Sink>(
             .map(|e| Box::new(e) as BoxedDiagnostic)
             .collect(),
     ));
-    let mut batches = Batches::new(&source, sink);
+    let mut batches = Batches::new(&source, sink, language);
     let is_scene = match language {
         Language::Text => {
             let mut sections = syntax::sections(&source.text);

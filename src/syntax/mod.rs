@@ -62,6 +62,17 @@ pub fn sections(text: &str) -> Sections<'_> {
     sections_by(text, Route::Fast)
 }
 
+/// The sections of `text[start..end]`, with spans into the whole of
+/// `text`: for reading again a run of sections whose first starts at
+/// `start` (a section keyword the parser found there) and whose last ends
+/// at `end`. From a section start, parsing depends on nothing before it,
+/// so these are the sections [`sections`] gave for that run.
+pub fn sections_between(text: &str, start: usize, end: usize) -> Sections<'_> {
+    let mut sections = sections(text);
+    sections.cursor.rest = text.get(start..end).unwrap_or_default();
+    sections
+}
+
 /// How the cursor reads tokens: the fast paths first, or the nom rules
 /// alone (the reference the parity tests compare against).
 #[derive(Clone, Copy, PartialEq, Eq)]
