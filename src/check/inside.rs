@@ -158,6 +158,16 @@ impl LightsInSpheres {
         self.lights.push(light);
     }
 
+    /// Add the spheres and lights found after these (kept the same way).
+    pub fn append(&mut self, later: LightsInSpheres) {
+        match (&mut self.spheres, later.spheres) {
+            (Spheres::Kept(spheres), Spheres::Kept(more)) => spheres.extend(more),
+            (Spheres::Chunked(chunks), Spheres::Chunked(more)) => chunks.extend(more),
+            _ => unreachable!("both halves of a check keep spheres the same way"),
+        }
+        self.lights.extend(later.lights);
+    }
+
     /// One warning per light strictly inside a sphere, naming the first
     /// such sphere, in the order of the lights.
     pub fn warnings(self, source: &SourceFile) -> Vec<CheckError> {

@@ -156,6 +156,39 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
         }
     }
 
+    /// This check of the sections before some section start, joined by
+    /// `later`, the check of the sections from there on: the check one run
+    /// over both would have been (the same diagnostics, in order, and the
+    /// same objects), or `None` when `later` met something whose check
+    /// depends on what came before and the caller must check the whole
+    /// file in one run: a camera after a camera, the object or light limit
+    /// passed in `later`, or textures named in both.
+    pub fn then(mut self, later: SceneCheck<'a, S>) -> Option<SceneCheck<'a, S>> {
+        if self.camera.is_some() && later.camera.is_some() {
+            return None;
+        }
+        for (count, more) in self.counts.iter_mut().zip(&later.counts) {
+            if count.first_beyond.is_none() && count.found + more.found > count.limit {
+                return None;
+            }
+            count.found += more.found;
+        }
+        if !self.cx.textures.is_empty() && !later.cx.textures.is_empty() {
+            return None;
+        }
+        if self.cx.textures.is_empty() {
+            self.cx.textures = later.cx.textures;
+        }
+        self.camera = self.camera.or(later.camera);
+        self.objects.append(later.objects);
+        self.objects_valid &= later.objects_valid;
+        self.lights.extend(later.lights);
+        self.cx.problems.list.extend(later.cx.problems.list);
+        self.cx.problems.incomplete |= later.cx.problems.incomplete;
+        self.cx.inside.append(later.cx.inside);
+        Some(self)
+    }
+
     /// The checks that need the whole file, then what the sink makes of
     /// the scene when there were no errors, and every diagnostic in the
     /// order found.

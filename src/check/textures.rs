@@ -51,6 +51,11 @@ impl Textures {
         }
     }
 
+    /// True when no texture was named yet.
+    pub fn is_empty(&self) -> bool {
+        self.loaded.is_empty() && self.failed.is_empty()
+    }
+
     /// Load `path` (as written) unless already done; the diagnostic when it
     /// does not load.
     pub fn load(&mut self, path: Spanned<&str>) -> Result<(), CheckError> {

@@ -13,6 +13,9 @@
 //! the command line.
 
 mod read;
+mod split;
+#[cfg(test)]
+mod split_parity;
 #[cfg(test)]
 mod summary_parity;
 
@@ -142,6 +145,48 @@ pub fn load_bytes_as(
     load_source(source, utf8_error, language, start, Collect::default())
 }
 
+/// Parse and check the scene text of `source` as two halves cut at `cut`,
+/// on two threads; the joined check with every section checked, and the
+/// syntax errors in order. `None` when the halves do not join (see
+/// [`SceneCheck::then`]).
+fn on_two_threads<S: Sink>(
+    source: &SourceFile,
+    cut: usize,
+) -> Option<(Batches<'_, S>, Vec<syntax::SyntaxError>)> {
+    let halves = split::halves(&source.text, cut).map(|mut sections| {
+        move || {
+            let mut batches = Batches::new(source, S::default(), Language::Text);
+            for section in sections.by_ref() {
+                batches.push(section);
+            }
+            batches.flush();
+            (batches, sections.into_errors())
+        }
+    });
+    let [first, later] = halves;
+    let ((first, mut errors), (later, later_errors)) = std::thread::scope(|scope| {
+        let later = scope.spawn(later);
+        let first = first();
+        let later = later
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (first, later)
+    });
+    errors.extend(later_errors);
+    // The halves ran side by side: the longer check is the time checking
+    // added to the run.
+    let checking = first.checking.max(later.checking);
+    let check = first.check.then(later.check)?;
+    Some((
+        Batches {
+            check,
+            batch: Vec::new(),
+            checking,
+        },
+        errors,
+    ))
+}
+
 /// A diagnostic with the fix it carries.
 type Fixable = (BoxedDiagnostic, Option<Fix>);
 
@@ -223,14 +268,37 @@ fn load_source<S: Sink>(
             .map(|e| Box::new(e) as BoxedDiagnostic)
             .collect(),
     ));
+    let cut = split::cut(&source.text).filter(|_| language == Language::Text);
+    load_text_cut_at(source, diagnostics, language, start, sink, cut)
+}
+
+/// [`load_source`] with the text cut for two threads at `cut` (a safe
+/// cut of [`split`]), or read on one thread.
+fn load_text_cut_at<S: Sink>(
+    source: SourceFile,
+    mut diagnostics: Vec<Fixable>,
+    language: Language,
+    start: Instant,
+    sink: S,
+    cut: Option<usize>,
+) -> Loaded<S::Scene> {
+    let unfixed = |d: Vec<BoxedDiagnostic>| d.into_iter().map(|d| (d, None));
     let mut batches = Batches::new(&source, sink, language);
     let is_scene = match language {
         Language::Text => {
-            let mut sections = syntax::sections(&source.text);
-            for section in sections.by_ref() {
-                batches.push(section);
+            match cut.and_then(|cut| on_two_threads(&source, cut)) {
+                Some((joined, errors)) => {
+                    batches = joined;
+                    diagnostics.extend(unfixed(boxed(errors)));
+                }
+                None => {
+                    let mut sections = syntax::sections(&source.text);
+                    for section in sections.by_ref() {
+                        batches.push(section);
+                    }
+                    diagnostics.extend(unfixed(boxed(sections.into_errors())));
+                }
             }
-            diagnostics.extend(unfixed(boxed(sections.into_errors())));
             true
         }
         Language::Json => {
