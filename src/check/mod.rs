@@ -162,7 +162,8 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
     /// same objects), or `None` when `later` met something whose check
     /// depends on what came before and the caller must check the whole
     /// file in one run: a camera after a camera, the object or light limit
-    /// passed in `later`, or textures named in both.
+    /// passed in `later`, or textures whose shared texel budget makes
+    /// their order matter.
     pub fn then(mut self, later: SceneCheck<'a, S>) -> Option<SceneCheck<'a, S>> {
         if self.camera.is_some() && later.camera.is_some() {
             return None;
@@ -173,11 +174,8 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
             }
             count.found += more.found;
         }
-        if !self.cx.textures.is_empty() && !later.cx.textures.is_empty() {
+        if !self.cx.textures.then(later.cx.textures) {
             return None;
-        }
-        if self.cx.textures.is_empty() {
-            self.cx.textures = later.cx.textures;
         }
         self.camera = self.camera.or(later.camera);
         self.objects.append(later.objects);

@@ -13,8 +13,8 @@
 //! ([`syntax::sections_between`]), and its syntax errors and diagnostics
 //! follow the first half's, as one run gives them. When the second half
 //! met something whose check depends on the first (a second camera, the
-//! object limit, textures named in both), the join declines and the caller
-//! checks the whole text in one run instead.
+//! object limit, textures over the shared texel budget), the join declines
+//! and the caller checks the whole text in one run instead.
 
 use crate::syntax;
 
