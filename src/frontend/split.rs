@@ -81,4 +81,18 @@ mod tests {
         // `light` at the very end is followed by no space: no cut there.
         assert_eq!(cuts, ["sphere", "plane\n"]);
     }
+
+    #[test]
+    fn only_large_texts_are_cut_near_their_middle() {
+        let sphere = "sphere dimension 1 center 0 0 -5\n";
+        let small = format!("camera 4\n{}", sphere.repeat(1000));
+        assert_eq!(cut(&small), None);
+        let large = format!(
+            "camera 4\n{}",
+            sphere.repeat(PARALLEL_MIN_BYTES / sphere.len() + 1)
+        );
+        let at = cut(&large).expect("a large text is cut");
+        assert!(at >= large.len() / 2 && at - large.len() / 2 <= sphere.len());
+        assert!(large[at..].starts_with("sphere "));
+    }
 }
