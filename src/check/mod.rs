@@ -14,6 +14,7 @@
 mod attributes;
 pub mod errors;
 pub mod format;
+mod inside;
 
 mod sections;
 mod sink;
@@ -89,13 +90,7 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
             first_beyond: None,
         };
         SceneCheck {
-            cx: Checker {
-                source,
-                problems: Problems::default(),
-                textures: textures::Textures::new(&source.dir),
-                spheres: Vec::new(),
-                lights: Vec::new(),
-            },
+            cx: Checker::new(source),
             camera: None,
             objects,
             objects_valid: true,
@@ -109,6 +104,16 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
                 count("lights", &[SectionKind::Light], MAX_LIGHTS),
             ],
         }
+    }
+
+    /// This check is fed, in order, the sections [`crate::syntax::sections`]
+    /// reads from the source text (not JSON): it may then keep the spheres
+    /// for the light-inside-sphere warning as a box per run of them, and
+    /// read a run again from the text when a light falls in its box
+    /// (`inside.rs`), instead of a record per sphere.
+    pub fn fed_from_scene_text(mut self) -> Self {
+        self.cx.inside = inside::LightsInSpheres::chunked();
+        self
     }
 
     /// Check the next section of the file.
@@ -151,6 +156,37 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
         }
     }
 
+    /// This check of the sections before some section start, joined by
+    /// `later`, the check of the sections from there on: the check one run
+    /// over both would have been (the same diagnostics, in order, and the
+    /// same objects), or `None` when `later` met something whose check
+    /// depends on what came before and the caller must check the whole
+    /// file in one run: a camera after a camera, the object or light limit
+    /// passed in `later`, or textures whose shared texel budget makes
+    /// their order matter.
+    pub fn then(mut self, later: SceneCheck<'a, S>) -> Option<SceneCheck<'a, S>> {
+        if self.camera.is_some() && later.camera.is_some() {
+            return None;
+        }
+        for (count, more) in self.counts.iter_mut().zip(&later.counts) {
+            if count.first_beyond.is_none() && count.found + more.found > count.limit {
+                return None;
+            }
+            count.found += more.found;
+        }
+        if !self.cx.textures.then(later.cx.textures) {
+            return None;
+        }
+        self.camera = self.camera.or(later.camera);
+        self.objects.append(later.objects);
+        self.objects_valid &= later.objects_valid;
+        self.lights.extend(later.lights);
+        self.cx.problems.list.extend(later.cx.problems.list);
+        self.cx.problems.incomplete |= later.cx.problems.incomplete;
+        self.cx.inside.append(later.cx.inside);
+        Some(self)
+    }
+
     /// The checks that need the whole file, then what the sink makes of
     /// the scene when there were no errors, and every diagnostic in the
     /// order found.
@@ -168,7 +204,8 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
                 span: Span::point(0).into(),
             });
         }
-        cx.lights_inside_spheres();
+        let inside = std::mem::replace(&mut cx.inside, inside::LightsInSpheres::kept());
+        cx.problems.list.extend(inside.warnings(cx.source));
         cx.problems
             .list
             .extend(text_direction::warnings(&cx.source.text));
@@ -263,28 +300,24 @@ impl Problems {
     }
 }
 
-/// A valid sphere, for the light-inside-sphere check.
-#[derive(Debug)]
-struct SphereAt {
-    center: [f64; 3],
-    radius: f64,
-    span: Span,
-}
-
-/// A valid light location, for the light-inside-sphere check.
-#[derive(Debug)]
-struct LightAt {
-    location: [f64; 3],
-    span: Span,
-}
-
 /// The state of one check run.
 struct Checker<'a> {
     source: &'a SourceFile,
     problems: Problems,
     textures: textures::Textures,
-    spheres: Vec<SphereAt>,
-    lights: Vec<LightAt>,
+    /// What the light-inside-sphere warning weighs.
+    inside: inside::LightsInSpheres,
+}
+
+impl<'a> Checker<'a> {
+    fn new(source: &'a SourceFile) -> Checker<'a> {
+        Checker {
+            source,
+            problems: Problems::default(),
+            textures: textures::Textures::new(&source.dir),
+            inside: inside::LightsInSpheres::kept(),
+        }
+    }
 }
 
 impl Checker<'_> {
@@ -295,29 +328,6 @@ impl Checker<'_> {
             .get(span.start()..span.end())
             .unwrap_or_default()
             .to_string()
-    }
-
-    /// Warn about every light strictly inside a sphere.
-    fn lights_inside_spheres(&mut self) {
-        for light in &self.lights {
-            let location = glam::DVec3::from_array(light.location);
-            let inside = self
-                .spheres
-                .iter()
-                .find(|s| location.distance(glam::DVec3::from_array(s.center)) < s.radius);
-            if let Some(sphere) = inside {
-                self.problems.push(CheckError::LightInsideSphere {
-                    light: light.span.into(),
-                    sphere: sphere.span.into(),
-                    contains: format!(
-                        "contains the light: radius {} around `{}`",
-                        format::number(sphere.radius),
-                        format::vector(sphere.center)
-                    ),
-                    help: "it lights only the inside of the sphere: move it out".to_string(),
-                });
-            }
-        }
     }
 }
 

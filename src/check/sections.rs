@@ -12,6 +12,7 @@ use crate::span::Spanned;
 use super::attributes::{self, Attributes};
 use super::errors::CheckError;
 use super::format;
+use super::inside::{LightAt, SphereAt};
 use super::Checker;
 use crate::geometry::{self, Headup};
 
@@ -74,18 +75,18 @@ pub fn camera(section: &Section, cx: &mut Checker<'_>) -> Option<u32> {
 pub fn sphere(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> {
     no_positional_values(section, "dimension 1", cx);
     let attrs = attributes::collect(section, &mut cx.problems);
-    let radius = dimensions(&attrs, &["radius"], cx).map(|d| d[0]);
-    let center = attrs.vector(&AttrName::Center);
+    let (center, radius) = sphere_geometry(&attrs, cx);
     let material = material(&attrs, "sphere", cx);
     let (center, radius) = (center?, radius?);
     if center[2] - radius >= 0.0 {
         cx.problems.push(behind_camera("sphere", center));
     }
-    cx.spheres.push(super::SphereAt {
+    let at = SphereAt {
         center: *center,
         radius,
         span: section.kind.span,
-    });
+    };
+    cx.inside.sphere(at, section.span.end());
     Some(model::Object {
         shape: model::Shape::Sphere {
             center: *center,
@@ -93,6 +94,17 @@ pub fn sphere(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> 
         },
         material: material?,
     })
+}
+
+/// A sphere's centre and radius, each when valid: all of a sphere that the
+/// light-inside-sphere warning weighs, so `inside.rs` reads them again
+/// from a sphere's text by this same function.
+pub fn sphere_geometry(
+    attrs: &Attributes<'_>,
+    cx: &mut Checker<'_>,
+) -> (Option<Spanned<[f64; 3]>>, Option<f64>) {
+    let radius = dimensions(attrs, &["radius"], cx).map(|d| d[0]);
+    (attrs.vector(&AttrName::Center), radius)
 }
 
 /// A plane, when valid.
@@ -164,7 +176,7 @@ pub fn light(section: &Section, cx: &mut Checker<'_>) -> Option<model::Light> {
         ok.then_some(*color)
     });
     let location = location?;
-    cx.lights.push(super::LightAt {
+    cx.inside.light(LightAt {
         location: *location,
         span: location.span,
     });

@@ -16,12 +16,15 @@ use crate::texture::Texture;
 
 /// Where the check pass puts each valid object, and what it makes of a
 /// valid scene at the end.
-pub trait Sink {
+pub trait Sink: Default + Send {
     /// What a valid scene becomes.
     type Scene;
 
     /// Take the next valid object, in file order.
     fn object(&mut self, object: model::Object);
+
+    /// Take, in order, what another sink took of the objects after these.
+    fn append(&mut self, later: Self);
 
     /// The scene, once the whole file checked without errors.
     fn scene(
@@ -43,6 +46,10 @@ impl Sink for Collect {
 
     fn object(&mut self, object: model::Object) {
         self.objects.push(object);
+    }
+
+    fn append(&mut self, later: Self) {
+        self.objects.extend(later.objects);
     }
 
     fn scene(
@@ -109,6 +116,13 @@ impl Sink for Summarise {
 
     fn object(&mut self, object: model::Object) {
         self.summary.add(&object);
+    }
+
+    fn append(&mut self, later: Self) {
+        let (summary, more) = (&mut self.summary, later.summary);
+        summary.objects += more.objects;
+        summary.reflective |= more.reflective;
+        summary.textured |= more.textured;
     }
 
     fn scene(

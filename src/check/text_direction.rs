@@ -12,20 +12,18 @@ use super::errors::CheckError;
 /// One warning per text-direction control in `text`.
 pub fn warnings(text: &str) -> impl Iterator<Item = CheckError> + '_ {
     // Every such control is encoded as three bytes led by 0xE2; finding
-    // that byte first keeps the scan of a large scene to a byte search.
-    text.bytes()
-        .enumerate()
-        .filter(|&(_, b)| b == 0xE2)
-        .filter_map(move |(at, _)| {
-            let control = text.get(at..)?.chars().next()?;
-            is_text_direction_control(control).then(|| CheckError::TextDirectionControl {
-                name: name(control),
-                span: Span::new(at, at + control.len_utf8()).into(),
-                help: "delete it: editors and terminals that obey it show the scene in another \
+    // that byte first with memchr's vectorised search keeps the scan of a
+    // large scene to a fraction of the time a byte loop takes.
+    memchr::memchr_iter(0xE2, text.as_bytes()).filter_map(move |at| {
+        let control = text.get(at..)?.chars().next()?;
+        is_text_direction_control(control).then(|| CheckError::TextDirectionControl {
+            name: name(control),
+            span: Span::new(at, at + control.len_utf8()).into(),
+            help: "delete it: editors and terminals that obey it show the scene in another \
                        order than it is read"
-                    .to_string(),
-            })
+                .to_string(),
         })
+    })
 }
 
 /// `U+202E (right-to-left override)`.

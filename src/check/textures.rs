@@ -51,6 +51,42 @@ impl Textures {
         }
     }
 
+    /// These textures, then those `later` loaded on its own from the
+    /// lines after these: true when that is what loading them all in
+    /// order would have given, so the two are joined; false (and the
+    /// caller loads in one run) when the shared texel budget makes the
+    /// order matter: a texture too large in either, or more texels in all
+    /// than the budget holds. A path that failed or loaded in both did the
+    /// same in each, so either result stands.
+    pub fn then(&mut self, later: Textures) -> bool {
+        let too_large = |textures: &Textures| {
+            textures
+                .failed
+                .values()
+                .any(|f| matches!(f, Failure::TooLarge { .. }))
+        };
+        if too_large(self) || too_large(&later) {
+            return false;
+        }
+        let added: u64 = later
+            .loaded
+            .iter()
+            .filter(|(path, _)| !self.loaded.contains_key(*path))
+            .map(|(_, t)| u64::from(t.width) * u64::from(t.height))
+            .sum();
+        if self.texels + added > MAX_SCENE_TEXELS {
+            return false;
+        }
+        self.texels += added;
+        for (path, texture) in later.loaded {
+            self.loaded.entry(path).or_insert(texture);
+        }
+        for (path, failure) in later.failed {
+            self.failed.entry(path).or_insert(failure);
+        }
+        true
+    }
+
     /// Load `path` (as written) unless already done; the diagnostic when it
     /// does not load.
     pub fn load(&mut self, path: Spanned<&str>) -> Result<(), CheckError> {

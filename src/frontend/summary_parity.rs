@@ -35,7 +35,7 @@ fn check<S: Sink>(name: &str, dir: &Path, bytes: &[u8], sink: S) -> Loaded<S::Sc
 }
 
 /// The scene files under `dir`, recursively.
-fn scenes_under(dir: &Path, found: &mut Vec<PathBuf>) {
+pub(super) fn scenes_under(dir: &Path, found: &mut Vec<PathBuf>) {
     let mut entries: Vec<_> = std::fs::read_dir(dir)
         .expect("test folder readable")
         .map(|e| e.expect("test folder entry").path())

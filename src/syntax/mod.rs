@@ -62,6 +62,17 @@ pub fn sections(text: &str) -> Sections<'_> {
     sections_by(text, Route::Fast)
 }
 
+/// The sections of `text[start..end]`, with spans into the whole of
+/// `text`: for reading again a run of sections whose first starts at
+/// `start` (a section keyword the parser found there) and whose last ends
+/// at `end`. From a section start, parsing depends on nothing before it,
+/// so these are the sections [`sections`] gave for that run.
+pub fn sections_between(text: &str, start: usize, end: usize) -> Sections<'_> {
+    let mut sections = sections(text);
+    sections.cursor.rest = text.get(start..end).unwrap_or_default();
+    sections
+}
+
 /// How the cursor reads tokens: the fast paths first, or the nom rules
 /// alone (the reference the parity tests compare against).
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -447,6 +458,12 @@ impl<'a> Cursor<'a> {
     /// Convert a numeric-looking word, reporting why it is not a number.
     fn number_value(&mut self, w: &str, span: Span) -> Option<f64> {
         let plain = self.route == Route::Fast && fast::is_plain_decimal(w.as_bytes());
+        if let Some(n) = plain
+            .then(|| fast::plain_decimal_value(w.as_bytes()))
+            .flatten()
+        {
+            return Some(n);
+        }
         let found = || w.to_string();
         let error = if plain || matches!(number(w), Ok(("", _))) {
             match w.parse::<f64>() {
