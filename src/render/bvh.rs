@@ -1,8 +1,9 @@
 //! A bounding volume hierarchy over a scene's primitives, in the tracer's
 //! precision.
 //!
-//! Built top-down as a binary tree with the surface area heuristic on
-//! binned centroids (Wald 2007), then collapsed into a 4-wide tree (each
+//! Built top-down as a binary tree with the surface area heuristic, on
+//! binned centroids (Wald 2007) for large nodes and over every split of
+//! the sorted centroids for nodes of up to 16 primitives, then collapsed into a 4-wide tree (each
 //! node the boxes of up to four children, tested at once, one SIMD slab
 //! test per axis over four lanes): a ray visits about half as many nodes.
 //! Building reorders the world's primitives into leaf order, so a leaf
@@ -128,14 +129,46 @@ pub struct Bvh {
 
 /// A primitive while building: its padded box, rounded outwards to `f32`
 /// (so every node's box, their union, is the union's rounding: `f32`
-/// arithmetic while building loses nothing), and centroid.
+/// arithmetic while building loses nothing), in 32 bytes: binning reads
+/// every item once per level, so at 10⁶ primitives the build streams
+/// this list some twenty times.
 #[derive(Clone, Copy)]
 struct Item {
-    lo: Vec3A,
-    hi: Vec3A,
-    centroid: Vec3A,
-    /// Its slot before reordering.
-    slot: u32,
+    /// The minimum corner, and in the fourth lane the item's slot before
+    /// reordering, as bits.
+    lo: Vec4,
+    /// The maximum corner (fourth lane 0).
+    hi: Vec4,
+}
+
+impl Item {
+    fn new(lo: Vec3A, hi: Vec3A, slot: u32) -> Item {
+        Item {
+            lo: lo.extend(f32::from_bits(slot)),
+            hi: hi.extend(0.0),
+        }
+    }
+
+    #[inline(always)]
+    fn lo(&self) -> Vec3A {
+        Vec3A::from_vec4(self.lo)
+    }
+
+    #[inline(always)]
+    fn hi(&self) -> Vec3A {
+        Vec3A::from_vec4(self.hi)
+    }
+
+    /// Twice the centroid, `lo + hi`: binning only compares centroids
+    /// with each other, so the factor ½ is left out.
+    #[inline(always)]
+    fn centroid(&self) -> Vec3A {
+        self.lo() + self.hi()
+    }
+
+    fn slot(&self) -> u32 {
+        self.lo.w.to_bits()
+    }
 }
 
 /// A box while building, in `f32` (SIMD lanes).
@@ -192,12 +225,7 @@ impl Bvh {
                 let own_pad = R::epsilon().wide() * PAD_EPSILONS * scale_of((lo, hi));
                 let pad = DVec3::splat(scene_pad + own_pad);
                 let (lo, hi) = to_f32_box(lo - pad, hi + pad);
-                Item {
-                    lo,
-                    hi,
-                    centroid: (lo + hi) * 0.5,
-                    slot: slot as u32,
-                }
+                Item::new(lo, hi, slot as u32)
             })
             .collect();
         let mut nodes = Vec::with_capacity(2 * items.len().div_ceil(2).max(1));
@@ -208,7 +236,7 @@ impl Bvh {
         // Gathered in leaf order: independent reads, unlike moving the
         // primitives along the permutation's cycles in place, whose
         // chained cache misses took a fifth of the build for 10⁶ spheres.
-        let order: Vec<u32> = items.iter().map(|item| item.slot).collect();
+        let order: Vec<u32> = items.iter().map(Item::slot).collect();
         drop(items);
         *prims = order
             .par_iter()
@@ -493,8 +521,9 @@ fn build(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<Node>)
     let mut bounds = Aabb::EMPTY;
     let mut centroids = Aabb::EMPTY;
     for item in items.iter() {
-        bounds.grow(item.lo, item.hi);
-        centroids.grow(item.centroid, item.centroid);
+        bounds.grow(item.lo(), item.hi());
+        let centroid = item.centroid();
+        centroids.grow(centroid, centroid);
     }
     let index = nodes.len();
     nodes.push(Node::leaf(bounds, offset as u32, items.len() as u32));
@@ -545,71 +574,158 @@ fn append(nodes: &mut Vec<Node>, subtree: Vec<Node>) {
     }));
 }
 
-/// Partition `items` along the cheapest binned SAH split and return the
-/// size of the first part, or `None` when a leaf is cheaper.
+/// Partition `items` along the cheapest SAH split and return the size of
+/// the first part, or `None` when a leaf is cheaper: by sweeping every
+/// split of the items sorted along each axis for a node of at most
+/// [`SWEEP_MAX`] items (most nodes are small, and sixteen bins per axis
+/// cost more to fill and sweep than their few items), else on binned
+/// centroids.
 fn best_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usize> {
     let n = items.len();
-    let extent = centroids.hi - centroids.lo;
-    // Bins per axis, filled in one pass; an axis along which all centroids
-    // share one coordinate has nothing to split and is skipped. The bin
-    // of each axis at once (`as` saturates: a NaN or negative is bin 0).
-    let scale = Vec3A::splat(BINS as f32) / extent;
-    let bins_of = |item: &Item| {
-        ((item.centroid - centroids.lo) * scale)
+    // Costs relative to the parent's area, in units of a node visit.
+    let worth_splitting = |cost: f64| {
+        let split_cost = 1.0 + PRIMITIVE_COST * cost / bounds.area();
+        n > MAX_LEAF || split_cost < PRIMITIVE_COST * n as f64
+    };
+    if n <= SWEEP_MAX {
+        let (cost, order, split) = sweep_split(items)?;
+        worth_splitting(cost).then(|| {
+            let sorted: ArrayVec<Item, SWEEP_MAX> =
+                order[..n].iter().map(|&k| items[k as usize]).collect();
+            items.copy_from_slice(&sorted);
+            split
+        })
+    } else {
+        let bins = Bins::over(centroids);
+        let (cost, axis, bin) = bins.best_split(items)?;
+        worth_splitting(cost).then(|| {
+            let mut split = 0;
+            for i in 0..n {
+                if (bins.of(&items[i])[axis] as usize) < bin {
+                    items.swap(i, split);
+                    split += 1;
+                }
+            }
+            split
+        })
+    }
+}
+
+/// Nodes of at most this many items try every split along each axis.
+const SWEEP_MAX: usize = 16;
+
+/// The cheapest split of at most [`SWEEP_MAX`] items sorted by centroid
+/// along some axis (equal centroids in their order in `items`, so the
+/// tree is the same on every run): its SAH cost (`area · count` summed
+/// over both sides), that order as indices into `items`, and the first
+/// side's size.
+fn sweep_split(items: &[Item]) -> Option<(f64, [u8; SWEEP_MAX], usize)> {
+    let n = items.len();
+    let centroids: ArrayVec<Vec3A, SWEEP_MAX> = items.iter().map(Item::centroid).collect();
+    let mut best: Option<(f64, [u8; SWEEP_MAX], usize)> = None;
+    for axis in 0..3 {
+        let mut order = [0u8; SWEEP_MAX];
+        for (k, at) in order.iter_mut().enumerate() {
+            *at = k as u8;
+        }
+        order[..n].sort_unstable_by(|&a, &b| {
+            let (ca, cb) = (centroids[a as usize][axis], centroids[b as usize][axis]);
+            ca.total_cmp(&cb).then(a.cmp(&b))
+        });
+        let mut right_area = [0.0; SWEEP_MAX];
+        let mut right = Aabb::EMPTY;
+        for k in (1..n).rev() {
+            let item = &items[order[k] as usize];
+            right.grow(item.lo(), item.hi());
+            right_area[k] = right.area();
+        }
+        let mut left = Aabb::EMPTY;
+        let mut cheapest: Option<(f64, usize)> = None;
+        for k in 1..n {
+            let item = &items[order[k - 1] as usize];
+            left.grow(item.lo(), item.hi());
+            let cost = left.area() * k as f64 + right_area[k] * (n - k) as f64;
+            if cheapest.is_none_or(|(c, _)| cost < c) {
+                cheapest = Some((cost, k));
+            }
+        }
+        if let Some((cost, k)) = cheapest {
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, order, k));
+            }
+        }
+    }
+    best
+}
+
+/// [`BINS`] equal bins per axis over a node's centroids.
+struct Bins {
+    origin: Vec3A,
+    scale: Vec3A,
+    extent: Vec3A,
+}
+
+impl Bins {
+    fn over(centroids: &Aabb) -> Bins {
+        let extent = centroids.hi - centroids.lo;
+        Bins {
+            origin: centroids.lo,
+            scale: Vec3A::splat(BINS as f32) / extent,
+            extent,
+        }
+    }
+
+    /// The item's bin along each axis at once (`as` saturates: a NaN or
+    /// negative is bin 0).
+    #[inline(always)]
+    fn of(&self, item: &Item) -> [u32; 3] {
+        ((item.centroid() - self.origin) * self.scale)
             .as_uvec3()
             .min(UVec3::splat(BINS as u32 - 1))
             .to_array()
-    };
-    let mut bins = [[(Aabb::EMPTY, 0usize); BINS]; 3];
-    for item in items.iter() {
-        for (axis_bins, bin) in bins.iter_mut().zip(bins_of(item)) {
-            let bin = &mut axis_bins[bin as usize];
-            bin.0.grow(item.lo, item.hi);
-            bin.1 += 1;
-        }
     }
-    let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, bin)
-    for (axis, bins) in bins.iter().enumerate() {
-        if extent[axis] <= 0.0 {
-            continue;
+
+    /// The cheapest split between two bins: its SAH cost, the axis and
+    /// the first bin of the second side. An axis along which all
+    /// centroids share one coordinate has nothing to split and is skipped.
+    fn best_split(&self, items: &[Item]) -> Option<(f64, usize, usize)> {
+        let mut bins = [[(Aabb::EMPTY, 0usize); BINS]; 3];
+        for item in items {
+            for (axis_bins, bin) in bins.iter_mut().zip(self.of(item)) {
+                let bin = &mut axis_bins[bin as usize];
+                bin.0.grow(item.lo(), item.hi());
+                bin.1 += 1;
+            }
         }
-        // Areas and counts of everything right of each boundary.
-        let mut right = [(0.0, 0usize); BINS];
-        let mut acc = (Aabb::EMPTY, 0usize);
-        for bin in (1..BINS).rev() {
-            acc.0.grow(bins[bin].0.lo, bins[bin].0.hi);
-            acc.1 += bins[bin].1;
-            right[bin] = (acc.0.area(), acc.1);
-        }
-        let mut left = (Aabb::EMPTY, 0usize);
-        for bin in 1..BINS {
-            left.0.grow(bins[bin - 1].0.lo, bins[bin - 1].0.hi);
-            left.1 += bins[bin - 1].1;
-            let (right_area, right_count) = right[bin];
-            if left.1 == 0 || right_count == 0 {
+        let mut best: Option<(f64, usize, usize)> = None;
+        for (axis, bins) in bins.iter().enumerate() {
+            if self.extent[axis] <= 0.0 {
                 continue;
             }
-            let cost = left.0.area() * left.1 as f64 + right_area * right_count as f64;
-            if best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, axis, bin));
+            // Areas and counts of everything right of each boundary.
+            let mut right = [(0.0, 0usize); BINS];
+            let mut acc = (Aabb::EMPTY, 0usize);
+            for bin in (1..BINS).rev() {
+                acc.0.grow(bins[bin].0.lo, bins[bin].0.hi);
+                acc.1 += bins[bin].1;
+                right[bin] = (acc.0.area(), acc.1);
+            }
+            let mut left = (Aabb::EMPTY, 0usize);
+            for bin in 1..BINS {
+                left.0.grow(bins[bin - 1].0.lo, bins[bin - 1].0.hi);
+                left.1 += bins[bin - 1].1;
+                let (right_area, right_count) = right[bin];
+                if left.1 == 0 || right_count == 0 {
+                    continue;
+                }
+                let cost = left.0.area() * left.1 as f64 + right_area * right_count as f64;
+                if best.is_none_or(|(c, _, _)| cost < c) {
+                    best = Some((cost, axis, bin));
+                }
             }
         }
+        best
     }
-    let (cost, axis, bin) = best?;
-    // Costs relative to the parent's area, in units of a node visit.
-    let split_cost = 1.0 + PRIMITIVE_COST * cost / bounds.area();
-    let leaf_cost = PRIMITIVE_COST * n as f64;
-    if n <= MAX_LEAF && split_cost >= leaf_cost {
-        return None;
-    }
-    let mut split = 0;
-    for i in 0..n {
-        if (bins_of(&items[i])[axis] as usize) < bin {
-            items.swap(i, split);
-            split += 1;
-        }
-    }
-    Some(split)
 }
 
 /// A box in `f32`, rounded outwards: min and max corners.

@@ -71,10 +71,12 @@ impl Sampler {
 
     /// Every pixel of row `j`, left to right, each handed to `put` with its
     /// column: the values [`Sampler::pixel`] gives. With one sample per
-    /// pixel the row's camera rays are made first, in a loop of their own:
-    /// each needs a division and a square root whose latency, inside the
-    /// trace of a pixel, would stall it, while a loop of independent rays
-    /// overlaps them. (The mean of one sample is that sample.)
+    /// pixel the row's camera rays are made first, in a loop of their own,
+    /// then what each hits first, in another, and only then is each
+    /// shaded: a camera ray needs divisions and a square root, and its hit
+    /// test more, whose latency inside the trace of a pixel would stall
+    /// it, while a loop of independent rays overlaps them. (The mean of
+    /// one sample is that sample.)
     pub(super) fn row<R: Real>(
         &self,
         tracer: &Tracer<'_, R>,
@@ -92,8 +94,9 @@ impl Sampler {
         let rays: Vec<Ray<R>> = (0..self.size)
             .map(|i| camera_ray::<R>(self.size, f64::from(i) + 0.5, y))
             .collect();
-        for (i, ray) in rays.into_iter().enumerate() {
-            let color = tracer.radiance(ray, counters);
+        let hits: Vec<_> = rays.iter().map(|ray| tracer.first_hit(ray)).collect();
+        for (i, (ray, hit)) in rays.into_iter().zip(hits).enumerate() {
+            let color = tracer.radiance_from(ray, hit, counters);
             put(i, color.clamp(DVec3::ZERO, DVec3::ONE));
         }
     }

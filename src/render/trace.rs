@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 
 use super::geometry::{offset_origin, Ray, Shape};
 use super::real::{Real, Vector};
-use super::world::{Accel, Prim, World};
+use super::world::{Accel, Hit, Prim, World};
 use crate::ir;
 
 /// The share of a surface's colour that is lit without any light.
@@ -122,12 +122,32 @@ impl<'a, R: Real> Tracer<'a, R> {
     }
 
     /// The colour seen along a camera ray, before clamping.
-    pub fn radiance(&self, mut ray: Ray<R>, counters: &mut Counters) -> DVec3 {
+    pub fn radiance(&self, ray: Ray<R>, counters: &mut Counters) -> DVec3 {
+        let hit = self.first_hit(&ray);
+        self.radiance_from(ray, hit, counters)
+    }
+
+    /// What a camera ray hits first: [`Tracer::radiance`] is
+    /// [`Tracer::radiance_from`] this hit, so a caller may find the hits
+    /// of many rays before shading any.
+    pub fn first_hit(&self, ray: &Ray<R>) -> Option<Hit<R>> {
+        self.world.closest(ray, R::infinity())
+    }
+
+    /// The colour seen along a camera ray that first hits `first`
+    /// ([`Tracer::first_hit`] of it), before clamping.
+    pub fn radiance_from(
+        &self,
+        mut ray: Ray<R>,
+        first: Option<Hit<R>>,
+        counters: &mut Counters,
+    ) -> DVec3 {
         counters.primary_rays += 1;
         let mut color = DVec3::ZERO;
         let mut weight = 1.0;
+        let mut next = first;
         for depth in 0..=self.max_depth {
-            let Some(hit) = self.world.closest(&ray, R::infinity()) else {
+            let Some(hit) = next else {
                 break;
             };
             let prim = &self.world.prims[hit.slot as usize];
@@ -152,6 +172,7 @@ impl<'a, R: Real> Tracer<'a, R> {
                 from: Some(hit.slot),
             };
             counters.reflection_rays += 1;
+            next = self.world.closest(&ray, R::infinity());
         }
         debug_assert!(color.is_finite(), "non-finite colour {color}");
         if !color.is_finite() {
