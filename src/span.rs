@@ -102,22 +102,6 @@ impl<T> Spanned<T> {
             value,
         }
     }
-
-    /// Transform the value, keeping the span.
-    pub fn map<U>(self, f: impl FnOnce(T) -> U) -> Spanned<U> {
-        Spanned {
-            span: self.span,
-            value: f(self.value),
-        }
-    }
-
-    /// Borrow the value, keeping the span.
-    pub fn as_ref(&self) -> Spanned<&T> {
-        Spanned {
-            span: self.span,
-            value: &self.value,
-        }
-    }
 }
 
 impl<T> Deref for Spanned<T> {

@@ -50,9 +50,6 @@ pub trait Vector<R>:
     fn dot(self, other: Self) -> R;
     fn length(self) -> R;
     fn normalize(self) -> Self;
-    fn min(self, other: Self) -> Self;
-    fn max(self, other: Self) -> Self;
-    fn is_finite(self) -> bool;
 }
 
 macro_rules! vector {
@@ -84,15 +81,6 @@ macro_rules! vector {
             }
             fn normalize(self) -> Self {
                 <$vec>::normalize(self)
-            }
-            fn min(self, other: Self) -> Self {
-                <$vec>::min(self, other)
-            }
-            fn max(self, other: Self) -> Self {
-                <$vec>::max(self, other)
-            }
-            fn is_finite(self) -> bool {
-                <$vec>::is_finite(self)
             }
         }
     };
