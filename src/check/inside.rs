@@ -4,9 +4,9 @@
 //! The warning names, for each light, the first sphere in the file whose
 //! inside holds it, so every valid sphere has to be weighed against lights
 //! that may come after it. Keeping each sphere's centre, radius and span
-//! until the end cost 40 bytes a sphere, 40 MB for a scene of a million, a
-//! third more than its text. When the spheres came from scene text, this
-//! keeps instead one [`Chunk`] per run of [`CHUNK`] valid spheres: the box
+//! until the end would cost 40 bytes a sphere, 40 MB for a scene of a
+//! million, a third more than its text. When the spheres come from scene
+//! text, this keeps instead one [`Chunk`] per run of [`CHUNK`] valid spheres: the box
 //! that holds all of them (widened a little, so that it holds every point
 //! the exact test can call inside), and where in the text the run starts
 //! and ends. At the end a light outside a chunk's box is outside its
@@ -18,8 +18,8 @@
 //! worst case (a light inside every box) costs one more reading of the
 //! spheres' text; the usual scene, lights away from the crowd, costs none.
 //!
-//! Spheres that came from JSON are kept whole, as before: the scene
-//! parser cannot read that text again.
+//! Spheres read from JSON are kept whole: the scene parser cannot read
+//! that text again.
 
 use glam::DVec3;
 
