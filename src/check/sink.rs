@@ -41,6 +41,9 @@ pub struct Collect {
     objects: Vec<model::Object>,
 }
 
+/// Objects [`Collect::append`] moves at a time.
+const MOVE_BLOCK: usize = 1 << 16;
+
 impl Sink for Collect {
     type Scene = Checked;
 
@@ -48,8 +51,21 @@ impl Sink for Collect {
         self.objects.push(object);
     }
 
+    /// The later list is moved over a block of [`MOVE_BLOCK`] objects at a
+    /// time and shrunk after each, so the two lists never hold the later
+    /// objects twice: for a million spheres checked in two halves, a
+    /// second copy of half the model would be the run's peak. A list only
+    /// shrinks from its end, so the later one is reversed first and its
+    /// end is then its first objects.
     fn append(&mut self, later: Self) {
-        self.objects.extend(later.objects);
+        let mut later = later.objects;
+        self.objects.reserve_exact(later.len());
+        later.reverse();
+        while !later.is_empty() {
+            let first = later.split_off(later.len().saturating_sub(MOVE_BLOCK));
+            later.shrink_to_fit();
+            self.objects.extend(first.into_iter().rev());
+        }
     }
 
     fn scene(
@@ -135,5 +151,39 @@ impl Sink for Summarise {
             lights: lights.len(),
             ..self.summary
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sphere(k: usize) -> model::Object {
+        model::Object {
+            shape: model::Shape::Sphere {
+                center: [k as f64, 0.0, 0.0],
+                radius: 1.0,
+            },
+            material: model::Material::default(),
+        }
+    }
+
+    fn collect(range: std::ops::Range<usize>) -> Collect {
+        let mut sink = Collect::default();
+        for k in range {
+            sink.object(sphere(k));
+        }
+        sink
+    }
+
+    #[test]
+    fn appending_keeps_file_order_across_several_blocks() {
+        let (first, total) = (1000, 1000 + 2 * MOVE_BLOCK + 123);
+        let mut sink = collect(0..first);
+        sink.append(collect(first..total));
+        let checked = sink.scene(model::Camera { resolution: 4 }, Vec::new(), BTreeMap::new());
+        let objects = checked.scene.objects;
+        assert_eq!(objects.len(), total);
+        assert!(objects.iter().enumerate().all(|(k, o)| *o == sphere(k)));
     }
 }
