@@ -296,15 +296,16 @@ mod tests {
         for own in [1, 2, 5, 16, 17, 63, 64] {
             let big = measured_size(own);
             let k = big / own;
-            for i in 0..own {
-                let (x, y) = (f64::from(i) + 0.5, f64::from(own - 1 - i) + 0.5);
-                let (kx, ky) = (
-                    f64::from(k * i + k / 2) + 0.5,
-                    f64::from(k * (own - 1 - i) + k / 2) + 0.5,
+            let centre = |i: u32| f64::from(i) + 0.5;
+            for (i, j) in (0..own).flat_map(|i| (0..own).map(move |j| (i, j))) {
+                let small = camera_ray::<f64>(own, centre(i), centre(j)).dir;
+                let (bi, bj) = (k * i + k / 2, k * j + k / 2);
+                let large = camera_ray::<f64>(big, centre(bi), centre(bj)).dir;
+                assert_eq!(
+                    small.to_array(),
+                    large.to_array(),
+                    "pixel ({i}, {j}) of {own}"
                 );
-                let small = camera_ray::<f64>(own, x, y).dir;
-                let large = camera_ray::<f64>(big, kx, ky).dir;
-                assert_eq!(small.to_array(), large.to_array(), "pixel {i} of {own}");
             }
         }
     }
