@@ -76,7 +76,9 @@ pub fn is_plain_decimal(word: &[u8]) -> bool {
 }
 
 /// The value of a plain decimal (see [`is_plain_decimal`]), or `None`
-/// when the fast parser declines (the caller then asks `str::parse`).
+/// when the fast parser declines or the value is beyond `f64`'s range (a
+/// plain decimal of over 308 digits parses to infinity): the caller then
+/// asks `str::parse` and reports the number out of range.
 ///
 /// `fast_float2` implements the algorithm `str::parse` itself is built on
 /// (Clinger's exact path, then Eisel–Lemire), so the value is bit for bit
@@ -84,7 +86,9 @@ pub fn is_plain_decimal(word: &[u8]) -> bool {
 /// decimal cannot take, which a scene of a million spheres pays ten
 /// million times.
 pub fn plain_decimal_value(word: &[u8]) -> Option<f64> {
-    fast_float2::parse(word).ok()
+    fast_float2::parse(word)
+        .ok()
+        .filter(|value: &f64| value.is_finite())
 }
 
 #[cfg(test)]
@@ -153,6 +157,9 @@ mod tests {
                 "{word}"
             );
         }
+        let past_the_range = format!("1{}", "0".repeat(400));
+        assert!(is_plain_decimal(past_the_range.as_bytes()));
+        assert_eq!(plain_decimal_value(past_the_range.as_bytes()), None);
     }
 
     #[test]

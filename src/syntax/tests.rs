@@ -120,6 +120,13 @@ fn reports_every_error_in_one_run() {
 }
 
 #[test]
+fn a_plain_decimal_past_the_range_of_f64_is_out_of_range() {
+    let text = format!("sphere dimension 1{}", "0".repeat(400));
+    let parsed = parse(&text);
+    assert_eq!(codes(&parsed.errors), ["syntax::number_out_of_range"]);
+}
+
+#[test]
 fn comment_ends_a_word() {
     let parsed = parse("camera 400#res\nsphere");
     assert!(parsed.errors.is_empty());
