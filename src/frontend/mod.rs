@@ -90,17 +90,17 @@ pub fn parse(language: Language, text: &str) -> (Option<ast::File>, Vec<BoxedDia
 /// Read `path` (`-` is stdin), parse it as scene text or JSON (see
 /// [`Language::of`]) and check it.
 pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
-    load_into(path, Collect::default())
+    load_into::<Collect>(path)
 }
 
 /// [`load`], keeping only the [`Summary`] of a valid scene: each object is
 /// summarised and dropped as soon as it is checked.
 pub fn load_summary(path: &Path) -> Result<Loaded<Summary>, ReadSceneError> {
-    load_into(path, Summarise::default())
+    load_into::<Summarise>(path)
 }
 
-/// [`load`] with each valid object handed to `sink`.
-fn load_into<S: Sink>(path: &Path, sink: S) -> Result<Loaded<S::Scene>, ReadSceneError> {
+/// [`load`] with each valid object handed to a sink of kind `S`.
+fn load_into<S: Sink>(path: &Path) -> Result<Loaded<S::Scene>, ReadSceneError> {
     let start = Instant::now();
     let bytes = read_scene(path)?;
     let (name, dir) = if path == Path::new("-") {
@@ -117,7 +117,7 @@ fn load_into<S: Sink>(path: &Path, sink: S) -> Result<Loaded<S::Scene>, ReadScen
     // The buffer read becomes the text: one copy of a large scene, never
     // two.
     let (source, utf8_error) = SourceFile::from_vec(&name, &dir, bytes);
-    Ok(load_source(source, utf8_error, language, start, sink))
+    Ok(load_source::<S>(source, utf8_error, language, start))
 }
 
 /// Parse and check scene bytes named `name` (scene text, or JSON when the
@@ -142,7 +142,7 @@ pub fn load_bytes_as(
     start: Instant,
 ) -> Loaded {
     let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
-    load_source(source, utf8_error, language, start, Collect::default())
+    load_source::<Collect>(source, utf8_error, language, start)
 }
 
 /// Parse and check the scene text of `source` as two halves cut at `cut`,
@@ -155,7 +155,7 @@ fn on_two_threads<S: Sink>(
 ) -> Option<(Batches<'_, S>, Vec<syntax::SyntaxError>)> {
     let halves = split::halves(&source.text, cut).map(|mut sections| {
         move || {
-            let mut batches = Batches::new(source, S::default(), Language::Text);
+            let mut batches = Batches::new(source, Language::Text);
             for section in sections.by_ref() {
                 batches.push(section);
             }
@@ -208,8 +208,8 @@ struct Batches<'a, S: Sink> {
 }
 
 impl<'a, S: Sink> Batches<'a, S> {
-    fn new(source: &'a SourceFile, sink: S, language: Language) -> Batches<'a, S> {
-        let check = SceneCheck::with_sink(source, sink);
+    fn new(source: &'a SourceFile, language: Language) -> Batches<'a, S> {
+        let check = SceneCheck::with_sink(source, S::default());
         Batches {
             check: match language {
                 Language::Text => check.fed_from_scene_text(),
@@ -263,7 +263,6 @@ fn load_source<S: Sink>(
     utf8_error: Option<syntax::SyntaxError>,
     language: Language,
     start: Instant,
-    sink: S,
 ) -> Loaded<S::Scene> {
     let mut diagnostics: Vec<Fixable> = Vec::new();
     let unfixed = |d: Vec<BoxedDiagnostic>| d.into_iter().map(|d| (d, None));
@@ -274,7 +273,7 @@ fn load_source<S: Sink>(
             .collect(),
     ));
     let cut = split::cut(&source.text).filter(|_| language == Language::Text);
-    load_text_cut_at(source, diagnostics, language, start, sink, cut)
+    load_text_cut_at::<S>(source, diagnostics, language, start, cut)
 }
 
 /// [`load_source`] with the text cut for two threads at `cut` (a safe
@@ -284,32 +283,30 @@ fn load_text_cut_at<S: Sink>(
     mut diagnostics: Vec<Fixable>,
     language: Language,
     start: Instant,
-    sink: S,
     cut: Option<usize>,
 ) -> Loaded<S::Scene> {
     let unfixed = |d: Vec<BoxedDiagnostic>| d.into_iter().map(|d| (d, None));
-    let mut batches = Batches::new(&source, sink, language);
-    let is_scene = match language {
-        Language::Text => {
-            match cut.and_then(|cut| on_two_threads(&source, cut)) {
-                Some((joined, errors)) => {
-                    batches = joined;
-                    diagnostics.extend(unfixed(boxed(errors)));
-                }
-                None => {
-                    let mut sections = syntax::sections(&source.text);
-                    for section in sections.by_ref() {
-                        batches.push(section);
-                    }
-                    diagnostics.extend(unfixed(boxed(sections.into_errors())));
-                }
+    let (batches, is_scene) = match language {
+        Language::Text => match cut.and_then(|cut| on_two_threads::<S>(&source, cut)) {
+            Some((joined, errors)) => {
+                diagnostics.extend(unfixed(boxed(errors)));
+                (joined, true)
             }
-            true
-        }
+            None => {
+                let mut batches = Batches::new(&source, language);
+                let mut sections = syntax::sections(&source.text);
+                for section in sections.by_ref() {
+                    batches.push(section);
+                }
+                diagnostics.extend(unfixed(boxed(sections.into_errors())));
+                (batches, true)
+            }
+        },
         Language::Json => {
+            let mut batches = Batches::new(&source, language);
             let read = json::read(&source.text, |section| batches.push(section));
             diagnostics.extend(unfixed(boxed(read.errors)));
-            read.is_scene
+            (batches, read.is_scene)
         }
     };
     let (checked, checking) = if is_scene {

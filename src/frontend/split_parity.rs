@@ -19,14 +19,7 @@ fn run(name: &str, dir: &Path, text: &str, cut: Option<usize>) -> (String, Strin
         .map(|e| (Box::new(e) as BoxedDiagnostic, None))
         .collect();
     let start = Instant::now();
-    let loaded = load_text_cut_at(
-        source,
-        diagnostics,
-        Language::Text,
-        start,
-        Collect::default(),
-        cut,
-    );
+    let loaded = load_text_cut_at::<Collect>(source, diagnostics, Language::Text, start, cut);
     (
         loaded.report.render_human(100, false),
         format!("{:?}", loaded.checked),

@@ -13,8 +13,8 @@ use super::*;
 /// Both checks of `bytes` named `name` in `dir`: the same human report,
 /// and the same summary of a valid scene.
 fn assert_same(name: &str, dir: &Path, bytes: &[u8]) {
-    let collected = check(name, dir, bytes, Collect::default());
-    let summarised = check(name, dir, bytes, Summarise::default());
+    let collected = check::<Collect>(name, dir, bytes);
+    let summarised = check::<Summarise>(name, dir, bytes);
     assert_eq!(
         summarised.report.render_human(100, false),
         collected.report.render_human(100, false),
@@ -27,11 +27,12 @@ fn assert_same(name: &str, dir: &Path, bytes: &[u8]) {
     );
 }
 
-/// `bytes` through the front end, each valid object handed to `sink`.
-fn check<S: Sink>(name: &str, dir: &Path, bytes: &[u8], sink: S) -> Loaded<S::Scene> {
+/// `bytes` through the front end, each valid object handed to a sink of
+/// kind `S`.
+fn check<S: Sink>(name: &str, dir: &Path, bytes: &[u8]) -> Loaded<S::Scene> {
     let language = Language::of(Path::new(name), bytes);
     let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
-    load_source(source, utf8_error, language, Instant::now(), sink)
+    load_source::<S>(source, utf8_error, language, Instant::now())
 }
 
 /// The scene files under `dir`, recursively.
