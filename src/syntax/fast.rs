@@ -11,11 +11,44 @@
 //! defined by the nom rules alone, and the tests in `parity.rs` check that
 //! both routes give the same tree, spans and errors.
 
-/// True for an ASCII byte that is a `space_char` (`char::is_whitespace`
-/// on ASCII: tab, line feed, vertical tab, form feed, carriage return and
-/// space).
-fn is_ascii_space(b: u8) -> bool {
-    matches!(b, b'\t' | b'\n' | 0x0b | 0x0c | b'\r' | b' ')
+/// What kind of byte each byte is, as bits ([`CLASSES`]): the word and
+/// trivia scanners look a byte up once and learn everything they ask.
+const SPACE: u8 = 1;
+/// `#` and `"`: not word characters, and not trivia either.
+const DELIMITER: u8 = 2;
+/// Any byte of a non-ASCII character: the general rule decides.
+const WIDE: u8 = 4;
+const DIGIT: u8 = 8;
+const POINT: u8 = 16;
+const SIGN: u8 = 32;
+/// Every other ASCII word character.
+const OTHER: u8 = 64;
+/// The classes that end an ASCII word.
+const WORD_END: u8 = SPACE | DELIMITER | WIDE;
+
+/// The class of every byte. The ASCII spaces are those of
+/// `char::is_whitespace` on ASCII: tab, line feed, vertical tab, form feed,
+/// carriage return and space.
+static CLASSES: [u8; 256] = {
+    let mut classes = [OTHER; 256];
+    let mut b = 0;
+    while b < 256 {
+        classes[b] = match b as u8 {
+            b'\t' | b'\n' | 0x0b | 0x0c | b'\r' | b' ' => SPACE,
+            b'#' | b'"' => DELIMITER,
+            b'0'..=b'9' => DIGIT,
+            b'.' => POINT,
+            b'+' | b'-' => SIGN,
+            0x80..=0xff => WIDE,
+            _ => OTHER,
+        };
+        b += 1;
+    }
+    classes
+};
+
+fn class(b: u8) -> u8 {
+    CLASSES[usize::from(b)]
 }
 
 /// How many leading bytes of `text` are trivia made only of ASCII: spaces
@@ -26,7 +59,7 @@ fn is_ascii_space(b: u8) -> bool {
 pub fn ascii_trivia(text: &[u8]) -> usize {
     let mut at = 0;
     while let Some(&b) = text.get(at) {
-        if is_ascii_space(b) {
+        if class(b) == SPACE {
             at += 1;
         } else if b == b'#' {
             let line = &text[at..];
@@ -45,37 +78,51 @@ pub fn ascii_trivia(text: &[u8]) -> usize {
     at
 }
 
-/// The length of the `word` at the start of `text` when it is all ASCII
-/// and ends at an ASCII byte (or the input); `None` when it is empty or
-/// meets a non-ASCII byte, which may be a word or a space character.
-pub fn ascii_word(text: &[u8]) -> Option<usize> {
-    let end = text
-        .iter()
-        .position(|&b| is_ascii_space(b) || matches!(b, b'#' | b'"') || !b.is_ascii())
-        .unwrap_or(text.len());
-    let stops_on_ascii = text.get(end).is_none_or(u8::is_ascii);
-    (end > 0 && stops_on_ascii).then_some(end)
+/// An all-ASCII `word` found by [`ascii_word`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AsciiWord {
+    pub len: usize,
+    /// True when the word is a plain decimal number, `[sign] digits [.
+    /// digits]` with either digit run possibly empty but not both: the
+    /// common case of the `number` rule, without an exponent. False says
+    /// nothing (the word may still be a number with an exponent, or no
+    /// number at all).
+    pub plain_decimal: bool,
 }
 
-/// True when `word` is a plain decimal number, `[sign] digits [. digits]`
-/// with either digit run possibly empty but not both: the common case of
-/// the `number` rule, without an exponent. False says nothing (the word
-/// may still be a number with an exponent, or no number at all).
-pub fn is_plain_decimal(word: &[u8]) -> bool {
-    let unsigned = match word {
-        [b'+' | b'-', rest @ ..] => rest,
-        _ => word,
-    };
-    let int = unsigned.iter().take_while(|b| b.is_ascii_digit()).count();
-    let frac = match &unsigned[int..] {
-        [] => return int > 0,
-        [b'.', digits @ ..] => digits,
-        _ => return false,
-    };
-    frac.iter().all(u8::is_ascii_digit) && int + frac.len() > 0
+/// The `word` at the start of `text` when it is all ASCII and ends at an
+/// ASCII byte (or the input), read in one pass that also tells whether it
+/// is a plain decimal; `None` when it is empty or meets a non-ASCII byte,
+/// which may be a word or a space character.
+pub fn ascii_word(text: &[u8]) -> Option<AsciiWord> {
+    let first = class(*text.first()?);
+    if first & WORD_END != 0 {
+        return None;
+    }
+    // The classes seen after the first byte, and the points among them.
+    let mut after_first = 0;
+    let mut points = u32::from(first == POINT);
+    let mut len = 1;
+    while let Some(&b) = text.get(len) {
+        let class = class(b);
+        if class & WORD_END != 0 {
+            if class == WIDE {
+                return None;
+            }
+            break;
+        }
+        after_first |= class;
+        points += u32::from(class == POINT);
+        len += 1;
+    }
+    let plain_decimal = first & (DIGIT | POINT | SIGN) != 0
+        && after_first & !(DIGIT | POINT) == 0
+        && points <= 1
+        && (first | after_first) & DIGIT != 0;
+    Some(AsciiWord { len, plain_decimal })
 }
 
-/// The value of a plain decimal (see [`is_plain_decimal`]), or `None`
+/// The value of a plain decimal (see [`AsciiWord::plain_decimal`]), or `None`
 /// when the fast parser declines or the value is beyond `f64`'s range (a
 /// plain decimal of over 308 digits parses to infinity): the caller then
 /// asks `str::parse` and reports the number out of range.
@@ -95,6 +142,16 @@ pub fn plain_decimal_value(word: &[u8]) -> Option<f64> {
 mod tests {
     use super::*;
 
+    /// True when all of `word` is one word the scanner calls a plain
+    /// decimal.
+    fn is_plain_decimal(word: &[u8]) -> bool {
+        ascii_word(word).is_some_and(|found| found.len == word.len() && found.plain_decimal)
+    }
+
+    fn word_len(text: &[u8]) -> Option<usize> {
+        ascii_word(text).map(|word| word.len)
+    }
+
     #[test]
     fn trivia_stops_at_tokens_and_before_non_ascii() {
         assert_eq!(ascii_trivia(b"  \t\n# note\r\nsphere"), 12);
@@ -106,12 +163,12 @@ mod tests {
 
     #[test]
     fn words_end_at_ascii_delimiters_only() {
-        assert_eq!(ascii_word(b"center 0"), Some(6));
-        assert_eq!(ascii_word(b"a#b"), Some(1));
-        assert_eq!(ascii_word(b"x\"y"), Some(1));
-        assert_eq!(ascii_word(b"tex"), Some(3));
-        assert_eq!(ascii_word(b"caf\xc3\xa9 x"), None);
-        assert_eq!(ascii_word(b" x"), None);
+        assert_eq!(word_len(b"center 0"), Some(6));
+        assert_eq!(word_len(b"a#b"), Some(1));
+        assert_eq!(word_len(b"x\"y"), Some(1));
+        assert_eq!(word_len(b"tex"), Some(3));
+        assert_eq!(word_len(b"caf\xc3\xa9 x"), None);
+        assert_eq!(word_len(b" x"), None);
     }
 
     proptest::proptest! {
@@ -167,7 +224,9 @@ mod tests {
         for yes in ["0", "-1", "+2", ".5", "-.5", "1.", "12.25"] {
             assert!(is_plain_decimal(yes.as_bytes()), "{yes}");
         }
-        for no in ["", "+", ".", "-.", "1e3", "1.2.3", "1-", "inf", "0x1"] {
+        for no in [
+            "", "+", ".", "-.", "1e3", "1.2.3", "1-", "inf", "0x1", "+-1", "1+", "..5", "-1.5x",
+        ] {
             assert!(!is_plain_decimal(no.as_bytes()), "{no}");
         }
     }

@@ -243,7 +243,9 @@ fn starts_section(word: &str) -> bool {
 
 /// A token as the structural rules see it.
 enum Token<'a> {
-    Word(&'a str),
+    /// A word, and whether the fast scanner found it a plain decimal
+    /// (always false on the general route).
+    Word(&'a str, bool),
     Str(String),
     UnterminatedStr,
 }
@@ -256,6 +258,7 @@ struct PeekedWord<'a> {
     /// Where the word starts in the source.
     start: usize,
     text: &'a str,
+    plain_decimal: bool,
     span: Span,
     /// The input after it.
     rest: &'a str,
@@ -293,15 +296,18 @@ impl<'a> Cursor<'a> {
     }
 
     /// The `word` at the start of the remaining input, by the fast path
-    /// when it is all ASCII.
-    fn word(&self) -> Option<(&'a str, &'a str)> {
+    /// when it is all ASCII, with the input after it and whether the fast
+    /// path found it a plain decimal.
+    fn word(&self) -> Option<(&'a str, &'a str, bool)> {
         let rest = self.rest;
         if self.route == Route::Fast {
-            if let Some(len) = fast::ascii_word(rest.as_bytes()) {
-                return Some((&rest[len..], &rest[..len]));
+            if let Some(word) = fast::ascii_word(rest.as_bytes()) {
+                // All ASCII: `len` is a character boundary.
+                let (text, after) = rest.split_at(word.len);
+                return Some((after, text, word.plain_decimal));
             }
         }
-        word(rest).ok()
+        word(rest).ok().map(|(after, text)| (after, text, false))
     }
 
     /// The next token after trivia with its span and the input after it, or
@@ -313,7 +319,11 @@ impl<'a> Cursor<'a> {
         }
         let start = self.offset();
         if let Some(word) = self.last_word.filter(|word| word.start == start) {
-            return Some((Token::Word(word.text), word.span, word.rest));
+            return Some((
+                Token::Word(word.text, word.plain_decimal),
+                word.span,
+                word.rest,
+            ));
         }
         // A quote opens a string, closed or not; anything else is a word.
         let (rest, token) = match self.rest.starts_with('"').then(|| string(self.rest)) {
@@ -323,20 +333,21 @@ impl<'a> Cursor<'a> {
                 (line, Token::UnterminatedStr)
             }
             None => match self.word() {
-                Some((rest, text)) => (rest, Token::Word(text)),
+                Some((rest, text, plain)) => (rest, Token::Word(text, plain)),
                 // Unreachable by construction (trivia stopped on a word or
                 // string character), but never loop: treat one char as a word.
                 None => {
                     let len = self.rest.chars().next().map_or(0, char::len_utf8);
-                    (&self.rest[len..], Token::Word(&self.rest[..len]))
+                    (&self.rest[len..], Token::Word(&self.rest[..len], false))
                 }
             },
         };
         let span = Span::new(start, self.src.offset(rest));
-        if let Token::Word(text) = token {
+        if let Token::Word(text, plain_decimal) = token {
             self.last_word = Some(PeekedWord {
                 start,
                 text,
+                plain_decimal,
                 span,
                 rest,
             });
@@ -351,7 +362,7 @@ impl<'a> Cursor<'a> {
     fn file(&mut self) -> Option<Section> {
         while let Some((token, span, _)) = self.peek() {
             match token {
-                Token::Word(w) if !looks_numeric(w) && !is_non_finite_word(w) => {
+                Token::Word(w, plain) if !plain && !looks_numeric(w) && !is_non_finite_word(w) => {
                     return Some(self.section());
                 }
                 // A number or string: `values` consumes at least this token.
@@ -374,7 +385,7 @@ impl<'a> Cursor<'a> {
 
     /// `section = section_keyword , { value } , { attribute } ;`
     fn section(&mut self) -> Section {
-        let Some((Token::Word(keyword), kw_span, rest)) = self.peek() else {
+        let Some((Token::Word(keyword, _), kw_span, rest)) = self.peek() else {
             unreachable!("section() is only called on a word");
         };
         self.rest = rest;
@@ -382,7 +393,7 @@ impl<'a> Cursor<'a> {
         let args = self.values(false);
         let mut span = args.last().map_or(kw_span, |v| kw_span.join(v.span));
         let mut attributes = Vec::new();
-        while let Some((Token::Word(w), _, _)) = self.peek() {
+        while let Some((Token::Word(w, _), _, _)) = self.peek() {
             if starts_section(w) {
                 break;
             }
@@ -400,7 +411,7 @@ impl<'a> Cursor<'a> {
 
     /// `attribute = attribute_name , { value } | "texture" , path ;`
     fn attribute(&mut self) -> Attribute {
-        let Some((Token::Word(name), name_span, rest)) = self.peek() else {
+        let Some((Token::Word(name, _), name_span, rest)) = self.peek() else {
             unreachable!("attribute() is only called on a word");
         };
         self.rest = rest;
@@ -431,7 +442,7 @@ impl<'a> Cursor<'a> {
                         .push(SyntaxError::UnterminatedString { span: span.into() });
                     values.push(Spanned::new(span, Value::Invalid));
                 }
-                Token::Word(w)
+                Token::Word(w, _)
                     if path_allowed
                         && values.is_empty()
                         && !SectionKind::KEYWORDS.contains(&w)
@@ -439,13 +450,13 @@ impl<'a> Cursor<'a> {
                 {
                     values.push(Spanned::new(span, Value::Text(w.into())));
                 }
-                Token::Word(w) if looks_numeric(w) || is_non_finite_word(w) => {
+                Token::Word(w, plain) if plain || looks_numeric(w) || is_non_finite_word(w) => {
                     let value = self
-                        .number_value(w, span)
+                        .number_value(w, span, plain)
                         .map_or(Value::Invalid, Value::Number);
                     values.push(Spanned::new(span, value));
                 }
-                Token::Word(_) => break,
+                Token::Word(..) => break,
             }
             self.rest = rest;
         }
@@ -455,9 +466,9 @@ impl<'a> Cursor<'a> {
         exact.into_boxed_slice()
     }
 
-    /// Convert a numeric-looking word, reporting why it is not a number.
-    fn number_value(&mut self, w: &str, span: Span) -> Option<f64> {
-        let plain = self.route == Route::Fast && fast::is_plain_decimal(w.as_bytes());
+    /// Convert a numeric-looking word (`plain` when the fast scanner
+    /// found it a plain decimal), reporting why it is not a number.
+    fn number_value(&mut self, w: &str, span: Span, plain: bool) -> Option<f64> {
         if let Some(n) = plain
             .then(|| fast::plain_decimal_value(w.as_bytes()))
             .flatten()
