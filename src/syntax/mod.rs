@@ -29,7 +29,7 @@ use nom::multi::many0_count;
 use nom::sequence::preceded;
 use nom::{IResult, Offset, Parser};
 
-use crate::ast::{AttrName, Attribute, File, Section, SectionKind, Value};
+use crate::ast::{AttrName, Attribute, File, Section, SectionKind, Value, Values};
 use crate::span::{Span, Spanned};
 use crate::suggest;
 pub use errors::SyntaxError;
@@ -90,7 +90,6 @@ fn sections_by(text: &str, route: Route) -> Sections<'_> {
             route,
             last_word: None,
             errors: Vec::new(),
-            scratch: Vec::new(),
         },
     }
 }
@@ -271,8 +270,6 @@ struct Cursor<'a> {
     route: Route,
     last_word: Option<PeekedWord<'a>>,
     errors: Vec<SyntaxError>,
-    /// The buffer [`Cursor::values`] gathers into.
-    scratch: Vec<Spanned<Value>>,
 }
 
 impl<'a> Cursor<'a> {
@@ -428,12 +425,8 @@ impl<'a> Cursor<'a> {
     /// Bad numbers and unterminated strings are reported and kept as
     /// [`Value::Invalid`]; the run of values ends at the first word that is neither a number nor a
     /// path.
-    fn values(&mut self, path_allowed: bool) -> Box<[Spanned<Value>]> {
-        // Gathered in a reused buffer and copied out at their exact size:
-        // a growing Vec per attribute would keep spare room (and leave the
-        // allocator fragmented), most of a large scene's syntax tree.
-        let mut values = std::mem::take(&mut self.scratch);
-        values.clear();
+    fn values(&mut self, path_allowed: bool) -> Values {
+        let mut values = Values::new();
         while let Some((token, span, rest)) = self.peek() {
             match token {
                 Token::Str(text) => values.push(Spanned::new(span, Value::Text(text.into()))),
@@ -460,10 +453,7 @@ impl<'a> Cursor<'a> {
             }
             self.rest = rest;
         }
-        let mut exact = Vec::with_capacity(values.len());
-        exact.append(&mut values);
-        self.scratch = values;
-        exact.into_boxed_slice()
+        values
     }
 
     /// Convert a numeric-looking word (`plain` when the fast scanner
