@@ -58,9 +58,15 @@ macro_rules! keywords {
 
             /// The keyword for `word`, or `Unknown`.
             pub fn from_word(word: &str) -> Self {
+                Self::known(word).unwrap_or_else(|| $name::Unknown(word.into()))
+            }
+
+            /// The keyword for `word`, or `None` when it is none (without
+            /// the copy of the word `Unknown` keeps).
+            pub fn known(word: &str) -> Option<Self> {
                 match word {
-                    $($word => $name::$variant,)+
-                    other => $name::Unknown(other.into()),
+                    $($word => Some($name::$variant),)+
+                    _ => None,
                 }
             }
 

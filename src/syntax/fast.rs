@@ -82,26 +82,24 @@ pub fn ascii_trivia(text: &[u8]) -> usize {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct AsciiWord {
     pub len: usize,
-    /// True when the word is a plain decimal number, `[sign] digits [.
-    /// digits]` with either digit run possibly empty but not both: the
-    /// common case of the `number` rule, without an exponent. False says
-    /// nothing (the word may still be a number with an exponent, or no
-    /// number at all).
-    pub plain_decimal: bool,
+    /// True when the word may be a plain decimal: a sign, digit or point,
+    /// then only digits and points. Only such a word is worth giving to
+    /// [`plain_decimal_value`], which decides; false says nothing (the
+    /// word may still be a number with an exponent, or no number at all).
+    pub maybe_plain_decimal: bool,
 }
 
 /// The `word` at the start of `text` when it is all ASCII and ends at an
 /// ASCII byte (or the input), read in one pass that also tells whether it
-/// is a plain decimal; `None` when it is empty or meets a non-ASCII byte,
-/// which may be a word or a space character.
+/// may be a plain decimal; `None` when it is empty or meets a non-ASCII
+/// byte, which may be a word or a space character.
 pub fn ascii_word(text: &[u8]) -> Option<AsciiWord> {
     let first = class(*text.first()?);
     if first & WORD_END != 0 {
         return None;
     }
-    // The classes seen after the first byte, and the points among them.
+    // The classes seen after the first byte.
     let mut after_first = 0;
-    let mut points = u32::from(first == POINT);
     let mut len = 1;
     while let Some(&b) = text.get(len) {
         let class = class(b);
@@ -112,40 +110,84 @@ pub fn ascii_word(text: &[u8]) -> Option<AsciiWord> {
             break;
         }
         after_first |= class;
-        points += u32::from(class == POINT);
         len += 1;
     }
-    let plain_decimal = first & (DIGIT | POINT | SIGN) != 0
-        && after_first & !(DIGIT | POINT) == 0
-        && points <= 1
-        && (first | after_first) & DIGIT != 0;
-    Some(AsciiWord { len, plain_decimal })
+    let maybe_plain_decimal =
+        first & (DIGIT | POINT | SIGN) != 0 && after_first & !(DIGIT | POINT) == 0;
+    Some(AsciiWord {
+        len,
+        maybe_plain_decimal,
+    })
 }
 
-/// The value of a plain decimal (see [`AsciiWord::plain_decimal`]), or `None`
-/// when the fast parser declines or the value is beyond `f64`'s range (a
-/// plain decimal of over 308 digits parses to infinity): the caller then
-/// asks `str::parse` and reports the number out of range.
+/// The most digits whose value is exact in an `f64` mantissa whatever
+/// they are (10^15 < 2^53).
+const EXACT_DIGITS: usize = 15;
+
+/// 10^0 to 10^15, each exact in an `f64`.
+const POWERS_OF_TEN: [f64; EXACT_DIGITS + 1] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
+
+/// The value of `word` when it is a plain decimal number, `[sign] digits
+/// [. digits]` with either digit run possibly empty but not both (the
+/// common case of the `number` rule, without an exponent), of finite
+/// value. `None` for any other word, and for a plain decimal beyond
+/// `f64`'s range (over 308 digits): the caller then asks the grammar and
+/// `str::parse`, and reports why it is not a number.
 ///
-/// `fast_float2` implements the algorithm `str::parse` itself is built on
-/// (Clinger's exact path, then Eisel–Lemire), so the value is bit for bit
-/// the same; it skips the general parser's checks of forms a plain
-/// decimal cannot take, which a scene of a million spheres pays ten
-/// million times.
+/// The digits are read once, into an integer. Up to 15 of them, the value
+/// is that integer divided by a power of ten, both exact in an `f64`, so
+/// the one division rounds correctly (Clinger's fast path, which
+/// `str::parse` takes for these too): bit for bit `str::parse`'s value,
+/// at a fraction of its cost, since the digits were scanned already. A
+/// longer number goes to `fast_float2`, the algorithm `str::parse` is
+/// built on without its checks of forms a plain decimal cannot take.
 pub fn plain_decimal_value(word: &[u8]) -> Option<f64> {
-    fast_float2::parse(word)
-        .ok()
-        .filter(|value: &f64| value.is_finite())
+    let (negative, unsigned) = match word {
+        [b'-', rest @ ..] => (true, rest),
+        [b'+', rest @ ..] => (false, rest),
+        _ => (false, word),
+    };
+    let mut mantissa: u64 = 0;
+    let mut point = None;
+    for (at, &b) in unsigned.iter().enumerate() {
+        let digit = b.wrapping_sub(b'0');
+        if digit < 10 {
+            // Wraps only past 19 digits, which take the general path.
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(digit));
+        } else if b == b'.' && point.is_none() {
+            point = Some(at);
+        } else {
+            return None;
+        }
+    }
+    let digits = unsigned.len() - usize::from(point.is_some());
+    if digits == 0 {
+        return None;
+    }
+    if digits > EXACT_DIGITS {
+        return fast_float2::parse(word)
+            .ok()
+            .filter(|value: &f64| value.is_finite());
+    }
+    // Every byte after the point is a digit: at most 15 of them.
+    let fraction_digits = point.map_or(0, |at| unsigned.len() - at - 1);
+    // Exact integer over exact power: one correctly rounded division.
+    #[allow(clippy::cast_precision_loss)]
+    let magnitude = mantissa as f64 / POWERS_OF_TEN[fraction_digits];
+    Some(if negative { -magnitude } else { magnitude })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// True when all of `word` is one word the scanner calls a plain
-    /// decimal.
+    /// True when all of `word` is one word the scanner may call a plain
+    /// decimal and that has a plain decimal's value.
     fn is_plain_decimal(word: &[u8]) -> bool {
-        ascii_word(word).is_some_and(|found| found.len == word.len() && found.plain_decimal)
+        ascii_word(word).is_some_and(|found| found.len == word.len() && found.maybe_plain_decimal)
+            && plain_decimal_value(word).is_some()
     }
 
     fn word_len(text: &[u8]) -> Option<usize> {
@@ -186,12 +228,27 @@ mod tests {
                 word.insert(at.min(digits.len()), '.');
             }
             let word = format!("{sign}{word}");
-            if is_plain_decimal(word.as_bytes()) {
+            if matches!(super::super::number(&word), Ok(("", _))) {
                 let std = word.parse::<f64>().unwrap();
                 match plain_decimal_value(word.as_bytes()) {
                     Some(fast) => proptest::prop_assert_eq!(fast.to_bits(), std.to_bits(), "{}", word),
                     None => proptest::prop_assert!(false, "the fast parser declined {}", word),
                 }
+            }
+        }
+
+        /// On any word of signs, points and digits, the fast parser
+        /// answers exactly when the grammar reads a number, and then
+        /// with `str::parse`'s value.
+        #[test]
+        fn plain_decimal_values_only_for_numbers(word in "[-+.0-9]{0,24}") {
+            let grammar = matches!(super::super::number(&word), Ok(("", _)));
+            match plain_decimal_value(word.as_bytes()) {
+                Some(fast) => {
+                    proptest::prop_assert!(grammar, "{}", word);
+                    proptest::prop_assert_eq!(fast.to_bits(), word.parse::<f64>().unwrap().to_bits(), "{}", word);
+                }
+                None => proptest::prop_assert!(!grammar, "the fast parser declined {}", word),
             }
         }
     }
@@ -215,7 +272,7 @@ mod tests {
             );
         }
         let past_the_range = format!("1{}", "0".repeat(400));
-        assert!(is_plain_decimal(past_the_range.as_bytes()));
+        assert!(ascii_word(past_the_range.as_bytes()).is_some_and(|w| w.maybe_plain_decimal));
         assert_eq!(plain_decimal_value(past_the_range.as_bytes()), None);
     }
 

@@ -217,10 +217,17 @@ fn looks_numeric(word: &str) -> bool {
 
 /// True for `nan`, `inf` and `infinity` in any case and with any sign.
 fn is_non_finite_word(word: &str) -> bool {
-    let bare = word.trim_start_matches(['+', '-']);
-    ["nan", "inf", "infinity"]
-        .iter()
-        .any(|w| bare.eq_ignore_ascii_case(w))
+    let signs = word
+        .bytes()
+        .take_while(|b| matches!(b, b'+' | b'-'))
+        .count();
+    // Signs are ASCII: `signs` is a character boundary.
+    let bare = &word[signs..];
+    match bare.len() {
+        3 => bare.eq_ignore_ascii_case("nan") || bare.eq_ignore_ascii_case("inf"),
+        8 => bare.eq_ignore_ascii_case("infinity"),
+        _ => false,
+    }
 }
 
 /// True when a word in attribute position starts a new section: a section
@@ -242,8 +249,8 @@ fn starts_section(word: &str) -> bool {
 
 /// A token as the structural rules see it.
 enum Token<'a> {
-    /// A word, and whether the fast scanner found it a plain decimal
-    /// (always false on the general route).
+    /// A word, and whether the fast scanner found it may be a plain
+    /// decimal (always false on the general route).
     Word(&'a str, bool),
     Str(String),
     UnterminatedStr,
@@ -294,14 +301,14 @@ impl<'a> Cursor<'a> {
 
     /// The `word` at the start of the remaining input, by the fast path
     /// when it is all ASCII, with the input after it and whether the fast
-    /// path found it a plain decimal.
+    /// path found it may be a plain decimal.
     fn word(&self) -> Option<(&'a str, &'a str, bool)> {
         let rest = self.rest;
         if self.route == Route::Fast {
             if let Some(word) = fast::ascii_word(rest.as_bytes()) {
                 // All ASCII: `len` is a character boundary.
                 let (text, after) = rest.split_at(word.len);
-                return Some((after, text, word.plain_decimal));
+                return Some((after, text, word.maybe_plain_decimal));
             }
         }
         word(rest).ok().map(|(after, text)| (after, text, false))
@@ -391,10 +398,14 @@ impl<'a> Cursor<'a> {
         let mut span = args.last().map_or(kw_span, |v| kw_span.join(v.span));
         let mut attributes = Vec::new();
         while let Some((Token::Word(w, _), _, _)) = self.peek() {
-            if starts_section(w) {
-                break;
-            }
-            let attribute = self.attribute();
+            // An attribute name is never a section keyword: only an
+            // unknown word may start a section.
+            let name = match AttrName::known(w) {
+                Some(name) => name,
+                None if starts_section(w) => break,
+                None => AttrName::Unknown(w.into()),
+            };
+            let attribute = self.attribute(name);
             span = span.join(attribute.span);
             attributes.push(attribute);
         }
@@ -407,12 +418,14 @@ impl<'a> Cursor<'a> {
     }
 
     /// `attribute = attribute_name , { value } | "texture" , path ;`
-    fn attribute(&mut self) -> Attribute {
-        let Some((Token::Word(name, _), name_span, rest)) = self.peek() else {
+    ///
+    /// `name` is the next word, already looked up.
+    fn attribute(&mut self, name: AttrName) -> Attribute {
+        let Some((Token::Word(..), name_span, rest)) = self.peek() else {
             unreachable!("attribute() is only called on a word");
         };
         self.rest = rest;
-        let name = Spanned::new(name_span, AttrName::from_word(name));
+        let name = Spanned::new(name_span, name);
         let values = self.values(*name == AttrName::Texture);
         let span = values.last().map_or(name_span, |v| name_span.join(v.span));
         Attribute { name, values, span }
@@ -427,7 +440,17 @@ impl<'a> Cursor<'a> {
     /// path.
     fn values(&mut self, path_allowed: bool) -> Values {
         let mut values = Values::new();
-        while let Some((token, span, rest)) = self.peek() {
+        loop {
+            // A path comes first, whatever it looks like.
+            if self.route == Route::Fast && !(path_allowed && values.is_empty()) {
+                if let Some((span, number)) = self.plain_number() {
+                    values.push(Spanned::new(span, Value::Number(number)));
+                    continue;
+                }
+            }
+            let Some((token, span, rest)) = self.peek() else {
+                break;
+            };
             match token {
                 Token::Str(text) => values.push(Spanned::new(span, Value::Text(text.into()))),
                 Token::UnterminatedStr => {
@@ -456,8 +479,41 @@ impl<'a> Cursor<'a> {
         values
     }
 
+    /// The common case of a value on the fast route, read in one pass:
+    /// ASCII trivia, then a plain decimal, consumed with its span and
+    /// value. `None` consumes nothing; when an ASCII word stopped it, that
+    /// word is kept as the last word read, so [`Cursor::peek`] does not
+    /// scan it again.
+    fn plain_number(&mut self) -> Option<(Span, f64)> {
+        let bytes = self.rest.as_bytes();
+        let trivia = fast::ascii_trivia(bytes);
+        let found = fast::ascii_word(&bytes[trivia..])?;
+        let end = trivia + found.len;
+        let start = self.offset() + trivia;
+        let span = Span::new(start, start + found.len);
+        // Only ASCII bytes were read: `trivia` and `end` are character
+        // boundaries.
+        let after = &self.rest[end..];
+        let value = found
+            .maybe_plain_decimal
+            .then(|| fast::plain_decimal_value(&bytes[trivia..end]))
+            .flatten();
+        if value.is_some() {
+            self.rest = after;
+        } else {
+            self.last_word = Some(PeekedWord {
+                start,
+                text: &self.rest[trivia..end],
+                plain_decimal: found.maybe_plain_decimal,
+                span,
+                rest: after,
+            });
+        }
+        value.map(|value| (span, value))
+    }
+
     /// Convert a numeric-looking word (`plain` when the fast scanner
-    /// found it a plain decimal), reporting why it is not a number.
+    /// found it may be a plain decimal), reporting why it is not a number.
     fn number_value(&mut self, w: &str, span: Span, plain: bool) -> Option<f64> {
         if let Some(n) = plain
             .then(|| fast::plain_decimal_value(w.as_bytes()))
@@ -466,7 +522,7 @@ impl<'a> Cursor<'a> {
             return Some(n);
         }
         let found = || w.to_string();
-        let error = if plain || matches!(number(w), Ok(("", _))) {
+        let error = if matches!(number(w), Ok(("", _))) {
             match w.parse::<f64>() {
                 Ok(n) if n.is_finite() => return Some(n),
                 _ => SyntaxError::NumberOutOfRange {
