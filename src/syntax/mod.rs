@@ -317,18 +317,29 @@ impl<'a> Cursor<'a> {
     /// The next token after trivia with its span and the input after it, or
     /// `None` at the end of input. Does not consume.
     fn peek(&mut self) -> Option<(Token<'a>, Span, &'a str)> {
+        // The last word again, with the trivia before it skipped already:
+        // a name is peeked three times and read once.
+        let cached = |cursor: &Self| {
+            let word = cursor
+                .last_word
+                .filter(|word| word.start == cursor.offset())?;
+            Some((
+                Token::Word(word.text, word.plain_decimal),
+                word.span,
+                word.rest,
+            ))
+        };
+        if let Some(peeked) = cached(self) {
+            return Some(peeked);
+        }
         self.skip_trivia();
         if self.rest.is_empty() {
             return None;
         }
-        let start = self.offset();
-        if let Some(word) = self.last_word.filter(|word| word.start == start) {
-            return Some((
-                Token::Word(word.text, word.plain_decimal),
-                word.span,
-                word.rest,
-            ));
+        if let Some(peeked) = cached(self) {
+            return Some(peeked);
         }
+        let start = self.offset();
         // A quote opens a string, closed or not; anything else is a word.
         let (rest, token) = match self.rest.starts_with('"').then(|| string(self.rest)) {
             Some(Ok((rest, text))) => (rest, Token::Str(text)),
@@ -481,9 +492,9 @@ impl<'a> Cursor<'a> {
 
     /// The common case of a value on the fast route, read in one pass:
     /// ASCII trivia, then a plain decimal, consumed with its span and
-    /// value. `None` consumes nothing; when an ASCII word stopped it, that
-    /// word is kept as the last word read, so [`Cursor::peek`] does not
-    /// scan it again.
+    /// value. `None` consumes at most trivia; when an ASCII word stopped
+    /// it, that word is kept as the last word read, so [`Cursor::peek`]
+    /// does not scan it again.
     fn plain_number(&mut self) -> Option<(Span, f64)> {
         let bytes = self.rest.as_bytes();
         let trivia = fast::ascii_trivia(bytes);
@@ -493,7 +504,7 @@ impl<'a> Cursor<'a> {
         let span = Span::new(start, start + found.len);
         // Only ASCII bytes were read: `trivia` and `end` are character
         // boundaries.
-        let after = &self.rest[end..];
+        let (text, after) = (&self.rest[trivia..end], &self.rest[end..]);
         let value = found
             .maybe_plain_decimal
             .then(|| fast::plain_decimal_value(&bytes[trivia..end]))
@@ -501,9 +512,11 @@ impl<'a> Cursor<'a> {
         if value.is_some() {
             self.rest = after;
         } else {
+            // Trivia means nothing: skipped, whatever comes next.
+            self.rest = &self.rest[trivia..];
             self.last_word = Some(PeekedWord {
                 start,
-                text: &self.rest[trivia..end],
+                text,
                 plain_decimal: found.maybe_plain_decimal,
                 span,
                 rest: after,
