@@ -174,7 +174,6 @@ pub fn plain_decimal_value(word: &[u8]) -> Option<f64> {
     // Every byte after the point is a digit: at most 15 of them.
     let fraction_digits = point.map_or(0, |at| unsigned.len() - at - 1);
     // Exact integer over exact power: one correctly rounded division.
-    #[allow(clippy::cast_precision_loss)]
     let magnitude = mantissa as f64 / POWERS_OF_TEN[fraction_digits];
     Some(if negative { -magnitude } else { magnitude })
 }
