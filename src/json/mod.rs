@@ -312,7 +312,7 @@ impl Reader<'_> {
             // Reported missing above; keep the check pass from saying so too.
             None => (self.each)(Section {
                 kind: Spanned::new(brace(object), SectionKind::Camera),
-                args: Box::new([Spanned::new(brace(object), Value::Invalid)]),
+                args: smallvec::smallvec![Spanned::new(brace(object), Value::Invalid)],
                 attributes: Vec::new(),
                 span: brace(object),
             }),
@@ -342,7 +342,7 @@ impl Reader<'_> {
         let key = span_of(&prop.name);
         let mut section = Section {
             kind: Spanned::new(key, SectionKind::Camera),
-            args: Box::default(),
+            args: Default::default(),
             attributes: Vec::new(),
             span: span_of(prop),
         };
@@ -356,7 +356,7 @@ impl Reader<'_> {
             }
             None => None,
         };
-        section.args = Box::new([resolution.unwrap_or(Spanned::new(key, Value::Invalid))]);
+        section.args = smallvec::smallvec![resolution.unwrap_or(Spanned::new(key, Value::Invalid))];
         (self.each)(section);
     }
 
@@ -431,7 +431,7 @@ impl Reader<'_> {
             .collect();
         Section {
             kind: Spanned::new(keyword, kind),
-            args: Box::default(),
+            args: Default::default(),
             attributes,
             span: span_of(object),
         }

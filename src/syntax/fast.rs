@@ -11,11 +11,44 @@
 //! defined by the nom rules alone, and the tests in `parity.rs` check that
 //! both routes give the same tree, spans and errors.
 
-/// True for an ASCII byte that is a `space_char` (`char::is_whitespace`
-/// on ASCII: tab, line feed, vertical tab, form feed, carriage return and
-/// space).
-fn is_ascii_space(b: u8) -> bool {
-    matches!(b, b'\t' | b'\n' | 0x0b | 0x0c | b'\r' | b' ')
+/// What kind of byte each byte is, as bits ([`CLASSES`]): the word and
+/// trivia scanners look a byte up once and learn everything they ask.
+const SPACE: u8 = 1;
+/// `#` and `"`: not word characters, and not trivia either.
+const DELIMITER: u8 = 2;
+/// Any byte of a non-ASCII character: the general rule decides.
+const WIDE: u8 = 4;
+const DIGIT: u8 = 8;
+const POINT: u8 = 16;
+const SIGN: u8 = 32;
+/// Every other ASCII word character.
+const OTHER: u8 = 64;
+/// The classes that end an ASCII word.
+const WORD_END: u8 = SPACE | DELIMITER | WIDE;
+
+/// The class of every byte. The ASCII spaces are those of
+/// `char::is_whitespace` on ASCII: tab, line feed, vertical tab, form feed,
+/// carriage return and space.
+static CLASSES: [u8; 256] = {
+    let mut classes = [OTHER; 256];
+    let mut b = 0;
+    while b < 256 {
+        classes[b] = match b as u8 {
+            b'\t' | b'\n' | 0x0b | 0x0c | b'\r' | b' ' => SPACE,
+            b'#' | b'"' => DELIMITER,
+            b'0'..=b'9' => DIGIT,
+            b'.' => POINT,
+            b'+' | b'-' => SIGN,
+            0x80..=0xff => WIDE,
+            _ => OTHER,
+        };
+        b += 1;
+    }
+    classes
+};
+
+fn class(b: u8) -> u8 {
+    CLASSES[usize::from(b)]
 }
 
 /// How many leading bytes of `text` are trivia made only of ASCII: spaces
@@ -26,7 +59,7 @@ fn is_ascii_space(b: u8) -> bool {
 pub fn ascii_trivia(text: &[u8]) -> usize {
     let mut at = 0;
     while let Some(&b) = text.get(at) {
-        if is_ascii_space(b) {
+        if class(b) == SPACE {
             at += 1;
         } else if b == b'#' {
             let line = &text[at..];
@@ -45,55 +78,120 @@ pub fn ascii_trivia(text: &[u8]) -> usize {
     at
 }
 
-/// The length of the `word` at the start of `text` when it is all ASCII
-/// and ends at an ASCII byte (or the input); `None` when it is empty or
-/// meets a non-ASCII byte, which may be a word or a space character.
-pub fn ascii_word(text: &[u8]) -> Option<usize> {
-    let end = text
-        .iter()
-        .position(|&b| is_ascii_space(b) || matches!(b, b'#' | b'"') || !b.is_ascii())
-        .unwrap_or(text.len());
-    let stops_on_ascii = text.get(end).is_none_or(u8::is_ascii);
-    (end > 0 && stops_on_ascii).then_some(end)
+/// An all-ASCII `word` found by [`ascii_word`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AsciiWord {
+    pub len: usize,
+    /// True when the word may be a plain decimal: a sign, digit or point,
+    /// then only digits and points. Only such a word is worth giving to
+    /// [`plain_decimal_value`], which decides; false says nothing (the
+    /// word may still be a number with an exponent, or no number at all).
+    pub maybe_plain_decimal: bool,
 }
 
-/// True when `word` is a plain decimal number, `[sign] digits [. digits]`
-/// with either digit run possibly empty but not both: the common case of
-/// the `number` rule, without an exponent. False says nothing (the word
-/// may still be a number with an exponent, or no number at all).
-pub fn is_plain_decimal(word: &[u8]) -> bool {
-    let unsigned = match word {
-        [b'+' | b'-', rest @ ..] => rest,
-        _ => word,
-    };
-    let int = unsigned.iter().take_while(|b| b.is_ascii_digit()).count();
-    let frac = match &unsigned[int..] {
-        [] => return int > 0,
-        [b'.', digits @ ..] => digits,
-        _ => return false,
-    };
-    frac.iter().all(u8::is_ascii_digit) && int + frac.len() > 0
+/// The `word` at the start of `text` when it is all ASCII and ends at an
+/// ASCII byte (or the input), read in one pass that also tells whether it
+/// may be a plain decimal; `None` when it is empty or meets a non-ASCII
+/// byte, which may be a word or a space character.
+pub fn ascii_word(text: &[u8]) -> Option<AsciiWord> {
+    let first = class(*text.first()?);
+    if first & WORD_END != 0 {
+        return None;
+    }
+    // The classes seen after the first byte.
+    let mut after_first = 0;
+    let mut len = 1;
+    while let Some(&b) = text.get(len) {
+        let class = class(b);
+        if class & WORD_END != 0 {
+            if class == WIDE {
+                return None;
+            }
+            break;
+        }
+        after_first |= class;
+        len += 1;
+    }
+    let maybe_plain_decimal =
+        first & (DIGIT | POINT | SIGN) != 0 && after_first & !(DIGIT | POINT) == 0;
+    Some(AsciiWord {
+        len,
+        maybe_plain_decimal,
+    })
 }
 
-/// The value of a plain decimal (see [`is_plain_decimal`]), or `None`
-/// when the fast parser declines or the value is beyond `f64`'s range (a
-/// plain decimal of over 308 digits parses to infinity): the caller then
-/// asks `str::parse` and reports the number out of range.
+/// The most digits whose value is exact in an `f64` mantissa whatever
+/// they are (10^15 < 2^53).
+const EXACT_DIGITS: usize = 15;
+
+/// 10^0 to 10^15, each exact in an `f64`.
+const POWERS_OF_TEN: [f64; EXACT_DIGITS + 1] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
+
+/// The value of `word` when it is a plain decimal number, `[sign] digits
+/// [. digits]` with either digit run possibly empty but not both (the
+/// common case of the `number` rule, without an exponent), of finite
+/// value. `None` for any other word, and for a plain decimal beyond
+/// `f64`'s range (over 308 digits): the caller then asks the grammar and
+/// `str::parse`, and reports why it is not a number.
 ///
-/// `fast_float2` implements the algorithm `str::parse` itself is built on
-/// (Clinger's exact path, then Eisel–Lemire), so the value is bit for bit
-/// the same; it skips the general parser's checks of forms a plain
-/// decimal cannot take, which a scene of a million spheres pays ten
-/// million times.
+/// The digits are read once, into an integer. Up to 15 of them, the value
+/// is that integer divided by a power of ten, both exact in an `f64`, so
+/// the one division rounds correctly (Clinger's fast path, which
+/// `str::parse` takes for these too): bit for bit `str::parse`'s value,
+/// at a fraction of its cost, since the digits were scanned already. A
+/// longer number goes to `fast_float2`, the algorithm `str::parse` is
+/// built on without its checks of forms a plain decimal cannot take.
 pub fn plain_decimal_value(word: &[u8]) -> Option<f64> {
-    fast_float2::parse(word)
-        .ok()
-        .filter(|value: &f64| value.is_finite())
+    let (negative, unsigned) = match word {
+        [b'-', rest @ ..] => (true, rest),
+        [b'+', rest @ ..] => (false, rest),
+        _ => (false, word),
+    };
+    let mut mantissa: u64 = 0;
+    let mut point = None;
+    for (at, &b) in unsigned.iter().enumerate() {
+        let digit = b.wrapping_sub(b'0');
+        if digit < 10 {
+            // Wraps only past 19 digits, which take the general path.
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(digit));
+        } else if b == b'.' && point.is_none() {
+            point = Some(at);
+        } else {
+            return None;
+        }
+    }
+    let digits = unsigned.len() - usize::from(point.is_some());
+    if digits == 0 {
+        return None;
+    }
+    if digits > EXACT_DIGITS {
+        return fast_float2::parse(word)
+            .ok()
+            .filter(|value: &f64| value.is_finite());
+    }
+    // Every byte after the point is a digit: at most 15 of them.
+    let fraction_digits = point.map_or(0, |at| unsigned.len() - at - 1);
+    // Exact integer over exact power: one correctly rounded division.
+    let magnitude = mantissa as f64 / POWERS_OF_TEN[fraction_digits];
+    Some(if negative { -magnitude } else { magnitude })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// True when all of `word` is one word the scanner may call a plain
+    /// decimal and that has a plain decimal's value.
+    fn is_plain_decimal(word: &[u8]) -> bool {
+        ascii_word(word).is_some_and(|found| found.len == word.len() && found.maybe_plain_decimal)
+            && plain_decimal_value(word).is_some()
+    }
+
+    fn word_len(text: &[u8]) -> Option<usize> {
+        ascii_word(text).map(|word| word.len)
+    }
 
     #[test]
     fn trivia_stops_at_tokens_and_before_non_ascii() {
@@ -106,12 +204,12 @@ mod tests {
 
     #[test]
     fn words_end_at_ascii_delimiters_only() {
-        assert_eq!(ascii_word(b"center 0"), Some(6));
-        assert_eq!(ascii_word(b"a#b"), Some(1));
-        assert_eq!(ascii_word(b"x\"y"), Some(1));
-        assert_eq!(ascii_word(b"tex"), Some(3));
-        assert_eq!(ascii_word(b"caf\xc3\xa9 x"), None);
-        assert_eq!(ascii_word(b" x"), None);
+        assert_eq!(word_len(b"center 0"), Some(6));
+        assert_eq!(word_len(b"a#b"), Some(1));
+        assert_eq!(word_len(b"x\"y"), Some(1));
+        assert_eq!(word_len(b"tex"), Some(3));
+        assert_eq!(word_len(b"caf\xc3\xa9 x"), None);
+        assert_eq!(word_len(b" x"), None);
     }
 
     proptest::proptest! {
@@ -129,12 +227,27 @@ mod tests {
                 word.insert(at.min(digits.len()), '.');
             }
             let word = format!("{sign}{word}");
-            if is_plain_decimal(word.as_bytes()) {
+            if matches!(super::super::number(&word), Ok(("", _))) {
                 let std = word.parse::<f64>().unwrap();
                 match plain_decimal_value(word.as_bytes()) {
                     Some(fast) => proptest::prop_assert_eq!(fast.to_bits(), std.to_bits(), "{}", word),
                     None => proptest::prop_assert!(false, "the fast parser declined {}", word),
                 }
+            }
+        }
+
+        /// On any word of signs, points and digits, the fast parser
+        /// answers exactly when the grammar reads a number, and then
+        /// with `str::parse`'s value.
+        #[test]
+        fn plain_decimal_values_only_for_numbers(word in "[-+.0-9]{0,24}") {
+            let grammar = matches!(super::super::number(&word), Ok(("", _)));
+            match plain_decimal_value(word.as_bytes()) {
+                Some(fast) => {
+                    proptest::prop_assert!(grammar, "{}", word);
+                    proptest::prop_assert_eq!(fast.to_bits(), word.parse::<f64>().unwrap().to_bits(), "{}", word);
+                }
+                None => proptest::prop_assert!(!grammar, "the fast parser declined {}", word),
             }
         }
     }
@@ -158,7 +271,7 @@ mod tests {
             );
         }
         let past_the_range = format!("1{}", "0".repeat(400));
-        assert!(is_plain_decimal(past_the_range.as_bytes()));
+        assert!(ascii_word(past_the_range.as_bytes()).is_some_and(|w| w.maybe_plain_decimal));
         assert_eq!(plain_decimal_value(past_the_range.as_bytes()), None);
     }
 
@@ -167,7 +280,9 @@ mod tests {
         for yes in ["0", "-1", "+2", ".5", "-.5", "1.", "12.25"] {
             assert!(is_plain_decimal(yes.as_bytes()), "{yes}");
         }
-        for no in ["", "+", ".", "-.", "1e3", "1.2.3", "1-", "inf", "0x1"] {
+        for no in [
+            "", "+", ".", "-.", "1e3", "1.2.3", "1-", "inf", "0x1", "+-1", "1+", "..5", "-1.5x",
+        ] {
             assert!(!is_plain_decimal(no.as_bytes()), "{no}");
         }
     }

@@ -29,7 +29,7 @@ use nom::multi::many0_count;
 use nom::sequence::preceded;
 use nom::{IResult, Offset, Parser};
 
-use crate::ast::{AttrName, Attribute, File, Section, SectionKind, Value};
+use crate::ast::{AttrName, Attribute, File, Section, SectionKind, Value, Values};
 use crate::span::{Span, Spanned};
 use crate::suggest;
 pub use errors::SyntaxError;
@@ -90,7 +90,6 @@ fn sections_by(text: &str, route: Route) -> Sections<'_> {
             route,
             last_word: None,
             errors: Vec::new(),
-            scratch: Vec::new(),
         },
     }
 }
@@ -218,10 +217,17 @@ fn looks_numeric(word: &str) -> bool {
 
 /// True for `nan`, `inf` and `infinity` in any case and with any sign.
 fn is_non_finite_word(word: &str) -> bool {
-    let bare = word.trim_start_matches(['+', '-']);
-    ["nan", "inf", "infinity"]
-        .iter()
-        .any(|w| bare.eq_ignore_ascii_case(w))
+    let signs = word
+        .bytes()
+        .take_while(|b| matches!(b, b'+' | b'-'))
+        .count();
+    // Signs are ASCII: `signs` is a character boundary.
+    let bare = &word[signs..];
+    match bare.len() {
+        3 => bare.eq_ignore_ascii_case("nan") || bare.eq_ignore_ascii_case("inf"),
+        8 => bare.eq_ignore_ascii_case("infinity"),
+        _ => false,
+    }
 }
 
 /// True when a word in attribute position starts a new section: a section
@@ -243,7 +249,9 @@ fn starts_section(word: &str) -> bool {
 
 /// A token as the structural rules see it.
 enum Token<'a> {
-    Word(&'a str),
+    /// A word, and whether the fast scanner found it may be a plain
+    /// decimal (always false on the general route).
+    Word(&'a str, bool),
     Str(String),
     UnterminatedStr,
 }
@@ -256,6 +264,7 @@ struct PeekedWord<'a> {
     /// Where the word starts in the source.
     start: usize,
     text: &'a str,
+    plain_decimal: bool,
     span: Span,
     /// The input after it.
     rest: &'a str,
@@ -268,8 +277,6 @@ struct Cursor<'a> {
     route: Route,
     last_word: Option<PeekedWord<'a>>,
     errors: Vec<SyntaxError>,
-    /// The buffer [`Cursor::values`] gathers into.
-    scratch: Vec<Spanned<Value>>,
 }
 
 impl<'a> Cursor<'a> {
@@ -293,28 +300,46 @@ impl<'a> Cursor<'a> {
     }
 
     /// The `word` at the start of the remaining input, by the fast path
-    /// when it is all ASCII.
-    fn word(&self) -> Option<(&'a str, &'a str)> {
+    /// when it is all ASCII, with the input after it and whether the fast
+    /// path found it may be a plain decimal.
+    fn word(&self) -> Option<(&'a str, &'a str, bool)> {
         let rest = self.rest;
         if self.route == Route::Fast {
-            if let Some(len) = fast::ascii_word(rest.as_bytes()) {
-                return Some((&rest[len..], &rest[..len]));
+            if let Some(word) = fast::ascii_word(rest.as_bytes()) {
+                // All ASCII: `len` is a character boundary.
+                let (text, after) = rest.split_at(word.len);
+                return Some((after, text, word.maybe_plain_decimal));
             }
         }
-        word(rest).ok()
+        word(rest).ok().map(|(after, text)| (after, text, false))
     }
 
     /// The next token after trivia with its span and the input after it, or
     /// `None` at the end of input. Does not consume.
     fn peek(&mut self) -> Option<(Token<'a>, Span, &'a str)> {
+        // The last word again, with the trivia before it skipped already:
+        // a name is peeked three times and read once.
+        let cached = |cursor: &Self| {
+            let word = cursor
+                .last_word
+                .filter(|word| word.start == cursor.offset())?;
+            Some((
+                Token::Word(word.text, word.plain_decimal),
+                word.span,
+                word.rest,
+            ))
+        };
+        if let Some(peeked) = cached(self) {
+            return Some(peeked);
+        }
         self.skip_trivia();
         if self.rest.is_empty() {
             return None;
         }
-        let start = self.offset();
-        if let Some(word) = self.last_word.filter(|word| word.start == start) {
-            return Some((Token::Word(word.text), word.span, word.rest));
+        if let Some(peeked) = cached(self) {
+            return Some(peeked);
         }
+        let start = self.offset();
         // A quote opens a string, closed or not; anything else is a word.
         let (rest, token) = match self.rest.starts_with('"').then(|| string(self.rest)) {
             Some(Ok((rest, text))) => (rest, Token::Str(text)),
@@ -323,20 +348,21 @@ impl<'a> Cursor<'a> {
                 (line, Token::UnterminatedStr)
             }
             None => match self.word() {
-                Some((rest, text)) => (rest, Token::Word(text)),
+                Some((rest, text, plain)) => (rest, Token::Word(text, plain)),
                 // Unreachable by construction (trivia stopped on a word or
                 // string character), but never loop: treat one char as a word.
                 None => {
                     let len = self.rest.chars().next().map_or(0, char::len_utf8);
-                    (&self.rest[len..], Token::Word(&self.rest[..len]))
+                    (&self.rest[len..], Token::Word(&self.rest[..len], false))
                 }
             },
         };
         let span = Span::new(start, self.src.offset(rest));
-        if let Token::Word(text) = token {
+        if let Token::Word(text, plain_decimal) = token {
             self.last_word = Some(PeekedWord {
                 start,
                 text,
+                plain_decimal,
                 span,
                 rest,
             });
@@ -351,7 +377,7 @@ impl<'a> Cursor<'a> {
     fn file(&mut self) -> Option<Section> {
         while let Some((token, span, _)) = self.peek() {
             match token {
-                Token::Word(w) if !looks_numeric(w) && !is_non_finite_word(w) => {
+                Token::Word(w, plain) if !plain && !looks_numeric(w) && !is_non_finite_word(w) => {
                     return Some(self.section());
                 }
                 // A number or string: `values` consumes at least this token.
@@ -374,7 +400,7 @@ impl<'a> Cursor<'a> {
 
     /// `section = section_keyword , { value } , { attribute } ;`
     fn section(&mut self) -> Section {
-        let Some((Token::Word(keyword), kw_span, rest)) = self.peek() else {
+        let Some((Token::Word(keyword, _), kw_span, rest)) = self.peek() else {
             unreachable!("section() is only called on a word");
         };
         self.rest = rest;
@@ -382,11 +408,15 @@ impl<'a> Cursor<'a> {
         let args = self.values(false);
         let mut span = args.last().map_or(kw_span, |v| kw_span.join(v.span));
         let mut attributes = Vec::new();
-        while let Some((Token::Word(w), _, _)) = self.peek() {
-            if starts_section(w) {
-                break;
-            }
-            let attribute = self.attribute();
+        while let Some((Token::Word(w, _), _, _)) = self.peek() {
+            // An attribute name is never a section keyword: only an
+            // unknown word may start a section.
+            let name = match AttrName::known(w) {
+                Some(name) => name,
+                None if starts_section(w) => break,
+                None => AttrName::Unknown(w.into()),
+            };
+            let attribute = self.attribute(name);
             span = span.join(attribute.span);
             attributes.push(attribute);
         }
@@ -399,12 +429,14 @@ impl<'a> Cursor<'a> {
     }
 
     /// `attribute = attribute_name , { value } | "texture" , path ;`
-    fn attribute(&mut self) -> Attribute {
-        let Some((Token::Word(name), name_span, rest)) = self.peek() else {
+    ///
+    /// `name` is the next word, already looked up.
+    fn attribute(&mut self, name: AttrName) -> Attribute {
+        let Some((Token::Word(..), name_span, rest)) = self.peek() else {
             unreachable!("attribute() is only called on a word");
         };
         self.rest = rest;
-        let name = Spanned::new(name_span, AttrName::from_word(name));
+        let name = Spanned::new(name_span, name);
         let values = self.values(*name == AttrName::Texture);
         let span = values.last().map_or(name_span, |v| name_span.join(v.span));
         Attribute { name, values, span }
@@ -417,13 +449,19 @@ impl<'a> Cursor<'a> {
     /// Bad numbers and unterminated strings are reported and kept as
     /// [`Value::Invalid`]; the run of values ends at the first word that is neither a number nor a
     /// path.
-    fn values(&mut self, path_allowed: bool) -> Box<[Spanned<Value>]> {
-        // Gathered in a reused buffer and copied out at their exact size:
-        // a growing Vec per attribute would keep spare room (and leave the
-        // allocator fragmented), most of a large scene's syntax tree.
-        let mut values = std::mem::take(&mut self.scratch);
-        values.clear();
-        while let Some((token, span, rest)) = self.peek() {
+    fn values(&mut self, path_allowed: bool) -> Values {
+        let mut values = Values::new();
+        loop {
+            // A path comes first, whatever it looks like.
+            if self.route == Route::Fast && !(path_allowed && values.is_empty()) {
+                if let Some((span, number)) = self.plain_number() {
+                    values.push(Spanned::new(span, Value::Number(number)));
+                    continue;
+                }
+            }
+            let Some((token, span, rest)) = self.peek() else {
+                break;
+            };
             match token {
                 Token::Str(text) => values.push(Spanned::new(span, Value::Text(text.into()))),
                 Token::UnterminatedStr => {
@@ -431,7 +469,7 @@ impl<'a> Cursor<'a> {
                         .push(SyntaxError::UnterminatedString { span: span.into() });
                     values.push(Spanned::new(span, Value::Invalid));
                 }
-                Token::Word(w)
+                Token::Word(w, _)
                     if path_allowed
                         && values.is_empty()
                         && !SectionKind::KEYWORDS.contains(&w)
@@ -439,25 +477,57 @@ impl<'a> Cursor<'a> {
                 {
                     values.push(Spanned::new(span, Value::Text(w.into())));
                 }
-                Token::Word(w) if looks_numeric(w) || is_non_finite_word(w) => {
+                Token::Word(w, plain) if plain || looks_numeric(w) || is_non_finite_word(w) => {
                     let value = self
-                        .number_value(w, span)
+                        .number_value(w, span, plain)
                         .map_or(Value::Invalid, Value::Number);
                     values.push(Spanned::new(span, value));
                 }
-                Token::Word(_) => break,
+                Token::Word(..) => break,
             }
             self.rest = rest;
         }
-        let mut exact = Vec::with_capacity(values.len());
-        exact.append(&mut values);
-        self.scratch = values;
-        exact.into_boxed_slice()
+        values
     }
 
-    /// Convert a numeric-looking word, reporting why it is not a number.
-    fn number_value(&mut self, w: &str, span: Span) -> Option<f64> {
-        let plain = self.route == Route::Fast && fast::is_plain_decimal(w.as_bytes());
+    /// The common case of a value on the fast route, read in one pass:
+    /// ASCII trivia, then a plain decimal, consumed with its span and
+    /// value. `None` consumes at most trivia; when an ASCII word stopped
+    /// it, that word is kept as the last word read, so [`Cursor::peek`]
+    /// does not scan it again.
+    fn plain_number(&mut self) -> Option<(Span, f64)> {
+        let bytes = self.rest.as_bytes();
+        let trivia = fast::ascii_trivia(bytes);
+        let found = fast::ascii_word(&bytes[trivia..])?;
+        let end = trivia + found.len;
+        let start = self.offset() + trivia;
+        let span = Span::new(start, start + found.len);
+        // Only ASCII bytes were read: `trivia` and `end` are character
+        // boundaries.
+        let (text, after) = (&self.rest[trivia..end], &self.rest[end..]);
+        let value = found
+            .maybe_plain_decimal
+            .then(|| fast::plain_decimal_value(&bytes[trivia..end]))
+            .flatten();
+        if value.is_some() {
+            self.rest = after;
+        } else {
+            // Trivia means nothing: skipped, whatever comes next.
+            self.rest = &self.rest[trivia..];
+            self.last_word = Some(PeekedWord {
+                start,
+                text,
+                plain_decimal: found.maybe_plain_decimal,
+                span,
+                rest: after,
+            });
+        }
+        value.map(|value| (span, value))
+    }
+
+    /// Convert a numeric-looking word (`plain` when the fast scanner
+    /// found it may be a plain decimal), reporting why it is not a number.
+    fn number_value(&mut self, w: &str, span: Span, plain: bool) -> Option<f64> {
         if let Some(n) = plain
             .then(|| fast::plain_decimal_value(w.as_bytes()))
             .flatten()
@@ -465,7 +535,7 @@ impl<'a> Cursor<'a> {
             return Some(n);
         }
         let found = || w.to_string();
-        let error = if plain || matches!(number(w), Ok(("", _))) {
+        let error = if matches!(number(w), Ok(("", _))) {
             match w.parse::<f64>() {
                 Ok(n) if n.is_finite() => return Some(n),
                 _ => SyntaxError::NumberOutOfRange {
