@@ -101,10 +101,9 @@ impl Node {
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 struct Wide {
-    /// Per axis, the children's minimum coordinates...
-    lo: [[f32; 4]; 3],
-    /// ...and maximum ones.
-    hi: [[f32; 4]; 3],
+    /// The children's bounding planes: per axis x, y, z their minimum
+    /// coordinates, then per axis their maximum ones.
+    planes: [[f32; 4]; 6],
     /// An interior child's wide node; a leaf's first primitive.
     index: [u32; 4],
     /// A leaf's primitives; 0 for an interior child (or an unused lane).
@@ -113,8 +112,7 @@ struct Wide {
 
 impl Wide {
     const EMPTY: Wide = Wide {
-        lo: [[f32::INFINITY; 4]; 3],
-        hi: [[f32::INFINITY; 4]; 3],
+        planes: [[f32::INFINITY; 4]; 6],
         index: [0; 4],
         count: [0; 4],
     };
@@ -425,10 +423,12 @@ fn reach_f32<R: Real>(t: R) -> f32 {
 }
 
 /// A ray prepared for `f32` box tests: origin and reciprocal direction,
-/// each component in all four lanes.
+/// each component in all four lanes, and per axis whether the ray runs
+/// backwards along it (so it enters a box by its maximum plane).
 struct Slab {
     origin: [Vec4; 3],
     inverse: [Vec4; 3],
+    backwards: [bool; 3],
 }
 
 impl Slab {
@@ -445,26 +445,34 @@ impl Slab {
                 c
             }
         };
+        let inverse = [d.x, d.y, d.z].map(|c| component(c).recip());
         Slab {
             origin: [o.x, o.y, o.z].map(|c| Vec4::splat(c as f32)),
-            inverse: [d.x, d.y, d.z].map(|c| Vec4::splat(component(c).recip())),
+            inverse: inverse.map(Vec4::splat),
+            backwards: inverse.map(|c| c < 0.0),
         }
     }
 
     /// Where the ray enters each child box of `node`, and a bit mask of
-    /// those it enters within `[0, reach]`. An unused lane's box lies at
-    /// +∞ on every axis: along an axis the ray follows forwards it is
-    /// entered at +∞, beyond the finite `reach`, and if the ray heads
-    /// backwards along all three it is left at −∞, before 0.
+    /// those it enters within `[0, reach]`. Along each axis the ray meets
+    /// a box's minimum plane first if it runs forwards and its maximum
+    /// plane first if backwards: rounding is monotone and the reciprocal is
+    /// never zero, so the plane chosen by the direction's sign is exactly
+    /// the smaller of the two distances and no per-lane minimum is needed.
+    /// An unused lane's box lies at +∞ on every axis: along an axis the ray
+    /// follows forwards it is entered at +∞, beyond the finite `reach`, and
+    /// along one it follows backwards it is left at −∞, before 0.
     #[inline(always)]
     fn enter(&self, node: &Wide, reach: f32) -> ([f32; 4], u32) {
         let mut near = Vec4::ZERO;
         let mut far = Vec4::splat(reach);
         for axis in 0..3 {
-            let a = (Vec4::from_array(node.lo[axis]) - self.origin[axis]) * self.inverse[axis];
-            let b = (Vec4::from_array(node.hi[axis]) - self.origin[axis]) * self.inverse[axis];
-            near = near.max(a.min(b));
-            far = far.min(b.max(a));
+            let backwards = usize::from(self.backwards[axis]);
+            let distance = |plane: usize| {
+                (Vec4::from_array(node.planes[plane]) - self.origin[axis]) * self.inverse[axis]
+            };
+            near = near.max(distance(axis + 3 * backwards));
+            far = far.min(distance(axis + 3 * (1 - backwards)));
         }
         (near.to_array(), near.cmple(far).bitmask())
     }
@@ -497,8 +505,8 @@ fn collapse(nodes: &[Node], root: usize, wide: &mut Vec<Wide>) -> usize {
     for (lane, &c) in children.iter().enumerate() {
         let n = &nodes[c];
         for axis in 0..3 {
-            made.lo[axis][lane] = n.lo[axis];
-            made.hi[axis][lane] = n.hi[axis];
+            made.planes[axis][lane] = n.lo[axis];
+            made.planes[3 + axis][lane] = n.hi[axis];
         }
         if n.count() > 0 {
             made.index[lane] = n.index() as u32;
