@@ -11,6 +11,7 @@
 use glam::DVec3;
 
 use super::camera_ray;
+use super::centres::PixelCentres;
 use super::geometry::Ray;
 use super::real::Real;
 use super::trace::{Counters, Tracer};
@@ -76,10 +77,12 @@ impl Sampler {
     /// shaded: a camera ray needs divisions and a square root, and its hit
     /// test more, whose latency inside the trace of a pixel would stall
     /// it, while a loop of independent rays overlaps them. (The mean of
-    /// one sample is that sample.)
+    /// one sample is that sample.) `centres` are this frame's
+    /// ([`PixelCentres`]), which make the same rays as `camera_ray`.
     pub(super) fn row<R: Real>(
         &self,
         tracer: &Tracer<'_, R>,
+        centres: &PixelCentres<R>,
         j: u32,
         counters: &mut Counters,
         mut put: impl FnMut(usize, DVec3),
@@ -90,9 +93,9 @@ impl Sampler {
             }
             return;
         }
-        let y = f64::from(j) + 0.5;
-        let rays: Vec<Ray<R>> = (0..self.size)
-            .map(|i| camera_ray::<R>(self.size, f64::from(i) + 0.5, y))
+        let centre = centres.row(j);
+        let rays: Vec<Ray<R>> = (0..self.size as usize)
+            .map(|i| centres.ray(i, centre))
             .collect();
         let hits: Vec<_> = rays.iter().map(|ray| tracer.first_hit(ray)).collect();
         for (i, (ray, hit)) in rays.into_iter().zip(hits).enumerate() {
@@ -258,11 +261,12 @@ mod tests {
         for spp in [1, 4] {
             let tracer = Tracer::<f64>::new(&scene, 8, true);
             let sampler = Sampler::new(scene.resolution, spp, 0);
+            let centres = PixelCentres::new(scene.resolution);
             let mut total = Counters::default();
             for j in 0..scene.resolution {
                 let (mut by_row, mut by_pixel) = (Counters::default(), Counters::default());
                 let mut row = Vec::new();
-                sampler.row(&tracer, j, &mut by_row, |i, c| row.push((i, c)));
+                sampler.row(&tracer, &centres, j, &mut by_row, |i, c| row.push((i, c)));
                 let pixels: Vec<_> = (0..scene.resolution)
                     .map(|i| (i as usize, sampler.pixel(&tracer, (i, j), &mut by_pixel)))
                     .collect();
