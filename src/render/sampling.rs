@@ -13,6 +13,7 @@ use glam::DVec3;
 use super::camera_ray;
 use super::centres::PixelCentres;
 use super::geometry::Ray;
+use super::prim::Hit;
 use super::real::Real;
 use super::trace::{Counters, Tracer};
 
@@ -97,8 +98,21 @@ impl Sampler {
         let rays: Vec<Ray<R>> = (0..self.size as usize)
             .map(|i| centres.ray(i, centre))
             .collect();
-        let hits: Vec<_> = rays.iter().map(|ray| tracer.first_hit(ray)).collect();
-        for (i, (ray, hit)) in rays.into_iter().zip(hits).enumerate() {
+        // The hits are kept as plain distances and slots, not one
+        // `Option<Hit>` per pixel: that was built in a temporary on the
+        // stack and copied out with a load wider than the stores that had
+        // just written it, which stalls every iteration. A hit's distance
+        // is never 0 (hits lie in `(0, t_max)`), so 0 marks a miss.
+        let mut distances = Vec::with_capacity(rays.len());
+        let mut slots = Vec::with_capacity(rays.len());
+        for ray in &rays {
+            let hit = tracer.first_hit(ray);
+            debug_assert!(hit.is_none_or(|hit| hit.t > R::zero()));
+            distances.push(hit.map_or(R::zero(), |hit| hit.t));
+            slots.push(hit.map_or(0, |hit| hit.slot));
+        }
+        for (i, ((ray, t), slot)) in rays.into_iter().zip(distances).zip(slots).enumerate() {
+            let hit = (t > R::zero()).then_some(Hit { t, slot });
             let color = tracer.radiance_from(ray, hit, counters);
             put(i, color.clamp(DVec3::ZERO, DVec3::ONE));
         }
