@@ -11,7 +11,9 @@
 use glam::DVec3;
 
 use super::camera_ray;
+use super::centres::PixelCentres;
 use super::geometry::Ray;
+use super::prim::Hit;
 use super::real::Real;
 use super::trace::{Counters, Tracer};
 
@@ -76,10 +78,12 @@ impl Sampler {
     /// shaded: a camera ray needs divisions and a square root, and its hit
     /// test more, whose latency inside the trace of a pixel would stall
     /// it, while a loop of independent rays overlaps them. (The mean of
-    /// one sample is that sample.)
+    /// one sample is that sample.) `centres` are this frame's
+    /// ([`PixelCentres`]), which make the same rays as `camera_ray`.
     pub(super) fn row<R: Real>(
         &self,
         tracer: &Tracer<'_, R>,
+        centres: &PixelCentres<R>,
         j: u32,
         counters: &mut Counters,
         mut put: impl FnMut(usize, DVec3),
@@ -90,12 +94,25 @@ impl Sampler {
             }
             return;
         }
-        let y = f64::from(j) + 0.5;
-        let rays: Vec<Ray<R>> = (0..self.size)
-            .map(|i| camera_ray::<R>(self.size, f64::from(i) + 0.5, y))
+        let centre = centres.row(j);
+        let rays: Vec<Ray<R>> = (0..self.size as usize)
+            .map(|i| centres.ray(i, centre))
             .collect();
-        let hits: Vec<_> = rays.iter().map(|ray| tracer.first_hit(ray)).collect();
-        for (i, (ray, hit)) in rays.into_iter().zip(hits).enumerate() {
+        // The hits are kept as plain distances and slots, not one
+        // `Option<Hit>` per pixel: that was built in a temporary on the
+        // stack and copied out with a load wider than the stores that had
+        // just written it, which stalls every iteration. A hit's distance
+        // is never 0 (hits lie in `(0, t_max)`), so 0 marks a miss.
+        let mut distances = Vec::with_capacity(rays.len());
+        let mut slots = Vec::with_capacity(rays.len());
+        for ray in &rays {
+            let hit = tracer.first_hit(ray);
+            debug_assert!(hit.is_none_or(|hit| hit.t > R::zero()));
+            distances.push(hit.map_or(R::zero(), |hit| hit.t));
+            slots.push(hit.map_or(0, |hit| hit.slot));
+        }
+        for (i, ((ray, t), slot)) in rays.into_iter().zip(distances).zip(slots).enumerate() {
+            let hit = (t > R::zero()).then_some(Hit { t, slot });
             let color = tracer.radiance_from(ray, hit, counters);
             put(i, color.clamp(DVec3::ZERO, DVec3::ONE));
         }
@@ -258,11 +275,12 @@ mod tests {
         for spp in [1, 4] {
             let tracer = Tracer::<f64>::new(&scene, 8, true);
             let sampler = Sampler::new(scene.resolution, spp, 0);
+            let centres = PixelCentres::new(scene.resolution);
             let mut total = Counters::default();
             for j in 0..scene.resolution {
                 let (mut by_row, mut by_pixel) = (Counters::default(), Counters::default());
                 let mut row = Vec::new();
-                sampler.row(&tracer, j, &mut by_row, |i, c| row.push((i, c)));
+                sampler.row(&tracer, &centres, j, &mut by_row, |i, c| row.push((i, c)));
                 let pixels: Vec<_> = (0..scene.resolution)
                     .map(|i| (i as usize, sampler.pixel(&tracer, (i, j), &mut by_pixel)))
                     .collect();

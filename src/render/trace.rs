@@ -135,17 +135,31 @@ impl<'a, R: Real> Tracer<'a, R> {
     }
 
     /// The colour seen along a camera ray that first hits `first`
-    /// ([`Tracer::first_hit`] of it), before clamping.
+    /// ([`Tracer::first_hit`] of it), before clamping. A ray that hits
+    /// nothing sees black; that case is inlined into the caller's loop
+    /// (most camera rays of a small scene miss, and the path's entry and
+    /// exit cost more than the rest of such a pixel), the path of a hit
+    /// is not.
+    #[inline(always)]
     pub fn radiance_from(
         &self,
-        mut ray: Ray<R>,
+        ray: Ray<R>,
         first: Option<Hit<R>>,
         counters: &mut Counters,
     ) -> DVec3 {
         counters.primary_rays += 1;
+        match first {
+            None => DVec3::ZERO,
+            Some(hit) => self.path(ray, hit, counters),
+        }
+    }
+
+    /// [`Tracer::radiance_from`] a camera ray that hits `first`.
+    #[inline(never)]
+    fn path(&self, mut ray: Ray<R>, first: Hit<R>, counters: &mut Counters) -> DVec3 {
         let mut color = DVec3::ZERO;
         let mut weight = 1.0;
-        let mut next = first;
+        let mut next = Some(first);
         for depth in 0..=self.max_depth {
             let Some(hit) = next else {
                 break;
