@@ -17,7 +17,6 @@
 
 pub mod adaptive;
 pub mod bvh;
-mod centres;
 pub mod geometry;
 mod prim;
 pub mod real;
@@ -33,7 +32,6 @@ use serde::Serialize;
 
 use crate::ir;
 use adaptive::Corners;
-use centres::PixelCentres;
 use geometry::Ray;
 pub use real::Real;
 use real::Vector;
@@ -167,7 +165,6 @@ fn render_pixels<R: Real, T: Copy + Default + Send>(
     let size = scene.resolution;
     let tracer = Tracer::<R>::with_accel(scene, options.max_depth, options.skip, options.accel);
     let sampler = Sampler::new(size, options.spp, options.seed);
-    let centres = PixelCentres::<R>::new(size);
     let adaptive = sampler.count() > 1;
     let (corners, mut counters) = match options.antialias {
         Antialias::Adaptive { threshold } if adaptive => {
@@ -183,7 +180,7 @@ fn render_pixels<R: Real, T: Copy + Default + Send>(
         .map(|(row, j)| {
             let mut counters = Counters::default();
             match &corners {
-                None => sampler.row(&tracer, &centres, j, &mut counters, |i, value| {
+                None => sampler.row(&tracer, j, &mut counters, |i, value| {
                     row[i] = finish(value);
                 }),
                 Some((corners, threshold)) => {

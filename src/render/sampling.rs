@@ -11,7 +11,6 @@
 use glam::DVec3;
 
 use super::camera_ray;
-use super::centres::PixelCentres;
 use super::geometry::Ray;
 use super::prim::Hit;
 use super::real::Real;
@@ -78,12 +77,10 @@ impl Sampler {
     /// shaded: a camera ray needs divisions and a square root, and its hit
     /// test more, whose latency inside the trace of a pixel would stall
     /// it, while a loop of independent rays overlaps them. (The mean of
-    /// one sample is that sample.) `centres` are this frame's
-    /// ([`PixelCentres`]), which make the same rays as `camera_ray`.
+    /// one sample is that sample.)
     pub(super) fn row<R: Real>(
         &self,
         tracer: &Tracer<'_, R>,
-        centres: &PixelCentres<R>,
         j: u32,
         counters: &mut Counters,
         mut put: impl FnMut(usize, DVec3),
@@ -94,9 +91,9 @@ impl Sampler {
             }
             return;
         }
-        let centre = centres.row(j);
-        let rays: Vec<Ray<R>> = (0..self.size as usize)
-            .map(|i| centres.ray(i, centre))
+        let y = f64::from(j) + 0.5;
+        let rays: Vec<Ray<R>> = (0..self.size)
+            .map(|i| camera_ray::<R>(self.size, f64::from(i) + 0.5, y))
             .collect();
         // The hits are kept as plain distances and slots, not one
         // `Option<Hit>` per pixel: that was built in a temporary on the
@@ -275,12 +272,11 @@ mod tests {
         for spp in [1, 4] {
             let tracer = Tracer::<f64>::new(&scene, 8, true);
             let sampler = Sampler::new(scene.resolution, spp, 0);
-            let centres = PixelCentres::new(scene.resolution);
             let mut total = Counters::default();
             for j in 0..scene.resolution {
                 let (mut by_row, mut by_pixel) = (Counters::default(), Counters::default());
                 let mut row = Vec::new();
-                sampler.row(&tracer, &centres, j, &mut by_row, |i, c| row.push((i, c)));
+                sampler.row(&tracer, j, &mut by_row, |i, c| row.push((i, c)));
                 let pixels: Vec<_> = (0..scene.resolution)
                     .map(|i| (i as usize, sampler.pixel(&tracer, (i, j), &mut by_pixel)))
                     .collect();
