@@ -839,7 +839,7 @@ mod tests {
         let ray = Ray {
             origin: DVec3::new(-3.0, 0.0, -5.0),
             dir: DVec3::X,
-            from: None,
+            from: Ray::<f64>::FROM_NO_PRIMITIVE,
         };
         let hit = bvh.closest(&prims, &ray, f64::INFINITY).expect("a hit");
         assert_eq!((prims[hit.slot as usize].id, hit.t), (0, 2.75));
@@ -888,7 +888,11 @@ mod tests {
             } else {
                 (DVec3::new(random(), random(), random()) - 0.5).normalize()
             };
-            let from = (k % 3 == 0).then(|| (k % prims.len()) as u32);
+            let from = if k % 3 == 0 {
+                (k % prims.len()) as u32
+            } else {
+                Ray::<R>::FROM_NO_PRIMITIVE
+            };
             let ray = Ray {
                 origin: R::Vec::of(origin),
                 dir: R::Vec::of(dir),

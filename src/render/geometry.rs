@@ -21,9 +21,18 @@ use super::real::{Real, Vector};
 pub struct Ray<R: Real> {
     pub origin: R::Vec,
     pub dir: R::Vec,
-    /// The slot of the primitive the ray was spawned from, if any
-    /// ([`super::world::World::prims`]).
-    pub from: Option<u32>,
+    /// The slot of the primitive the ray was spawned from
+    /// ([`super::world::World::prims`]), or [`Ray::FROM_NO_PRIMITIVE`].
+    /// A plain integer, not an `Option`: a ray is copied by value on every
+    /// bounce, and the optional's tag made the copy a wide load of
+    /// narrower stores just made, which stalls the processor.
+    pub from: u32,
+}
+
+impl<R: Real> Ray<R> {
+    /// `from` of a ray that left no primitive (a camera ray): no slot, as
+    /// a scene holds far fewer primitives ([`crate::limits::MAX_OBJECTS`]).
+    pub const FROM_NO_PRIMITIVE: u32 = u32::MAX;
 }
 
 /// A sphere.
@@ -194,7 +203,7 @@ mod tests {
         Ray {
             origin,
             dir: dir.normalize(),
-            from: None,
+            from: Ray::<f64>::FROM_NO_PRIMITIVE,
         }
     }
 

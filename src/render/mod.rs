@@ -216,7 +216,7 @@ pub fn camera_ray<R: Real>(size: u32, x: f64, y: f64) -> Ray<R> {
     Ray {
         origin: R::Vec::new(R::zero(), R::zero(), R::zero()),
         dir: target.normalize(),
-        from: None,
+        from: Ray::<R>::FROM_NO_PRIMITIVE,
     }
 }
 

@@ -30,6 +30,6 @@ impl<R: Real> Prim<R> {
     /// the sphere test sits in the traversal loops.
     #[inline(always)]
     pub fn hit(&self, slot: u32, ray: &Ray<R>, t_max: R) -> Option<R> {
-        self.shape.hit(ray, t_max, ray.from == Some(slot))
+        self.shape.hit(ray, t_max, ray.from == slot)
     }
 }

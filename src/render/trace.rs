@@ -183,7 +183,7 @@ impl<'a, R: Real> Tracer<'a, R> {
             ray = Ray {
                 origin: offset_origin::<R>(surface.point, n, surface.error_scale),
                 dir: (d - n * (R::of(2.0) * d.dot(n))).normalize(),
-                from: Some(hit.slot),
+                from: hit.slot,
             };
             counters.reflection_rays += 1;
             next = self.world.closest(&ray, R::infinity());
@@ -293,7 +293,7 @@ impl<'a, R: Real> Tracer<'a, R> {
             let ray = Ray {
                 origin,
                 dir: to_light * distance.recip(),
-                from: Some(slot),
+                from: slot,
             };
             counters.shadow_rays += 1;
             if !self.world.occluded(&ray, distance * R::SHADOW_REACH) {
