@@ -248,7 +248,7 @@ fn trace<R: Real>(scene: &ir::Scene, naive: Naive, ray: Ray<R>, depth: u32) -> D
         let shadow = Ray {
             origin: p,
             dir: l,
-            from: None,
+            from: Ray::<R>::FROM_NO_PRIMITIVE,
         };
         if closest(scene, naive, &shadow, distance, true).is_none() {
             color += albedo * light.color * cos;
@@ -263,7 +263,7 @@ fn trace<R: Real>(scene: &ir::Scene, naive: Naive, ray: Ray<R>, depth: u32) -> D
             Ray::<R> {
                 origin: p,
                 dir,
-                from: None,
+                from: Ray::<R>::FROM_NO_PRIMITIVE,
             },
             depth + 1,
         ) * k;
@@ -408,7 +408,7 @@ fn measure<R: Real>(ratio: f64, textbook_form: bool) {
         let ray = Ray {
             origin: R::Vec::of(DVec3::ZERO),
             dir: R::Vec::of(target.normalize()).normalize(),
-            from: None,
+            from: Ray::<R>::FROM_NO_PRIMITIVE,
         };
         let roots = if textbook_form {
             textbook(&ray, center, r)

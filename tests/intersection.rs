@@ -69,7 +69,7 @@ fn check_sphere<R: Real>(
     let ray = Ray::<R> {
         origin: round::<R>(origin),
         dir: round::<R>(dir).normalize(),
-        from: None,
+        from: Ray::<R>::FROM_NO_PRIMITIVE,
     };
     let sphere = Sphere {
         center: round::<R>(center),
@@ -136,7 +136,7 @@ fn check_rect<R: Real>(
     let ray = Ray::<R> {
         origin: round::<R>(origin),
         dir: round::<R>(dir).normalize(),
-        from: None,
+        from: Ray::<R>::FROM_NO_PRIMITIVE,
     };
     let rect = Rect {
         center: round::<R>(center),
@@ -204,7 +204,7 @@ fn check_leaving_sphere<R: Real>(
     let ray = Ray::<R> {
         origin,
         dir: round::<R>(dir).normalize(),
-        from: Some(0),
+        from: 0,
     };
     // The rounded origin is off the surface by up to δ = BOUND·ε·scale.
     // That can flip the sign of `d·m` only when |d·m| < δ/r; and a ray

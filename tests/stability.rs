@@ -402,7 +402,7 @@ fn random_ray(scene: &ir::Scene, pick: usize, along: f64, dir: DVec3) -> Ray<f64
     Ray {
         origin,
         dir,
-        from: None,
+        from: Ray::<f64>::FROM_NO_PRIMITIVE,
     }
 }
 
@@ -410,7 +410,7 @@ fn narrow(ray: &Ray<f64>) -> Ray<f32> {
     Ray {
         origin: <glam::Vec3 as Vector<f32>>::of(ray.origin),
         dir: <glam::Vec3 as Vector<f32>>::of(ray.dir).normalize(),
-        from: None,
+        from: Ray::<f32>::FROM_NO_PRIMITIVE,
     }
 }
 
