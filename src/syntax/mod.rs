@@ -249,9 +249,7 @@ fn starts_section(word: &str) -> bool {
 
 /// A token as the structural rules see it.
 enum Token<'a> {
-    /// A word, and whether the fast scanner found it may be a plain
-    /// decimal (always false on the general route).
-    Word(&'a str, bool),
+    Word(&'a str),
     Str(String),
     UnterminatedStr,
 }
@@ -264,7 +262,6 @@ struct PeekedWord<'a> {
     /// Where the word starts in the source.
     start: usize,
     text: &'a str,
-    plain_decimal: bool,
     span: Span,
     /// The input after it.
     rest: &'a str,
@@ -300,18 +297,17 @@ impl<'a> Cursor<'a> {
     }
 
     /// The `word` at the start of the remaining input, by the fast path
-    /// when it is all ASCII, with the input after it and whether the fast
-    /// path found it may be a plain decimal.
-    fn word(&self) -> Option<(&'a str, &'a str, bool)> {
+    /// when it is all ASCII, with the input after it.
+    fn word(&self) -> Option<(&'a str, &'a str)> {
         let rest = self.rest;
         if self.route == Route::Fast {
             if let Some(word) = fast::ascii_word(rest.as_bytes()) {
                 // All ASCII: `len` is a character boundary.
                 let (text, after) = rest.split_at(word.len);
-                return Some((after, text, word.maybe_plain_decimal));
+                return Some((after, text));
             }
         }
-        word(rest).ok().map(|(after, text)| (after, text, false))
+        word(rest).ok()
     }
 
     /// The next token after trivia with its span and the input after it, or
@@ -323,11 +319,7 @@ impl<'a> Cursor<'a> {
             let word = cursor
                 .last_word
                 .filter(|word| word.start == cursor.offset())?;
-            Some((
-                Token::Word(word.text, word.plain_decimal),
-                word.span,
-                word.rest,
-            ))
+            Some((Token::Word(word.text), word.span, word.rest))
         };
         if let Some(peeked) = cached(self) {
             return Some(peeked);
@@ -348,21 +340,20 @@ impl<'a> Cursor<'a> {
                 (line, Token::UnterminatedStr)
             }
             None => match self.word() {
-                Some((rest, text, plain)) => (rest, Token::Word(text, plain)),
+                Some((rest, text)) => (rest, Token::Word(text)),
                 // Unreachable by construction (trivia stopped on a word or
                 // string character), but never loop: treat one char as a word.
                 None => {
                     let len = self.rest.chars().next().map_or(0, char::len_utf8);
-                    (&self.rest[len..], Token::Word(&self.rest[..len], false))
+                    (&self.rest[len..], Token::Word(&self.rest[..len]))
                 }
             },
         };
         let span = Span::new(start, self.src.offset(rest));
-        if let Token::Word(text, plain_decimal) = token {
+        if let Token::Word(text) = token {
             self.last_word = Some(PeekedWord {
                 start,
                 text,
-                plain_decimal,
                 span,
                 rest,
             });
@@ -377,7 +368,7 @@ impl<'a> Cursor<'a> {
     fn file(&mut self) -> Option<Section> {
         while let Some((token, span, _)) = self.peek() {
             match token {
-                Token::Word(w, plain) if !plain && !looks_numeric(w) && !is_non_finite_word(w) => {
+                Token::Word(w) if !looks_numeric(w) && !is_non_finite_word(w) => {
                     return Some(self.section());
                 }
                 // A number or string: `values` consumes at least this token.
@@ -400,7 +391,7 @@ impl<'a> Cursor<'a> {
 
     /// `section = section_keyword , { value } , { attribute } ;`
     fn section(&mut self) -> Section {
-        let Some((Token::Word(keyword, _), kw_span, rest)) = self.peek() else {
+        let Some((Token::Word(keyword), kw_span, rest)) = self.peek() else {
             unreachable!("section() is only called on a word");
         };
         self.rest = rest;
@@ -408,7 +399,7 @@ impl<'a> Cursor<'a> {
         let args = self.values(false);
         let mut span = args.last().map_or(kw_span, |v| kw_span.join(v.span));
         let mut attributes = Vec::new();
-        while let Some((Token::Word(w, _), _, _)) = self.peek() {
+        while let Some((Token::Word(w), _, _)) = self.peek() {
             // An attribute name is never a section keyword: only an
             // unknown word may start a section.
             let name = match AttrName::known(w) {
@@ -469,7 +460,7 @@ impl<'a> Cursor<'a> {
                         .push(SyntaxError::UnterminatedString { span: span.into() });
                     values.push(Spanned::new(span, Value::Invalid));
                 }
-                Token::Word(w, _)
+                Token::Word(w)
                     if path_allowed
                         && values.is_empty()
                         && !SectionKind::KEYWORDS.contains(&w)
@@ -477,9 +468,9 @@ impl<'a> Cursor<'a> {
                 {
                     values.push(Spanned::new(span, Value::Text(w.into())));
                 }
-                Token::Word(w, plain) if plain || looks_numeric(w) || is_non_finite_word(w) => {
+                Token::Word(w) if looks_numeric(w) || is_non_finite_word(w) => {
                     let value = self
-                        .number_value(w, span, plain)
+                        .number_value(w, span)
                         .map_or(Value::Invalid, Value::Number);
                     values.push(Spanned::new(span, value));
                 }
@@ -517,7 +508,6 @@ impl<'a> Cursor<'a> {
             self.last_word = Some(PeekedWord {
                 start,
                 text,
-                plain_decimal: found.maybe_plain_decimal,
                 span,
                 rest: after,
             });
@@ -525,15 +515,8 @@ impl<'a> Cursor<'a> {
         value.map(|value| (span, value))
     }
 
-    /// Convert a numeric-looking word (`plain` when the fast scanner
-    /// found it may be a plain decimal), reporting why it is not a number.
-    fn number_value(&mut self, w: &str, span: Span, plain: bool) -> Option<f64> {
-        if let Some(n) = plain
-            .then(|| fast::plain_decimal_value(w.as_bytes()))
-            .flatten()
-        {
-            return Some(n);
-        }
+    /// Convert a numeric-looking word, reporting why it is not a number.
+    fn number_value(&mut self, w: &str, span: Span) -> Option<f64> {
         let found = || w.to_string();
         let error = if matches!(number(w), Ok(("", _))) {
             match w.parse::<f64>() {
