@@ -267,3 +267,148 @@ impl<R: Real> From<&ir::Shape> for Shape<R> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+
+    /// A sphere resting on a rectangle, tested by every primitive.
+    fn sphere_on_rect() -> ir::Scene {
+        ir::Scene {
+            resolution: 1,
+            objects: vec![
+                ir::Object {
+                    shape: ir::Shape::Sphere {
+                        center: DVec3::new(0.0, 0.0, -5.0),
+                        radius: 1.0,
+                    },
+                    material: 0,
+                },
+                ir::Object {
+                    shape: ir::Shape::Rect {
+                        center: DVec3::new(0.0, -1.0, -5.0),
+                        normal: DVec3::Y,
+                        right: DVec3::X,
+                        up: DVec3::NEG_Z,
+                        width: 4.0,
+                        height: 4.0,
+                    },
+                    material: 0,
+                },
+            ],
+            materials: vec![ir::Material {
+                color: DVec3::ONE,
+                reflectivity: 0.0,
+                texture: None,
+            }],
+            lights: Vec::new(),
+            textures: Vec::new(),
+            effects: ir::Effects::default(),
+        }
+    }
+
+    /// Directions from `origin` that hit, graze and miss both primitives:
+    /// towards points spread over and around them, the sphere's tangent
+    /// points among them, and edge-on to the rectangle.
+    fn fan_of_directions(origin: DVec3) -> Vec<DVec3> {
+        let mut targets = Vec::new();
+        for i in 0..=24 {
+            for j in 0..=24 {
+                let (u, v) = (f64::from(i) / 8.0 - 1.5, f64::from(j) / 8.0 - 1.5);
+                targets.push(DVec3::new(u * 2.0, v * 2.0, -5.0));
+                targets.push(DVec3::new(u * 2.5, -1.0, -5.0 + v * 2.5));
+            }
+        }
+        // From the eye, the tangent rays along the axes through the
+        // sphere's rim, and rays in the rectangle's plane.
+        for k in [-1.0, 1.0] {
+            targets.push(DVec3::new(k, 0.0, -5.0));
+            targets.push(DVec3::new(0.0, k, -5.0));
+            targets.push(origin + DVec3::new(k, 0.0, 0.0));
+        }
+        targets
+            .into_iter()
+            .map(|target| target - origin)
+            .filter(|d| d.length() > 0.0)
+            .map(DVec3::normalize)
+            .collect()
+    }
+
+    /// [`World::closest_fan`] (AVX2 lanes where the processor has them)
+    /// and [`World::scan_fan`] (the same loops for SSE2) find bit for bit
+    /// what [`World::closest`] finds ray by ray (hits, misses, tangents,
+    /// rays leaving either primitive, finite `t_max`), in both
+    /// precisions.
+    #[test]
+    fn the_fan_finds_what_the_scan_finds_ray_by_ray() {
+        fn check<R: Real>() {
+            let world = World::<R>::new(&sphere_on_rect(), Accel::Brute);
+            let starts = [
+                (DVec3::ZERO, Ray::<R>::FROM_NO_PRIMITIVE),
+                (DVec3::new(0.0, 1.0, -5.0), 0),
+                (DVec3::new(0.0, 0.0, -4.0), 0),
+                (DVec3::new(0.6, -1.0, -4.5), 1),
+                (DVec3::new(3.0, -1.0, -5.0), Ray::<R>::FROM_NO_PRIMITIVE),
+            ];
+            let mut compared = [0; 2];
+            for (origin, from) in starts {
+                let dirs: Vec<R::Vec> = fan_of_directions(origin)
+                    .into_iter()
+                    .map(R::Vec::of)
+                    .collect();
+                let axes = [0, 1, 2].map(|a| {
+                    dirs.iter()
+                        .map(|d| [d.x(), d.y(), d.z()][a])
+                        .collect::<Vec<R>>()
+                });
+                let axes = [&axes[0][..], &axes[1][..], &axes[2][..]];
+                let origin = R::Vec::of(origin);
+                for t_max in [f64::INFINITY, 4.5, 1e-3] {
+                    let t_max = R::of(t_max);
+                    let expected: Vec<Option<(R, u32)>> = dirs
+                        .iter()
+                        .map(|&dir| {
+                            let ray = Ray { origin, dir, from };
+                            world.closest(&ray, t_max).map(|hit| (hit.t, hit.slot))
+                        })
+                        .collect();
+                    type Fan<'a, R> = &'a dyn Fn([&[R]; 3], &mut [R], &mut [u32]);
+                    let fans: [Fan<R>; 2] = [
+                        &|d, t, s| world.closest_fan(origin, from, d, t, s),
+                        &|d, t, s| world.scan_fan(origin, from, d, t, s),
+                    ];
+                    for fan in fans {
+                        let mut distances = vec![t_max; dirs.len()];
+                        let mut slots = vec![u32::MAX; dirs.len()];
+                        fan(axes, &mut distances, &mut slots);
+                        let found: Vec<Option<(R, u32)>> = distances
+                            .iter()
+                            .zip(&slots)
+                            .map(|(&t, &slot)| (slot != u32::MAX).then_some((t, slot)))
+                            .collect();
+                        let bits = |v: &[Option<(R, u32)>]| -> Vec<Option<(u64, u32)>> {
+                            v.iter()
+                                .map(|h| h.map(|(t, s)| (t.wide().to_bits(), s)))
+                                .collect()
+                        };
+                        assert_eq!(bits(&found), bits(&expected), "from {from}");
+                        for (hit, &t) in found.iter().zip(&distances) {
+                            if hit.is_none() {
+                                assert_eq!(t.wide().to_bits(), t_max.wide().to_bits());
+                            }
+                        }
+                    }
+                    for hit in &expected {
+                        compared[usize::from(hit.is_some())] += 1;
+                    }
+                }
+            }
+            // Both hits and misses were compared.
+            assert!(compared[0] > 100 && compared[1] > 100, "{compared:?}");
+        }
+        check::<f64>();
+        check::<f32>();
+    }
+}
