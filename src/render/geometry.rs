@@ -169,7 +169,7 @@ impl<R: Real> SphereApproach<R> {
         // `delta < 0`: the ray passes outside (√Δ is NaN, but say so).
         // `q = 0`: b = 0 and Δ = 0, the origin touches the sphere
         // tangentially.
-        let counts = !(delta < R::zero()) && !q.is_zero() && t > R::zero();
+        let counts = delta >= R::zero() && !q.is_zero() && t > R::zero();
         select(counts, t, R::nan())
     }
 }
