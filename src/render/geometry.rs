@@ -107,56 +107,107 @@ impl<R: Real> Shape<R> {
     }
 }
 
+/// Where a ray passes a sphere: the quantities its roots come from.
+/// [`Sphere::hit`] stops here when `delta < 0` (the ray passes outside);
+/// [`SphereApproach::root`] gives NaN for it too, so a lane that computes
+/// on does not need the branch.
+#[derive(Clone, Copy)]
+pub struct SphereApproach<R: Real> {
+    /// `f·d`, with `f = o − c`.
+    b: R,
+    /// `r² − l·l`, with `l = f − b·d`: the discriminant.
+    pub delta: R,
+    /// `f·f − r²`.
+    c: R,
+}
+
 impl<R: Real> Sphere<R> {
     /// [`Shape::hit`] for a sphere.
     #[inline(always)]
     pub fn hit(&self, ray: &Ray<R>, t_max: R, from_here: bool) -> Option<R> {
+        let approach = self.approach(ray);
+        if approach.delta < R::zero() {
+            return None;
+        }
+        let t = approach.root(from_here);
+        (t < t_max).then_some(t)
+    }
+
+    /// The first half of the test: `b`, `Δ` and `c` of the ray.
+    #[inline(always)]
+    pub fn approach(&self, ray: &Ray<R>) -> SphereApproach<R> {
         let f = ray.origin - self.center;
         let b = f.dot(ray.dir);
         let l = f - ray.dir * b;
         let r2 = self.radius * self.radius;
-        let delta = r2 - l.dot(l);
-        if delta < R::zero() {
-            return None;
+        SphereApproach {
+            b,
+            delta: r2 - l.dot(l),
+            c: f.dot(f) - r2,
         }
+    }
+}
+
+impl<R: Real> SphereApproach<R> {
+    /// The smallest root in `(0, ∞)` the ray counts, or NaN when none
+    /// does. Written without branches (each choice is a select), so a
+    /// loop over many rays runs it in vector lanes; [`Sphere::hit`] is
+    /// this and a comparison with `t_max`.
+    #[inline(always)]
+    pub fn root(self, from_here: bool) -> R {
+        let SphereApproach { b, delta, c } = self;
         let q = -b - b.signum() * delta.sqrt();
-        let c = f.dot(f) - r2;
-        let (near, far) = if q.is_zero() {
-            // b = 0 and Δ = 0: the origin touches the sphere tangentially.
-            return None;
-        } else {
-            let (t0, t1) = (c / q, q);
-            (t0.min(t1), t0.max(t1))
-        };
+        let (t0, t1) = (c / q, q);
+        let (near, far) = (t0.min(t1), t0.max(t1));
         let t = if from_here {
             // Leaving its own surface: the near root is the origin itself;
             // the far one counts only when the ray heads inside.
-            if b >= R::zero() {
-                return None;
-            }
-            far
-        } else if near > R::zero() {
-            near
+            select(b < R::zero(), far, R::nan())
         } else {
-            far
+            select(near > R::zero(), near, far)
         };
-        (t > R::zero() && t < t_max).then_some(t)
+        // `delta < 0`: the ray passes outside (√Δ is NaN, but say so).
+        // `q = 0`: b = 0 and Δ = 0, the origin touches the sphere
+        // tangentially.
+        let counts = delta >= R::zero() && !q.is_zero() && t > R::zero();
+        select(counts, t, R::nan())
     }
 }
 
 impl<R: Real> Rect<R> {
     #[inline(always)]
     fn hit(&self, ray: &Ray<R>, t_max: R) -> Option<R> {
-        let denom = ray.dir.dot(self.normal);
-        if denom.is_zero() {
-            return None;
-        }
-        let t = (self.center - ray.origin).dot(self.normal) / denom;
+        let t = self.plane_t(ray);
         if !(t > R::zero() && t < t_max) {
             return None;
         }
+        self.contains_at(ray, t).then_some(t)
+    }
+
+    /// The `t` in `(0, ∞)` where `ray` crosses the rectangle, or NaN when
+    /// it does not: [`Rect::hit`] without its early exit, written without
+    /// branches, as [`SphereApproach::root`].
+    #[inline(always)]
+    pub fn root(&self, ray: &Ray<R>) -> R {
+        let t = self.plane_t(ray);
+        select(t > R::zero() && self.contains_at(ray, t), t, R::nan())
+    }
+
+    /// Where `ray` crosses the rectangle's plane; NaN when it runs
+    /// parallel to it.
+    #[inline(always)]
+    fn plane_t(&self, ray: &Ray<R>) -> R {
+        let denom = ray.dir.dot(self.normal);
+        let t = (self.center - ray.origin).dot(self.normal) / denom;
+        select(denom.is_zero(), R::nan(), t)
+    }
+
+    /// Whether the point of `ray` at `t` (on the plane) lies within the
+    /// rectangle's edges.
+    #[inline(always)]
+    fn contains_at(&self, ray: &Ray<R>, t: R) -> bool {
         let (x, y) = self.plane_coordinates(ray.origin + ray.dir * t);
-        (x.abs() <= self.half_width && y.abs() <= self.half_height).then_some(t)
+        x.abs() <= self.half_width && y.abs() <= self.half_height
     }
 
     /// Coordinates of `p` along `right` and `up`, from the centre.
@@ -186,6 +237,18 @@ pub const OFFSET_ULPS: f64 = 64.0;
 pub fn offset_origin<R: Real>(p: R::Vec, n: R::Vec, scale: R) -> R::Vec {
     let step = R::of(OFFSET_ULPS) * R::epsilon() * scale.max(R::min_positive_value());
     p + n * step
+}
+
+/// `a` where `pick`, else `b`: a select, which the compiler keeps free of
+/// branches (`&&` above is on comparisons only, which it evaluates
+/// eagerly, so a vectorised loop computes every lane and chooses).
+#[inline(always)]
+fn select<R: Real>(pick: bool, a: R, b: R) -> R {
+    if pick {
+        a
+    } else {
+        b
+    }
 }
 
 /// The largest magnitude of a vector's components.

@@ -35,7 +35,7 @@ use adaptive::Corners;
 use geometry::Ray;
 pub use real::Real;
 use real::Vector;
-use sampling::Sampler;
+use sampling::{RowRays, Sampler};
 pub use trace::Counters;
 use trace::Tracer;
 pub use world::Accel;
@@ -155,7 +155,7 @@ pub fn render_radiance<R: Real>(
 
 /// The radiance of every pixel of rows `rows`, passed through `finish`,
 /// rows in parallel.
-fn render_pixels<R: Real, T: Copy + Default + Send>(
+fn render_pixels<R: Real, T: Copy + Send>(
     scene: &ir::Scene,
     options: &Options,
     rows: Range<u32>,
@@ -173,14 +173,16 @@ fn render_pixels<R: Real, T: Copy + Default + Send>(
         }
         _ => (None, Counters::default()),
     };
-    let mut pixels = vec![T::default(); size as usize * rows.len()];
+    // Black, which a pixel whose camera ray misses stays
+    // ([`Sampler::row`] does not hand such pixels over).
+    let mut pixels = vec![finish(DVec3::ZERO); size as usize * rows.len()];
     counters += pixels
         .par_chunks_mut(size as usize)
         .zip(rows)
-        .map(|(row, j)| {
+        .map_init(RowRays::default, |rays, (row, j)| {
             let mut counters = Counters::default();
             match &corners {
-                None => sampler.row(&tracer, j, &mut counters, |i, value| {
+                None => sampler.row(&tracer, j, rays, &mut counters, |i, value| {
                     row[i] = finish(value);
                 }),
                 Some((corners, threshold)) => {
@@ -214,10 +216,15 @@ pub fn camera_ray<R: Real>(size: u32, x: f64, y: f64) -> Ray<R> {
     let n = f64::from(size);
     let target = R::Vec::new(R::of(-0.5 + x / n), R::of(0.5 - y / n), -R::one());
     Ray {
-        origin: R::Vec::new(R::zero(), R::zero(), R::zero()),
+        origin: eye::<R>(),
         dir: target.normalize(),
         from: Ray::<R>::FROM_NO_PRIMITIVE,
     }
+}
+
+/// Where every camera ray starts: the origin.
+fn eye<R: Real>() -> R::Vec {
+    R::Vec::new(R::zero(), R::zero(), R::zero())
 }
 
 /// The output of docs/rendering.md: clamp to [0, 1], then `round(c·255)`, halves up.

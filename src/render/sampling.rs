@@ -10,11 +10,11 @@
 
 use glam::DVec3;
 
-use super::camera_ray;
 use super::geometry::Ray;
 use super::prim::Hit;
-use super::real::Real;
+use super::real::{Real, Vector};
 use super::trace::{Counters, Tracer};
+use super::{camera_ray, eye};
 
 /// The samples of a frame: resolution, grid side and seed.
 #[derive(Clone, Copy, Debug)]
@@ -71,17 +71,20 @@ impl Sampler {
     }
 
     /// Every pixel of row `j`, left to right, each handed to `put` with its
-    /// column: the values [`Sampler::pixel`] gives. With one sample per
-    /// pixel the row's camera rays are made first, in a loop of their own,
-    /// then what each hits first, in another, and only then is each
+    /// column: the values [`Sampler::pixel`] gives, except that with one
+    /// sample per pixel a pixel whose camera ray hits nothing is black and
+    /// is not handed over (the caller's row starts black). With one sample
+    /// the row's camera rays are made first, in a loop of their own, then
+    /// what each hits first, in another, and only then is each hit
     /// shaded: a camera ray needs divisions and a square root, and its hit
-    /// test more, whose latency inside the trace of a pixel would stall
-    /// it, while a loop of independent rays overlaps them. (The mean of
-    /// one sample is that sample.)
+    /// test more, which loops of independent rays run in vector lanes,
+    /// where inside the trace of a pixel their latency would stall it.
+    /// (The mean of one sample is that sample.)
     pub(super) fn row<R: Real>(
         &self,
         tracer: &Tracer<'_, R>,
         j: u32,
+        rays: &mut RowRays<R>,
         counters: &mut Counters,
         mut put: impl FnMut(usize, DVec3),
     ) {
@@ -91,26 +94,32 @@ impl Sampler {
             }
             return;
         }
-        let y = f64::from(j) + 0.5;
-        let rays: Vec<Ray<R>> = (0..self.size)
-            .map(|i| camera_ray::<R>(self.size, f64::from(i) + 0.5, y))
-            .collect();
-        // The hits are kept as plain distances and slots, not one
-        // `Option<Hit>` per pixel: that was built in a temporary on the
-        // stack and copied out with a load wider than the stores that had
-        // just written it, which stalls every iteration. A hit's distance
-        // is never 0 (hits lie in `(0, t_max)`), so 0 marks a miss.
-        let mut distances = Vec::with_capacity(rays.len());
-        let mut slots = Vec::with_capacity(rays.len());
-        for ray in &rays {
-            let hit = tracer.first_hit(ray);
-            debug_assert!(hit.is_none_or(|hit| hit.t > R::zero()));
-            distances.push(hit.map_or(R::zero(), |hit| hit.t));
-            slots.push(hit.map_or(0, |hit| hit.slot));
+        let n = self.size as usize;
+        let RowRays {
+            dirs,
+            distances,
+            slots,
+        } = rays;
+        for buffer in dirs.iter_mut().chain([&mut *distances]) {
+            buffer.resize(n, R::zero());
         }
-        for (i, ((ray, t), slot)) in rays.into_iter().zip(distances).zip(slots).enumerate() {
-            let hit = (t > R::zero()).then_some(Hit { t, slot });
-            let color = tracer.radiance_from(ray, hit, counters);
+        slots.resize(n, 0);
+        let [dx, dy, dz] = dirs;
+        camera_dirs(self.size, f64::from(j) + 0.5, [dx, dy, dz]);
+        tracer.first_hits(eye::<R>(), [dx, dy, dz], distances, slots);
+        counters.primary_rays += u64::from(self.size);
+        let dirs = dx.iter().zip(dy.iter()).zip(dz.iter());
+        let hits = distances.iter().zip(slots.iter());
+        for (i, (((&x, &y), &z), (&t, &slot))) in dirs.zip(hits).enumerate() {
+            if t == R::infinity() {
+                continue;
+            }
+            let ray = Ray {
+                origin: eye::<R>(),
+                dir: R::Vec::new(x, y, z),
+                from: Ray::<R>::FROM_NO_PRIMITIVE,
+            };
+            let color = tracer.path(ray, Hit { t, slot }, counters);
             put(i, color.clamp(DVec3::ZERO, DVec3::ONE));
         }
     }
@@ -146,6 +155,46 @@ impl Sampler {
             far * g + near,
             far * g + far,
         ])
+    }
+}
+
+/// The camera rays of a row and their first hits, laid out per axis so
+/// that the loops making and testing them run several rays per
+/// instruction (the eye, their common origin, is not stored); kept from
+/// row to row.
+#[derive(Default)]
+pub(super) struct RowRays<R: Real> {
+    dirs: [Vec<R>; 3],
+    distances: Vec<R>,
+    slots: Vec<u32>,
+}
+
+/// The directions of the camera rays through the centres of row `y`'s
+/// pixels ([`camera_ray`]), in AVX2 lanes where the processor has them
+/// (on SSE2 the compiler already runs two `f64` lanes).
+fn camera_dirs<R: Real>(size: u32, y: f64, dirs: [&mut [R]; 3]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2, the one feature it enables.
+        unsafe { camera_dirs_avx2(size, y, dirs) };
+        return;
+    }
+    camera_dirs_in_lanes(size, y, dirs);
+}
+
+/// [`camera_dirs_in_lanes`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn camera_dirs_avx2<R: Real>(size: u32, y: f64, dirs: [&mut [R]; 3]) {
+    camera_dirs_in_lanes(size, y, dirs);
+}
+
+/// [`camera_dirs`], a loop the compiler vectorises.
+#[inline(always)]
+fn camera_dirs_in_lanes<R: Real>(size: u32, y: f64, [dx, dy, dz]: [&mut [R]; 3]) {
+    for (i, ((x, y_), z)) in (0..size).zip(dx.iter_mut().zip(dy.iter_mut()).zip(dz)) {
+        let dir = camera_ray::<R>(size, f64::from(i) + 0.5, y).dir;
+        (*x, *y_, *z) = (dir.x(), dir.y(), dir.z());
     }
 }
 
@@ -275,15 +324,15 @@ mod tests {
             let mut total = Counters::default();
             for j in 0..scene.resolution {
                 let (mut by_row, mut by_pixel) = (Counters::default(), Counters::default());
-                let mut row = Vec::new();
-                sampler.row(&tracer, j, &mut by_row, |i, c| row.push((i, c)));
+                // Starts black, as the renderer's rows do.
+                let mut row = vec![DVec3::ZERO; scene.resolution as usize];
+                let mut rays = RowRays::default();
+                sampler.row(&tracer, j, &mut rays, &mut by_row, |i, c| row[i] = c);
                 let pixels: Vec<_> = (0..scene.resolution)
-                    .map(|i| (i as usize, sampler.pixel(&tracer, (i, j), &mut by_pixel)))
+                    .map(|i| sampler.pixel(&tracer, (i, j), &mut by_pixel))
                     .collect();
-                let bits = |v: &[(usize, DVec3)]| -> Vec<(usize, [u64; 3])> {
-                    v.iter()
-                        .map(|&(i, c)| (i, c.to_array().map(f64::to_bits)))
-                        .collect()
+                let bits = |v: &[DVec3]| -> Vec<[u64; 3]> {
+                    v.iter().map(|c| c.to_array().map(f64::to_bits)).collect()
                 };
                 assert_eq!(bits(&row), bits(&pixels), "spp {spp}, row {j}");
                 assert_eq!(by_row, by_pixel, "spp {spp}, row {j}");

@@ -123,40 +123,31 @@ impl<'a, R: Real> Tracer<'a, R> {
 
     /// The colour seen along a camera ray, before clamping.
     pub fn radiance(&self, ray: Ray<R>, counters: &mut Counters) -> DVec3 {
-        let hit = self.first_hit(&ray);
-        self.radiance_from(ray, hit, counters)
-    }
-
-    /// What a camera ray hits first: [`Tracer::radiance`] is
-    /// [`Tracer::radiance_from`] this hit, so a caller may find the hits
-    /// of many rays before shading any.
-    pub fn first_hit(&self, ray: &Ray<R>) -> Option<Hit<R>> {
-        self.world.closest(ray, R::infinity())
-    }
-
-    /// The colour seen along a camera ray that first hits `first`
-    /// ([`Tracer::first_hit`] of it), before clamping. A ray that hits
-    /// nothing sees black; that case is inlined into the caller's loop
-    /// (most camera rays of a small scene miss, and the path's entry and
-    /// exit cost more than the rest of such a pixel), the path of a hit
-    /// is not.
-    #[inline(always)]
-    pub fn radiance_from(
-        &self,
-        ray: Ray<R>,
-        first: Option<Hit<R>>,
-        counters: &mut Counters,
-    ) -> DVec3 {
         counters.primary_rays += 1;
-        match first {
+        match self.world.closest(&ray, R::infinity()) {
             None => DVec3::ZERO,
             Some(hit) => self.path(ray, hit, counters),
         }
     }
 
-    /// [`Tracer::radiance_from`] a camera ray that hits `first`.
+    /// What camera rays that leave `eye` along `dirs` (per axis) hit
+    /// first, as [`Tracer::radiance`] finds it: `distances[k]` is ∞ where
+    /// ray `k` misses (it sees black), else the hit's `t`, and `slots[k]`
+    /// its slot ([`World::closest_fan`]). A caller finds the hits of many
+    /// rays before shading any with [`Tracer::path`].
+    pub fn first_hits(&self, eye: R::Vec, dirs: [&[R]; 3], distances: &mut [R], slots: &mut [u32]) {
+        distances.fill(R::infinity());
+        let from = Ray::<R>::FROM_NO_PRIMITIVE;
+        self.world.closest_fan(eye, from, dirs, distances, slots);
+    }
+
+    /// The colour seen along camera ray `ray`, which first hits `first`,
+    /// before clamping: [`Tracer::radiance`] of a ray that hits, except
+    /// that the caller counts the camera ray
+    /// ([`Counters::primary_rays`]). Out of line: most camera rays of a
+    /// small scene miss, and their loop stays small.
     #[inline(never)]
-    fn path(&self, mut ray: Ray<R>, first: Hit<R>, counters: &mut Counters) -> DVec3 {
+    pub fn path(&self, mut ray: Ray<R>, first: Hit<R>, counters: &mut Counters) -> DVec3 {
         let mut color = DVec3::ZERO;
         let mut weight = 1.0;
         let mut next = Some(first);
