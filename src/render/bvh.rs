@@ -345,7 +345,10 @@ impl Bvh {
         }
     }
 
-    /// Whether any of `prims` lies on the ray in `(0, t_max)`.
+    /// Whether any of `prims` lies on the ray in `(0, t_max)`. Marked
+    /// `inline`: the tracer's path loop, which makes the shadow rays,
+    /// then holds the traversal without a call per ray.
+    #[inline]
     pub fn occluded<R: Real>(&self, prims: &[Prim<R>], ray: &Ray<R>, t_max: R) -> bool {
         let slab = Slab::new(ray);
         let reach = reach_f32(t_max);
