@@ -729,12 +729,12 @@ impl Bins {
                 bin.1 += 1;
             }
         };
-        let (pairs, rest) = items.as_chunks::<2>();
-        for [even, odd] in pairs {
-            add(0, even);
-            add(1, odd);
+        let mut pairs = items.chunks_exact(2);
+        for pair in &mut pairs {
+            add(0, &pair[0]);
+            add(1, &pair[1]);
         }
-        for item in rest {
+        for item in pairs.remainder() {
             add(0, item);
         }
         let [mut bins, odd] = sets;
