@@ -29,7 +29,7 @@
 //! rays need any hit, not the nearest).
 
 use arrayvec::ArrayVec;
-use glam::{DVec3, UVec3, Vec3A, Vec4};
+use glam::{DVec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::geometry::Ray;
@@ -345,7 +345,10 @@ impl Bvh {
         }
     }
 
-    /// Whether any of `prims` lies on the ray in `(0, t_max)`.
+    /// Whether any of `prims` lies on the ray in `(0, t_max)`. Marked
+    /// `inline`: the tracer's path loop, which makes the shadow rays,
+    /// then holds the traversal without a call per ray.
+    #[inline]
     pub fn occluded<R: Real>(&self, prims: &[Prim<R>], ray: &Ray<R>, t_max: R) -> bool {
         let slab = Slab::new(ray);
         let reach = reach_f32(t_max);
@@ -609,7 +612,7 @@ fn best_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usi
         worth_splitting(cost).then(|| {
             let mut split = 0;
             for i in 0..n {
-                if (bins.of(&items[i])[axis] as usize) < bin {
+                if (bins.along(&items[i], axis) as usize) < bin {
                     items.swap(i, split);
                     split += 1;
                 }
@@ -632,14 +635,19 @@ fn sweep_split(items: &[Item]) -> Option<(f64, [u8; SWEEP_MAX], usize)> {
     let centroids: ArrayVec<Vec3A, SWEEP_MAX> = items.iter().map(Item::centroid).collect();
     let mut best: Option<(f64, [u8; SWEEP_MAX], usize)> = None;
     for axis in 0..3 {
+        // Sorted as integers: the centroid's bits in `total_cmp`'s order
+        // above the item's index, so ties keep the items' order and an
+        // integer sort (a sorting network for so few) does the work.
+        let mut keys: ArrayVec<u64, SWEEP_MAX> = centroids
+            .iter()
+            .enumerate()
+            .map(|(k, c)| u64::from(total_order_bits(c[axis])) << 32 | k as u64)
+            .collect();
+        keys.sort_unstable();
         let mut order = [0u8; SWEEP_MAX];
-        for (k, at) in order.iter_mut().enumerate() {
-            *at = k as u8;
+        for (at, key) in order.iter_mut().zip(&keys) {
+            *at = *key as u8;
         }
-        order[..n].sort_unstable_by(|&a, &b| {
-            let (ca, cb) = (centroids[a as usize][axis], centroids[b as usize][axis]);
-            ca.total_cmp(&cb).then(a.cmp(&b))
-        });
         let mut right_area = [0.0; SWEEP_MAX];
         let mut right = Aabb::EMPTY;
         for k in (1..n).rev() {
@@ -683,26 +691,57 @@ impl Bins {
         }
     }
 
-    /// The item's bin along each axis at once (`as` saturates: a NaN or
-    /// negative is bin 0).
+    /// The item's bin along each axis at once: its scaled centroid
+    /// clamped to `[0, BINS - 1]` (a NaN, from an axis of zero extent,
+    /// becomes 0: the maximum takes the second operand when one is NaN,
+    /// in SSE and in `f32::max` alike) and truncated, the bin
+    /// [`Bins::along`] finds one axis at a time.
     #[inline(always)]
     fn of(&self, item: &Item) -> [u32; 3] {
-        ((item.centroid() - self.origin) * self.scale)
-            .as_uvec3()
-            .min(UVec3::splat(BINS as u32 - 1))
-            .to_array()
+        let scaled = ((item.centroid() - self.origin) * self.scale)
+            .max(Vec3A::ZERO)
+            .min(Vec3A::splat((BINS - 1) as f32));
+        truncate(scaled)
+    }
+
+    /// The item's bin along one axis (`as` saturates: a NaN or negative
+    /// is bin 0).
+    #[inline(always)]
+    fn along(&self, item: &Item, axis: usize) -> u32 {
+        let centroid = item.lo[axis] + item.hi[axis];
+        let scaled = (centroid - self.origin[axis]) * self.scale[axis];
+        (scaled as u32).min(BINS as u32 - 1)
     }
 
     /// The cheapest split between two bins: its SAH cost, the axis and
     /// the first bin of the second side. An axis along which all
     /// centroids share one coordinate has nothing to split and is skipped.
     fn best_split(&self, items: &[Item]) -> Option<(f64, usize, usize)> {
-        let mut bins = [[(Aabb::EMPTY, 0usize); BINS]; 3];
-        for item in items {
-            for (axis_bins, bin) in bins.iter_mut().zip(self.of(item)) {
+        // Two sets of bins, filled by alternate items and then merged (a
+        // union and a sum, exact in any order): neighbouring items mostly
+        // share a bin, and with one set each item's update would wait for
+        // the store of the one before.
+        let mut sets = [[[(Aabb::EMPTY, 0usize); BINS]; 3]; 2];
+        let mut add = |set: usize, item: &Item| {
+            for (axis_bins, bin) in sets[set].iter_mut().zip(self.of(item)) {
                 let bin = &mut axis_bins[bin as usize];
                 bin.0.grow(item.lo(), item.hi());
                 bin.1 += 1;
+            }
+        };
+        let mut pairs = items.chunks_exact(2);
+        for pair in &mut pairs {
+            add(0, &pair[0]);
+            add(1, &pair[1]);
+        }
+        for item in pairs.remainder() {
+            add(0, item);
+        }
+        let [mut bins, odd] = sets;
+        for (axis_bins, odd_bins) in bins.iter_mut().zip(&odd) {
+            for (bin, odd_bin) in axis_bins.iter_mut().zip(odd_bins) {
+                bin.0.grow(odd_bin.0.lo, odd_bin.0.hi);
+                bin.1 += odd_bin.1;
             }
         }
         let mut best: Option<(f64, usize, usize)> = None;
@@ -733,6 +772,31 @@ impl Bins {
             }
         }
         best
+    }
+}
+
+/// The first three lanes of `v`, each in `[0, 2²³)`, truncated to
+/// integers in SIMD lanes, where three `as` conversions are three scalar
+/// ones with saturation checks: adding 2²³ leaves a lane's integer part in
+/// the low bits of the sum's significand, rounded to nearest, so one is
+/// taken off where the sum rounded up.
+#[inline(always)]
+fn truncate(v: Vec3A) -> [u32; 3] {
+    let shift = Vec3A::splat(8_388_608.0);
+    let rounded = v + shift;
+    let rounded_up = (rounded - shift).cmpgt(v);
+    let floor = rounded - Vec3A::select(rounded_up, Vec3A::ONE, Vec3A::ZERO);
+    floor.to_array().map(|lane| lane.to_bits() & 0x7F_FFFF)
+}
+
+/// `x`'s bits as an unsigned integer whose order is [`f32::total_cmp`]'s.
+#[inline(always)]
+fn total_order_bits(x: f32) -> u32 {
+    let bits = x.to_bits();
+    if bits >> 31 == 1 {
+        !bits
+    } else {
+        bits | 1 << 31
     }
 }
 
@@ -799,6 +863,51 @@ mod tests {
             assert!(f64::from(lo[axis]) <= lo64[axis], "{axis}");
             assert!(f64::from(hi[axis]) >= hi64[axis], "{axis}");
         }
+    }
+
+    #[test]
+    fn binning_in_lanes_agrees_with_one_axis_at_a_time() {
+        // Bins over centroids spread along x, none along y (a scale of
+        // ∞, so `0 · ∞ = NaN`), and along z over a narrower range than the
+        // items' (some fall below it, some beyond).
+        let bins = Bins::over(&Aabb {
+            lo: Vec3A::new(-1.0, 2.0, 0.5),
+            hi: Vec3A::new(3.0, 2.0, 0.75),
+        });
+        let mut seen = [[false; BINS]; 3];
+        for k in 0..=4000 {
+            let x = -1.5 + k as f32 * 1e-3;
+            let c = Vec3A::new(x, 1.0, x);
+            let item = Item::new(c, c, 0);
+            let lanes = bins.of(&item);
+            for axis in 0..3 {
+                assert_eq!(lanes[axis], bins.along(&item, axis), "{x} {axis}");
+                seen[axis][lanes[axis] as usize] = true;
+            }
+        }
+        assert!(seen[0].iter().all(|&s| s), "every bin along x is used");
+        assert!(seen[1][0] && seen[2][0] && seen[2][BINS - 1]);
+    }
+
+    #[test]
+    fn total_order_bits_sort_as_total_cmp_does() {
+        let mut xs = [
+            f32::NAN,
+            1.5,
+            -0.0,
+            f32::INFINITY,
+            0.0,
+            -f32::NAN,
+            f32::MIN_POSITIVE,
+            -1.5,
+            f32::NEG_INFINITY,
+            -f32::from_bits(1),
+            f32::from_bits(1),
+        ];
+        let mut by_bits = xs;
+        xs.sort_by(f32::total_cmp);
+        by_bits.sort_by_key(|&x| total_order_bits(x));
+        assert_eq!(xs.map(f32::to_bits), by_bits.map(f32::to_bits));
     }
 
     #[test]
