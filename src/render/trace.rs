@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 
 use super::geometry::{offset_origin, Ray, Shape};
 use super::real::{Real, Vector};
-use super::world::{Accel, Hit, Prim, World};
+use super::world::{Accel, Fan, Hit, Prim, World};
 use crate::ir;
 
 /// The share of a surface's colour that is lit without any light.
@@ -137,8 +137,13 @@ impl<'a, R: Real> Tracer<'a, R> {
     /// rays before shading any with [`Tracer::path`].
     pub fn first_hits(&self, eye: R::Vec, dirs: [&[R]; 3], distances: &mut [R], slots: &mut [u32]) {
         distances.fill(R::infinity());
-        let from = Ray::<R>::FROM_NO_PRIMITIVE;
-        self.world.closest_fan(eye, from, dirs, distances, slots);
+        self.world.closest_fan(Fan {
+            origin: eye,
+            from: Ray::<R>::FROM_NO_PRIMITIVE,
+            dirs,
+            distances,
+            slots,
+        });
     }
 
     /// The colour seen along camera ray `ray`, which first hits `first`,

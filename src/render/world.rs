@@ -54,6 +54,18 @@ pub struct World<R: Real> {
     bvh: Option<Bvh>,
 }
 
+/// Rays that leave one `origin` (and primitive `from`, or
+/// [`Ray::FROM_NO_PRIMITIVE`]) along directions laid out per axis, ray `k`
+/// along `(dirs[0][k], dirs[1][k], dirs[2][k])`, with room for what they
+/// hit: `distances[k]` holds ray `k`'s `t_max` on entry.
+pub struct Fan<'a, R: Real> {
+    pub origin: R::Vec,
+    pub from: u32,
+    pub dirs: [&'a [R]; 3],
+    pub distances: &'a mut [R],
+    pub slots: &'a mut [u32],
+}
+
 impl<R: Real> World<R> {
     /// Convert the IR's objects, build a hierarchy if `accel` asks for one
     /// and lay the primitives out in its leaf order.
@@ -113,12 +125,9 @@ impl<R: Real> World<R> {
         best
     }
 
-    /// [`World::closest`] of many rays at once: rays that leave `origin`
-    /// (and primitive `from`, or [`Ray::FROM_NO_PRIMITIVE`]) along
-    /// `(x[k], y[k], z[k])`, each with its own `t_max`, which
-    /// `distances[k]` holds on entry. Where ray `k` hits, `distances[k]`
-    /// becomes the hit's `t` and `slots[k]` its slot; elsewhere neither
-    /// changes.
+    /// [`World::closest`] of every ray of `fan`: where ray `k` hits,
+    /// `fan.distances[k]` becomes the hit's `t` and `fan.slots[k]` its
+    /// slot; elsewhere neither changes.
     ///
     /// Without a hierarchy the loops run over the rays, one primitive at a
     /// time, each ray a lane of the same branch-free test
@@ -128,22 +137,16 @@ impl<R: Real> World<R> {
     /// scan. The compiler vectorises these loops for AVX2 (four `f64`
     /// lanes), chosen at run time; on SSE2 alone it judges two lanes not
     /// worth it and the same loops run a ray at a time.
-    pub fn closest_fan(
-        &self,
-        origin: R::Vec,
-        from: u32,
-        dirs: [&[R]; 3],
-        distances: &mut [R],
-        slots: &mut [u32],
-    ) {
+    pub fn closest_fan(&self, fan: Fan<'_, R>) {
         if let Some(bvh) = &self.bvh {
-            let [x, y, z] = dirs;
+            let [x, y, z] = fan.dirs;
             let rays = x.iter().zip(y).zip(z);
-            for (((&x, &y), &z), (distance, slot)) in rays.zip(distances.iter_mut().zip(slots)) {
+            let hits = fan.distances.iter_mut().zip(fan.slots);
+            for (((&x, &y), &z), (distance, slot)) in rays.zip(hits) {
                 let ray = Ray {
-                    origin,
+                    origin: fan.origin,
                     dir: R::Vec::new(x, y, z),
-                    from,
+                    from: fan.from,
                 };
                 if let Some(hit) = self.closest_in(bvh, &ray, *distance) {
                     (*distance, *slot) = (hit.t, hit.slot);
@@ -154,37 +157,30 @@ impl<R: Real> World<R> {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the processor has AVX2, the one feature it enables.
-            unsafe { self.scan_fan_avx2(origin, from, dirs, distances, slots) };
+            unsafe { self.scan_fan_avx2(fan) };
             return;
         }
-        self.scan_fan(origin, from, dirs, distances, slots);
+        self.scan_fan(fan);
     }
 
     /// [`World::scan_fan`] compiled for AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn scan_fan_avx2(
-        &self,
-        origin: R::Vec,
-        from: u32,
-        dirs: [&[R]; 3],
-        distances: &mut [R],
-        slots: &mut [u32],
-    ) {
-        self.scan_fan(origin, from, dirs, distances, slots);
+    unsafe fn scan_fan_avx2(&self, fan: Fan<'_, R>) {
+        self.scan_fan(fan);
     }
 
     /// [`World::closest_fan`] without a hierarchy: every primitive, over
     /// every ray.
     #[inline(always)]
-    fn scan_fan(
-        &self,
-        origin: R::Vec,
-        from: u32,
-        [x, y, z]: [&[R]; 3],
-        distances: &mut [R],
-        slots: &mut [u32],
-    ) {
+    fn scan_fan(&self, fan: Fan<'_, R>) {
+        let Fan {
+            origin,
+            from,
+            dirs: [x, y, z],
+            distances,
+            slots,
+        } = fan;
         let ray = |(&x, &y), &z| Ray {
             origin,
             dir: R::Vec::new(x, y, z),
@@ -374,15 +370,19 @@ mod tests {
                             world.closest(&ray, t_max).map(|hit| (hit.t, hit.slot))
                         })
                         .collect();
-                    type Fan<'a, R> = &'a dyn Fn([&[R]; 3], &mut [R], &mut [u32]);
-                    let fans: [Fan<R>; 2] = [
-                        &|d, t, s| world.closest_fan(origin, from, d, t, s),
-                        &|d, t, s| world.scan_fan(origin, from, d, t, s),
-                    ];
-                    for fan in fans {
+                    type Finder<'a, R> = &'a dyn Fn(Fan<'_, R>);
+                    let finders: [Finder<R>; 2] =
+                        [&|fan| world.closest_fan(fan), &|fan| world.scan_fan(fan)];
+                    for find in finders {
                         let mut distances = vec![t_max; dirs.len()];
                         let mut slots = vec![u32::MAX; dirs.len()];
-                        fan(axes, &mut distances, &mut slots);
+                        find(Fan {
+                            origin,
+                            from,
+                            dirs: axes,
+                            distances: &mut distances,
+                            slots: &mut slots,
+                        });
                         let found: Vec<Option<(R, u32)>> = distances
                             .iter()
                             .zip(&slots)
