@@ -116,7 +116,7 @@ pub struct SphereApproach<R: Real> {
     /// `f·d`, with `f = o − c`.
     b: R,
     /// `r² − l·l`, with `l = f − b·d`: the discriminant.
-    pub delta: R,
+    delta: R,
     /// `f·f − r²`.
     c: R,
 }
