@@ -708,8 +708,7 @@ impl Bins {
     /// is bin 0).
     #[inline(always)]
     fn along(&self, item: &Item, axis: usize) -> u32 {
-        let centroid = item.lo[axis] + item.hi[axis];
-        let scaled = (centroid - self.origin[axis]) * self.scale[axis];
+        let scaled = (item.centroid()[axis] - self.origin[axis]) * self.scale[axis];
         (scaled as u32).min(BINS as u32 - 1)
     }
 
