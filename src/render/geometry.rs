@@ -33,6 +33,17 @@ impl<R: Real> Ray<R> {
     /// `from` of a ray that left no primitive (a camera ray): no slot, as
     /// a scene holds far fewer primitives ([`crate::limits::MAX_OBJECTS`]).
     pub const FROM_NO_PRIMITIVE: u32 = u32::MAX;
+
+    /// The ray from `origin` along `(x, y, z)`, a direction read from
+    /// three per-axis lanes (a row's camera rays, a [`super::world::Fan`]).
+    #[inline(always)]
+    pub fn from_lanes(origin: R::Vec, (x, y, z): (R, R, R), from: u32) -> Ray<R> {
+        Ray {
+            origin,
+            dir: R::Vec::new(x, y, z),
+            from,
+        }
+    }
 }
 
 /// A sphere.

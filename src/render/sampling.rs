@@ -10,8 +10,6 @@
 
 use glam::DVec3;
 
-use super::geometry::Ray;
-use super::prim::Hit;
 use super::real::{Real, Vector};
 use super::trace::{Counters, Tracer};
 use super::{camera_ray, eye};
@@ -108,20 +106,14 @@ impl Sampler {
         camera_dirs(self.size, f64::from(j) + 0.5, [dx, dy, dz]);
         tracer.first_hits(eye::<R>(), [dx, dy, dz], distances, slots);
         counters.primary_rays += u64::from(self.size);
-        let dirs = dx.iter().zip(dy.iter()).zip(dz.iter());
-        let hits = distances.iter().zip(slots.iter());
-        for (i, (((&x, &y), &z), (&t, &slot))) in dirs.zip(hits).enumerate() {
-            if t == R::infinity() {
-                continue;
-            }
-            let ray = Ray {
-                origin: eye::<R>(),
-                dir: R::Vec::new(x, y, z),
-                from: Ray::<R>::FROM_NO_PRIMITIVE,
-            };
-            let color = tracer.path(ray, Hit { t, slot }, counters);
-            put(i, color.clamp(DVec3::ZERO, DVec3::ONE));
-        }
+        tracer.paths(
+            eye::<R>(),
+            [dx, dy, dz],
+            distances,
+            slots,
+            counters,
+            |i, color| put(i, color.clamp(DVec3::ZERO, DVec3::ONE)),
+        );
     }
 
     /// The clamped colour at the top-left corner of pixel (x, y): the

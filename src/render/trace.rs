@@ -152,7 +152,45 @@ impl<'a, R: Real> Tracer<'a, R> {
     /// ([`Counters::primary_rays`]). Out of line: most camera rays of a
     /// small scene miss, and their loop stays small.
     #[inline(never)]
-    pub fn path(&self, mut ray: Ray<R>, first: Hit<R>, counters: &mut Counters) -> DVec3 {
+    pub fn path(&self, ray: Ray<R>, first: Hit<R>, counters: &mut Counters) -> DVec3 {
+        self.trace_path(ray, first, counters)
+    }
+
+    /// [`Tracer::path`] of every camera ray [`Tracer::first_hits`] found
+    /// a hit for (`distances[k]` finite), in order, each colour handed to
+    /// `put` with the ray's index; rays that miss are passed over. One
+    /// call for a row, out of line: what every path reads from the tracer
+    /// (the primitives, materials and lights) is loaded once per row, not
+    /// once per pixel, and the counts are tallied in locals and added to
+    /// `counters` once.
+    #[inline(never)]
+    pub fn paths(
+        &self,
+        eye: R::Vec,
+        dirs: [&[R]; 3],
+        distances: &[R],
+        slots: &[u32],
+        counters: &mut Counters,
+        mut put: impl FnMut(usize, DVec3),
+    ) {
+        let mut tally = Counters::default();
+        let [x, y, z] = dirs;
+        let rays = x.iter().zip(y).zip(z);
+        let hits = distances.iter().zip(slots);
+        for (k, (((&x, &y), &z), (&t, &slot))) in rays.zip(hits).enumerate() {
+            if t == R::infinity() {
+                continue;
+            }
+            let ray = Ray::from_lanes(eye, (x, y, z), Ray::<R>::FROM_NO_PRIMITIVE);
+            put(k, self.trace_path(ray, Hit { t, slot }, &mut tally));
+        }
+        *counters += tally;
+    }
+
+    /// The one definition of [`Tracer::path`], inlined into it and into
+    /// [`Tracer::paths`].
+    #[inline(always)]
+    fn trace_path(&self, mut ray: Ray<R>, first: Hit<R>, counters: &mut Counters) -> DVec3 {
         let mut color = DVec3::ZERO;
         let mut weight = 1.0;
         let mut next = Some(first);
@@ -198,6 +236,7 @@ impl<'a, R: Real> Tracer<'a, R> {
 
     /// The hit point (on the surface to rounding), the face-forward normal
     /// and, for textured objects, the texture coordinates.
+    #[inline(always)]
     fn surface(&self, ray: &Ray<R>, t: R, prim: &Prim<R>, material: &ir::Material) -> Surface<R> {
         let along = ray.origin + ray.dir * t;
         let textured = material.texture.is_some();
@@ -233,6 +272,7 @@ impl<'a, R: Real> Tracer<'a, R> {
     }
 
     /// The surface colour: the texel under the hit, or the material colour.
+    #[inline(always)]
     fn albedo(
         &self,
         material: &ir::Material,
@@ -253,6 +293,7 @@ impl<'a, R: Real> Tracer<'a, R> {
 
     /// Ambient plus every light a shadow ray reaches, times the albedo.
     /// `color` and `weight` are the path so far, for the saturation skip.
+    #[inline(always)]
     fn local(
         &self,
         surface: &Surface<R>,

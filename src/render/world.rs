@@ -143,11 +143,7 @@ impl<R: Real> World<R> {
             let rays = x.iter().zip(y).zip(z);
             let hits = fan.distances.iter_mut().zip(fan.slots);
             for (((&x, &y), &z), (distance, slot)) in rays.zip(hits) {
-                let ray = Ray {
-                    origin: fan.origin,
-                    dir: R::Vec::new(x, y, z),
-                    from: fan.from,
-                };
+                let ray = Ray::from_lanes(fan.origin, (x, y, z), fan.from);
                 if let Some(hit) = self.closest_in(bvh, &ray, *distance) {
                     (*distance, *slot) = (hit.t, hit.slot);
                 }
@@ -181,11 +177,7 @@ impl<R: Real> World<R> {
             distances,
             slots,
         } = fan;
-        let ray = |(&x, &y), &z| Ray {
-            origin,
-            dir: R::Vec::new(x, y, z),
-            from,
-        };
+        let ray = |(&x, &y), &z| Ray::from_lanes(origin, (x, y, z), from);
         for (index, prim) in self.prims.iter().enumerate() {
             let index = index as u32;
             let from_here = from == index;
