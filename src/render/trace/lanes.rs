@@ -1,0 +1,312 @@
+//! The first bounces of a row's camera rays, shaded several at a time.
+//!
+//! In a scene of a few primitives tested one by one
+//! ([`World::scans_few`](crate::render::world::World::scans_few)),
+//! [`Tracer::paths`] groups a row's first hits by the primitive they hit
+//! and runs each group's bounce as loops over its rays, laid out per axis
+//! (structure of arrays): the surfaces; the albedo, one texel at a time;
+//! then for each light the shadow rays' set-up, their any-hit test against
+//! every primitive and the light they let through. The compiler vectorises
+//! these loops for AVX2 (four `f64` lanes), chosen at run time as for the
+//! first hits. Each step calls the function the tracer calls for one ray
+//! (`sphere_surface`, `rect_surface`, [`Tracer::albedo`],
+//! [`Tracer::light_step`], and the shapes' branch-free tests as
+//! [`World::closest_fan`](crate::render::world::World::closest_fan)
+//! does), with the path's colour and weight at their values at a first
+//! bounce, and a shadow ray that is not cast changes nothing, so every
+//! value has the bits a ray at a time gives it. Each path then goes on
+//! ray by ray from its first bounce ([`Tracer::onwards`]).
+
+use glam::DVec3;
+
+use super::{Counters, Light, Surface, Tracer, AMBIENT};
+use crate::render::geometry::{Ray, Rect, Shape};
+use crate::render::real::{Real, Vector};
+
+/// A row's camera rays, their directions per axis, and what they first
+/// hit, as [`Tracer::first_hits`] found it (`distances[k]` is ∞ where ray
+/// `k` misses).
+pub struct FirstHits<'a, R: Real> {
+    pub dirs: [&'a [R]; 3],
+    pub distances: &'a [R],
+    pub slots: &'a [u32],
+}
+
+/// Room for the bounces of a group of rays, one entry per ray (per axis
+/// for vectors, per channel for colours); kept from row to row.
+#[derive(Default)]
+pub struct Lanes<R: Real> {
+    /// The rays of the row that hit each primitive, by index.
+    groups: Vec<Vec<u32>>,
+    /// The ray's index in its row.
+    pixel: Vec<u32>,
+    dir: [Vec<R>; 3],
+    t: Vec<R>,
+    point: [Vec<R>; 3],
+    normal: [Vec<R>; 3],
+    error_scale: Vec<R>,
+    uv: [Vec<f64>; 2],
+    albedo: [Vec<f64>; 3],
+    local: [Vec<f64>; 3],
+    /// One light's shadow rays.
+    origin: [Vec<R>; 3],
+    shadow_dir: [Vec<R>; 3],
+    reach: Vec<R>,
+    lit: [Vec<f64>; 3],
+    cast: Vec<bool>,
+    skipped: Vec<bool>,
+    blocked: Vec<bool>,
+}
+
+impl<R: Real> Lanes<R> {
+    /// Sorts the rays of `hits` that hit something into one list per
+    /// primitive, of `prims` (in one pass over the row).
+    fn sort(&mut self, hits: &FirstHits<'_, R>, prims: usize) {
+        self.groups.resize_with(prims, Vec::new);
+        for group in &mut self.groups {
+            group.clear();
+        }
+        for (k, (&t, &slot)) in hits.distances.iter().zip(hits.slots).enumerate() {
+            if t != R::infinity() {
+                self.groups[slot as usize].push(k as u32);
+            }
+        }
+    }
+
+    /// Takes the rays that hit the primitive in `slot` (after
+    /// [`Lanes::sort`]), and makes room for their bounces; returns how
+    /// many there are.
+    fn gather(&mut self, hits: &FirstHits<'_, R>, slot: u32) -> usize {
+        std::mem::swap(&mut self.pixel, &mut self.groups[slot as usize]);
+        let n = self.pixel.len();
+        // Buffers only grow, so that a smaller group does not refill them.
+        fn fit<T: Copy>(buffer: &mut Vec<T>, n: usize, fill: T) {
+            if buffer.len() < n {
+                buffer.resize(n, fill);
+            }
+        }
+        let reals = (self.dir.iter_mut().chain(&mut self.point))
+            .chain(&mut self.normal)
+            .chain(&mut self.origin)
+            .chain(&mut self.shadow_dir)
+            .chain([&mut self.t, &mut self.error_scale, &mut self.reach]);
+        for buffer in reals {
+            fit(buffer, n, R::zero());
+        }
+        let channels = (self.uv.iter_mut().chain(&mut self.albedo))
+            .chain(&mut self.local)
+            .chain(&mut self.lit);
+        for buffer in channels {
+            fit(buffer, n, 0.0);
+        }
+        for buffer in [&mut self.cast, &mut self.skipped, &mut self.blocked] {
+            fit(buffer, n, false);
+        }
+        let [x, y, z] = hits.dirs;
+        for (i, &k) in self.pixel.iter().enumerate() {
+            let k = k as usize;
+            (self.dir[0][i], self.dir[1][i], self.dir[2][i]) = (x[k], y[k], z[k]);
+            self.t[i] = hits.distances[k];
+        }
+        n
+    }
+}
+
+impl<R: Real> Tracer<'_, R> {
+    /// [`Tracer::paths`] in a scene of a few primitives: the first bounces
+    /// of each primitive's rays in lanes, then each path on its own.
+    pub(super) fn first_bounces(
+        &self,
+        eye: R::Vec,
+        hits: FirstHits<'_, R>,
+        lanes: &mut Lanes<R>,
+        counters: &mut Counters,
+        put: &mut impl FnMut(usize, DVec3),
+    ) {
+        lanes.sort(&hits, self.world.prims.len());
+        for (slot, prim) in self.world.prims.iter().enumerate() {
+            let slot = slot as u32;
+            let n = lanes.gather(&hits, slot);
+            if n == 0 {
+                continue;
+            }
+            self.bounce_lanes(eye, slot, lanes, counters);
+            let k = self.world.materials[prim.material as usize].reflectivity;
+            for i in 0..n {
+                let at = |v: &[Vec<R>; 3]| R::Vec::new(v[0][i], v[1][i], v[2][i]);
+                let surface = Surface {
+                    point: at(&lanes.point),
+                    normal: at(&lanes.normal),
+                    uv: None,
+                    error_scale: lanes.error_scale[i],
+                };
+                let ray = Ray::from_lanes(
+                    eye,
+                    (lanes.dir[0][i], lanes.dir[1][i], lanes.dir[2][i]),
+                    Ray::<R>::FROM_NO_PRIMITIVE,
+                );
+                let [r, g, b] = &lanes.local;
+                let local = DVec3::new(r[i], g[i], b[i]);
+                let color = self.onwards(ray, slot, surface, local, k, counters);
+                put(lanes.pixel[i] as usize, color);
+            }
+        }
+    }
+
+    /// The first bounce of the rays `lanes` holds, which hit the primitive
+    /// in `slot`: their local light, in `lanes.local`. In AVX2 lanes where
+    /// the processor has them.
+    fn bounce_lanes(&self, eye: R::Vec, slot: u32, lanes: &mut Lanes<R>, counters: &mut Counters) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2, the one feature it enables.
+            unsafe { self.bounce_lanes_avx2(eye, slot, lanes, counters) };
+            return;
+        }
+        self.bounce_in_lanes(eye, slot, lanes, counters);
+    }
+
+    /// [`Tracer::bounce_in_lanes`] compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn bounce_lanes_avx2(
+        &self,
+        eye: R::Vec,
+        slot: u32,
+        lanes: &mut Lanes<R>,
+        counters: &mut Counters,
+    ) {
+        self.bounce_in_lanes(eye, slot, lanes, counters);
+    }
+
+    /// [`Tracer::bounce_lanes`], loops the compiler vectorises.
+    #[inline(always)]
+    fn bounce_in_lanes(
+        &self,
+        eye: R::Vec,
+        slot: u32,
+        lanes: &mut Lanes<R>,
+        counters: &mut Counters,
+    ) {
+        let prim = &self.world.prims[slot as usize];
+        let material = &self.world.materials[prim.material as usize];
+        let textured = material.texture.is_some();
+        // One loop per shape and per texturing, so that none branches.
+        match (&prim.shape, textured) {
+            (Shape::Sphere(s), false) => {
+                surfaces(lanes, eye, |ray, t| super::sphere_surface(s, ray, t, false))
+            }
+            (Shape::Sphere(s), true) => {
+                surfaces(lanes, eye, |ray, t| super::sphere_surface(s, ray, t, true))
+            }
+            (Shape::Rect(r), false) => {
+                let r: Rect<R> = **r;
+                surfaces(lanes, eye, |ray, t| super::rect_surface(&r, ray, t, false));
+            }
+            (Shape::Rect(r), true) => {
+                let r: Rect<R> = **r;
+                surfaces(lanes, eye, |ray, t| super::rect_surface(&r, ray, t, true));
+            }
+        }
+        let n = lanes.pixel.len();
+        for i in 0..n {
+            let uv = textured.then(|| (lanes.uv[0][i], lanes.uv[1][i]));
+            let albedo = self.albedo(material, uv, counters);
+            let local = albedo * AMBIENT;
+            for c in 0..3 {
+                lanes.albedo[c][i] = albedo[c];
+                lanes.local[c][i] = local[c];
+            }
+        }
+        for light in &self.lights {
+            self.light_steps(light, slot, lanes);
+            let count = |flags: &[bool]| flags.iter().filter(|&&flag| flag).count() as u64;
+            counters.shadow_rays_skipped += count(&lanes.skipped[..n]);
+            counters.shadow_rays += count(&lanes.cast[..n]);
+            self.world.occluded_lanes(
+                lanes.origin.each_ref().map(|v| &v[..n]),
+                lanes.shadow_dir.each_ref().map(|v| &v[..n]),
+                &lanes.reach[..n],
+                slot,
+                &mut lanes.blocked[..n],
+            );
+            let cast = &lanes.cast[..n];
+            let blocked = &lanes.blocked[..n];
+            for (local, lit) in lanes.local.iter_mut().zip(&lanes.lit) {
+                let (local, lit) = (&mut local[..n], &lit[..n]);
+                for i in 0..n {
+                    local[i] = if cast[i] & !blocked[i] {
+                        local[i] + lit[i]
+                    } else {
+                        local[i]
+                    };
+                }
+            }
+        }
+    }
+
+    /// [`Tracer::light_step`] of `light` at every surface of `lanes`, on
+    /// the primitive in `slot`, at a first bounce (the path's colour black,
+    /// its weight 1).
+    #[inline(always)]
+    fn light_steps(&self, light: &Light<R>, slot: u32, lanes: &mut Lanes<R>) {
+        let n = lanes.pixel.len();
+        let [px, py, pz] = lanes.point.each_ref().map(|v| &v[..n]);
+        let [nx, ny, nz] = lanes.normal.each_ref().map(|v| &v[..n]);
+        let [ar, ag, ab] = lanes.albedo.each_ref().map(|v| &v[..n]);
+        let [lr, lg, lb] = lanes.local.each_ref().map(|v| &v[..n]);
+        let error_scale = &lanes.error_scale[..n];
+        let [ox, oy, oz] = lanes.origin.each_mut().map(|v| &mut v[..n]);
+        let [sx, sy, sz] = lanes.shadow_dir.each_mut().map(|v| &mut v[..n]);
+        let [tr, tg, tb] = lanes.lit.each_mut().map(|v| &mut v[..n]);
+        let reach = &mut lanes.reach[..n];
+        let cast = &mut lanes.cast[..n];
+        let skipped = &mut lanes.skipped[..n];
+        for i in 0..n {
+            let surface = Surface {
+                point: R::Vec::new(px[i], py[i], pz[i]),
+                normal: R::Vec::new(nx[i], ny[i], nz[i]),
+                uv: None,
+                error_scale: error_scale[i],
+            };
+            let albedo = DVec3::new(ar[i], ag[i], ab[i]);
+            let local = DVec3::new(lr[i], lg[i], lb[i]);
+            let step = self.light_step(light, &surface, slot, albedo, DVec3::ZERO, 1.0, local);
+            let (origin, dir) = (step.ray.origin, step.ray.dir);
+            (ox[i], oy[i], oz[i]) = (origin.x(), origin.y(), origin.z());
+            (sx[i], sy[i], sz[i]) = (dir.x(), dir.y(), dir.z());
+            (tr[i], tg[i], tb[i]) = (step.lit.x, step.lit.y, step.lit.z);
+            reach[i] = step.reach;
+            cast[i] = step.cast;
+            skipped[i] = step.skipped;
+        }
+    }
+}
+
+/// The surfaces where the rays of `lanes`, from `eye`, meet a primitive,
+/// as `surface_of` finds one from a ray and its `t`.
+#[inline(always)]
+fn surfaces<R: Real>(
+    lanes: &mut Lanes<R>,
+    eye: R::Vec,
+    surface_of: impl Fn(&Ray<R>, R) -> Surface<R>,
+) {
+    let n = lanes.pixel.len();
+    let [dx, dy, dz] = lanes.dir.each_ref().map(|v| &v[..n]);
+    let t = &lanes.t[..n];
+    let [px, py, pz] = lanes.point.each_mut().map(|v| &mut v[..n]);
+    let [nx, ny, nz] = lanes.normal.each_mut().map(|v| &mut v[..n]);
+    let [u, v] = lanes.uv.each_mut().map(|v| &mut v[..n]);
+    let error_scale = &mut lanes.error_scale[..n];
+    for i in 0..n {
+        let ray = Ray::from_lanes(eye, (dx[i], dy[i], dz[i]), Ray::<R>::FROM_NO_PRIMITIVE);
+        let surface = surface_of(&ray, t[i]);
+        let (point, normal) = (surface.point, surface.normal);
+        (px[i], py[i], pz[i]) = (point.x(), point.y(), point.z());
+        (nx[i], ny[i], nz[i]) = (normal.x(), normal.y(), normal.z());
+        error_scale[i] = surface.error_scale;
+        if let Some((a, b)) = surface.uv {
+            (u[i], v[i]) = (a, b);
+        }
+    }
+}
