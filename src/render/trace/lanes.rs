@@ -251,23 +251,91 @@ impl<R: Real> Tracer<'_, R> {
     #[inline(always)]
     fn light_steps(&self, light: &Light<R>, slot: u32, lanes: &mut Lanes<R>) {
         let n = lanes.pixel.len();
-        let [px, py, pz] = lanes.point.each_ref().map(|v| &v[..n]);
-        let [nx, ny, nz] = lanes.normal.each_ref().map(|v| &v[..n]);
-        let [ar, ag, ab] = lanes.albedo.each_ref().map(|v| &v[..n]);
-        let [lr, lg, lb] = lanes.local.each_ref().map(|v| &v[..n]);
-        let error_scale = &lanes.error_scale[..n];
-        let [ox, oy, oz] = lanes.origin.each_mut().map(|v| &mut v[..n]);
-        let [sx, sy, sz] = lanes.shadow_dir.each_mut().map(|v| &mut v[..n]);
-        let [tr, tg, tb] = lanes.lit.each_mut().map(|v| &mut v[..n]);
-        let reach = &mut lanes.reach[..n];
-        let cast = &mut lanes.cast[..n];
-        let skipped = &mut lanes.skipped[..n];
+        fn first<T>(v: &[Vec<T>; 3], n: usize) -> [&[T]; 3] {
+            v.each_ref().map(|v| &v[..n])
+        }
+        let Lanes {
+            point,
+            normal,
+            error_scale,
+            albedo,
+            local,
+            origin,
+            shadow_dir,
+            lit,
+            reach,
+            cast,
+            skipped,
+            ..
+        } = lanes;
+        let at = SurfaceLanes {
+            point: first(point, n),
+            normal: first(normal, n),
+            error_scale: &error_scale[..n],
+            albedo: first(albedo, n),
+            local: first(local, n),
+        };
+        let [ox, oy, oz] = origin.each_mut().map(|v| &mut v[..n]);
+        let [sx, sy, sz] = shadow_dir.each_mut().map(|v| &mut v[..n]);
+        let [tr, tg, tb] = lit.each_mut().map(|v| &mut v[..n]);
+        self.light_steps_into(
+            light,
+            slot,
+            at,
+            ox,
+            oy,
+            oz,
+            sx,
+            sy,
+            sz,
+            tr,
+            tg,
+            tb,
+            &mut reach[..n],
+            &mut cast[..n],
+            &mut skipped[..n],
+        );
+    }
+
+    /// [`Tracer::light_steps`] into its outputs: the shadow rays' origins
+    /// and directions, the light they carry, their reach, whether each is
+    /// cast or skipped. Each output is an argument of its own (not an
+    /// array or a struct of slices), which the compiler knows overlaps no
+    /// other memory, so it vectorises the loop with no run-time overlap
+    /// checks (which it gives up on beyond a few).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn light_steps_into(
+        &self,
+        light: &Light<R>,
+        slot: u32,
+        at: SurfaceLanes<'_, R>,
+        ox: &mut [R],
+        oy: &mut [R],
+        oz: &mut [R],
+        sx: &mut [R],
+        sy: &mut [R],
+        sz: &mut [R],
+        tr: &mut [f64],
+        tg: &mut [f64],
+        tb: &mut [f64],
+        reach: &mut [R],
+        cast: &mut [bool],
+        skipped: &mut [bool],
+    ) {
+        let n = at.error_scale.len();
+        let ([px, py, pz], [nx, ny, nz]) = (at.point, at.normal);
+        let ([ar, ag, ab], [lr, lg, lb]) = (at.albedo, at.local);
+        let (ox, oy, oz) = (&mut ox[..n], &mut oy[..n], &mut oz[..n]);
+        let (sx, sy, sz) = (&mut sx[..n], &mut sy[..n], &mut sz[..n]);
+        let (tr, tg, tb) = (&mut tr[..n], &mut tg[..n], &mut tb[..n]);
+        let (reach, cast, skipped) = (&mut reach[..n], &mut cast[..n], &mut skipped[..n]);
         for i in 0..n {
             let surface = Surface {
                 point: R::Vec::new(px[i], py[i], pz[i]),
                 normal: R::Vec::new(nx[i], ny[i], nz[i]),
                 uv: None,
-                error_scale: error_scale[i],
+                error_scale: at.error_scale[i],
             };
             let albedo = DVec3::new(ar[i], ag[i], ab[i]);
             let local = DVec3::new(lr[i], lg[i], lb[i]);
@@ -281,6 +349,16 @@ impl<R: Real> Tracer<'_, R> {
             skipped[i] = step.skipped;
         }
     }
+}
+
+/// The surfaces of a group, per axis and per channel, with the albedo and
+/// the local light so far.
+struct SurfaceLanes<'a, R: Real> {
+    point: [&'a [R]; 3],
+    normal: [&'a [R]; 3],
+    error_scale: &'a [R],
+    albedo: [&'a [f64]; 3],
+    local: [&'a [f64]; 3],
 }
 
 /// The surfaces where the rays of `lanes`, from `eye`, meet a primitive,
