@@ -388,3 +388,151 @@ fn surfaces<R: Real>(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ir;
+    use crate::render::prim::Hit;
+    use crate::render::world::Accel;
+    use crate::render::{camera_ray, eye};
+
+    /// A reflective sphere over a rectangle, either textured, lit by
+    /// `lights`.
+    fn scene(sphere_texture: bool, rect_texture: bool, lights: Vec<ir::Light>) -> ir::Scene {
+        let checker = ir::Texture {
+            path: "checker.ppm".into(),
+            format: crate::texture::TextureFormat::Ppm,
+            width: 4,
+            height: 4,
+            texels: (0..16)
+                .map(|k| [(k % 3) as f32 / 2.0, 0.5, ((k / 4) % 2) as f32])
+                .collect(),
+        };
+        let material = |color: DVec3, reflectivity, textured: bool| ir::Material {
+            color,
+            reflectivity,
+            texture: textured.then_some(0),
+        };
+        ir::Scene {
+            resolution: 25,
+            objects: vec![
+                ir::Object {
+                    shape: ir::Shape::Sphere {
+                        center: DVec3::new(0.0, 0.0, -5.0),
+                        radius: 1.0,
+                    },
+                    material: 0,
+                },
+                ir::Object {
+                    shape: ir::Shape::Rect {
+                        center: DVec3::new(0.0, -1.0, -5.0),
+                        normal: DVec3::Y,
+                        right: DVec3::X,
+                        up: DVec3::NEG_Z,
+                        width: 4.0,
+                        height: 4.0,
+                    },
+                    material: 1,
+                },
+            ],
+            materials: vec![
+                material(DVec3::splat(0.4), 0.7, sphere_texture),
+                material(DVec3::new(0.9, 0.5, 0.2), 0.0, rect_texture),
+            ],
+            lights,
+            textures: vec![checker],
+            effects: ir::Effects::default(),
+        }
+    }
+
+    /// [`Tracer::paths`] with the first bounces in lanes (AVX2 where the
+    /// processor has it) gives every pixel bit for bit, and the same
+    /// counts, as [`Tracer::path`] ray by ray: textured and untextured
+    /// spheres and rectangles, lights in front, behind, black, bright
+    /// enough to saturate, and one exactly at the hit point of the centre
+    /// ray (the sphere's front pole), with skipping on and off, in both
+    /// precisions.
+    #[test]
+    fn lanes_shade_as_a_ray_at_a_time() {
+        fn check<R: Real>(scene: &ir::Scene, skip: bool) -> Counters {
+            let tracer = Tracer::<R>::with_accel(scene, 8, skip, Accel::Brute);
+            assert!(tracer.world.scans_few());
+            let size = scene.resolution;
+            let (mut by_lanes, mut by_ray) = (Counters::default(), Counters::default());
+            let mut lanes = Lanes::default();
+            for j in 0..size {
+                let rays: Vec<Ray<R>> = (0..size)
+                    .map(|i| camera_ray::<R>(size, f64::from(i) + 0.5, f64::from(j) + 0.5))
+                    .collect();
+                let dirs = [0, 1, 2].map(|a| {
+                    let axis = |d: R::Vec| [d.x(), d.y(), d.z()][a];
+                    rays.iter().map(|r| axis(r.dir)).collect::<Vec<R>>()
+                });
+                let dirs = [&dirs[0][..], &dirs[1][..], &dirs[2][..]];
+                let mut distances = vec![R::zero(); size as usize];
+                let mut slots = vec![0; size as usize];
+                tracer.first_hits(eye::<R>(), dirs, &mut distances, &mut slots);
+                let mut row = vec![None; size as usize];
+                let hits = FirstHits {
+                    dirs,
+                    distances: &distances,
+                    slots: &slots,
+                };
+                tracer.paths(eye::<R>(), hits, &mut lanes, &mut by_lanes, |i, color| {
+                    assert!(row[i].replace(color).is_none(), "pixel {i} twice");
+                });
+                for (i, ray) in rays.into_iter().enumerate() {
+                    let expected = (distances[i] != R::infinity()).then(|| {
+                        let hit = Hit {
+                            t: distances[i],
+                            slot: slots[i],
+                        };
+                        tracer.path(ray, hit, &mut by_ray)
+                    });
+                    let bits = |c: Option<DVec3>| c.map(|c| c.to_array().map(f64::to_bits));
+                    assert_eq!(bits(row[i]), bits(expected), "pixel ({i}, {j})");
+                }
+            }
+            assert_eq!(by_lanes, by_ray);
+            by_lanes
+        }
+        let light = |x, y, z, color: DVec3| ir::Light {
+            position: DVec3::new(x, y, z),
+            color,
+        };
+        let warm = DVec3::new(1.0, 0.7, 0.7);
+        let lightings = [
+            vec![light(-1.0, 2.0, -2.0, warm)],
+            vec![
+                light(-1.0, 2.0, -2.0, warm),
+                light(0.0, 0.5, -9.0, DVec3::ONE),
+                light(2.0, 1.0, -3.0, DVec3::ZERO),
+                light(1.0, 3.0, -4.0, DVec3::splat(20.0)),
+            ],
+            vec![light(0.0, 0.0, -4.0, warm), light(0.5, 2.0, -1.0, warm)],
+        ];
+        let mut seen = Counters::default();
+        for lights in lightings {
+            for (sphere_texture, rect_texture) in [(false, true), (true, false), (true, true)] {
+                let scene = scene(sphere_texture, rect_texture, lights.clone());
+                for skip in [true, false] {
+                    seen += check::<f64>(&scene, skip);
+                    seen += check::<f32>(&scene, skip);
+                }
+            }
+        }
+        // Every kind of work and skip happened somewhere.
+        let Counters {
+            shadow_rays,
+            reflection_rays,
+            texture_lookups,
+            shadow_rays_skipped,
+            paths_saturated,
+            ..
+        } = seen;
+        let all = [shadow_rays, reflection_rays, texture_lookups];
+        assert!(all.iter().all(|&count| count > 0), "{seen:?}");
+        assert!(shadow_rays_skipped > 0 && paths_saturated > 0, "{seen:?}");
+    }
+}
