@@ -33,6 +33,17 @@ impl<R: Real> Ray<R> {
     /// `from` of a ray that left no primitive (a camera ray): no slot, as
     /// a scene holds far fewer primitives ([`crate::limits::MAX_OBJECTS`]).
     pub const FROM_NO_PRIMITIVE: u32 = u32::MAX;
+
+    /// The ray from `origin` along `(x, y, z)`, a direction read from
+    /// three per-axis lanes (a row's camera rays, a [`super::world::Fan`]).
+    #[inline(always)]
+    pub fn from_lanes(origin: R::Vec, (x, y, z): (R, R, R), from: u32) -> Ray<R> {
+        Ray {
+            origin,
+            dir: R::Vec::new(x, y, z),
+            from,
+        }
+    }
 }
 
 /// A sphere.
@@ -71,17 +82,6 @@ impl<R: Real> Shape<R> {
             Shape::Rect(r) if !from_here => r.hit(ray, t_max),
             Shape::Rect(_) => None,
         }
-    }
-
-    /// A bound on the magnitudes a hit point `p` of this primitive is
-    /// computed from, `‖p‖∞ + ‖centre‖∞`: the hit point (a reprojection
-    /// `c + r·m` or `c + x·right + y·up`) is exact to a few `ε` of it.
-    pub fn error_scale(&self, p: R::Vec) -> R {
-        let center = match self {
-            Shape::Sphere(s) => s.center,
-            Shape::Rect(r) => r.center,
-        };
-        max_abs::<R>(p) + max_abs::<R>(center)
     }
 
     /// Corners of the axis-aligned box around the primitive.
@@ -222,18 +222,28 @@ impl<R: Real> Rect<R> {
     }
 }
 
+/// A bound on the magnitudes a hit point `p` of a primitive centred at
+/// `center` is computed from, `‖p‖∞ + ‖centre‖∞`: the hit point (a
+/// reprojection `c + r·m` or `c + x·right + y·up`) is exact to a few `ε`
+/// of it.
+#[inline(always)]
+pub fn error_scale<R: Real>(center: R::Vec, p: R::Vec) -> R {
+    max_abs::<R>(p) + max_abs::<R>(center)
+}
+
 /// How far a spawned ray's origin is moved off its surface, in units of
 /// `ε · scale` (see [`offset_origin`]).
 pub const OFFSET_ULPS: f64 = 64.0;
 
 /// `p` moved off its surface along `n` (unit, on the side the new ray
 /// leaves by) by `OFFSET_ULPS · ε · scale`, where `scale` is the hit's
-/// [`Shape::error_scale`]: the rounding error of a computed hit point is a
+/// [`error_scale`]: the rounding error of a computed hit point is a
 /// few `ε · scale`, so the step clears it with a wide margin. The step is
 /// proportional to the scene's coordinates, so a scene scaled about the
 /// eye gets the same image at any scale (Wächter & Binder's fixed step
 /// near the origin does not), and the step along `n` survives rounding:
 /// each component rounds by at most `ε·|p|/2`, far below the step.
+#[inline(always)]
 pub fn offset_origin<R: Real>(p: R::Vec, n: R::Vec, scale: R) -> R::Vec {
     let step = R::of(OFFSET_ULPS) * R::epsilon() * scale.max(R::min_positive_value());
     p + n * step
@@ -252,6 +262,7 @@ fn select<R: Real>(pick: bool, a: R, b: R) -> R {
 }
 
 /// The largest magnitude of a vector's components.
+#[inline(always)]
 fn max_abs<R: Real>(v: R::Vec) -> R {
     v.x().abs().max(v.y().abs()).max(v.z().abs())
 }

@@ -10,10 +10,8 @@
 
 use glam::DVec3;
 
-use super::geometry::Ray;
-use super::prim::Hit;
 use super::real::{Real, Vector};
-use super::trace::{Counters, Tracer};
+use super::trace::{Counters, FirstHits, Lanes, Tracer};
 use super::{camera_ray, eye};
 
 /// The samples of a frame: resolution, grid side and seed.
@@ -99,6 +97,7 @@ impl Sampler {
             dirs,
             distances,
             slots,
+            lanes,
         } = rays;
         for buffer in dirs.iter_mut().chain([&mut *distances]) {
             buffer.resize(n, R::zero());
@@ -108,20 +107,14 @@ impl Sampler {
         camera_dirs(self.size, f64::from(j) + 0.5, [dx, dy, dz]);
         tracer.first_hits(eye::<R>(), [dx, dy, dz], distances, slots);
         counters.primary_rays += u64::from(self.size);
-        let dirs = dx.iter().zip(dy.iter()).zip(dz.iter());
-        let hits = distances.iter().zip(slots.iter());
-        for (i, (((&x, &y), &z), (&t, &slot))) in dirs.zip(hits).enumerate() {
-            if t == R::infinity() {
-                continue;
-            }
-            let ray = Ray {
-                origin: eye::<R>(),
-                dir: R::Vec::new(x, y, z),
-                from: Ray::<R>::FROM_NO_PRIMITIVE,
-            };
-            let color = tracer.path(ray, Hit { t, slot }, counters);
-            put(i, color.clamp(DVec3::ZERO, DVec3::ONE));
-        }
+        let hits = FirstHits {
+            dirs: [dx, dy, dz],
+            distances,
+            slots,
+        };
+        tracer.paths(eye::<R>(), hits, lanes, counters, |i, color| {
+            put(i, color.clamp(DVec3::ZERO, DVec3::ONE))
+        });
     }
 
     /// The clamped colour at the top-left corner of pixel (x, y): the
@@ -167,6 +160,8 @@ pub(super) struct RowRays<R: Real> {
     dirs: [Vec<R>; 3],
     distances: Vec<R>,
     slots: Vec<u32>,
+    /// Room to shade their first bounces in.
+    lanes: Lanes<R>,
 }
 
 /// The directions of the camera rays through the centres of row `y`'s

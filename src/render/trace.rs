@@ -17,10 +17,13 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::geometry::{offset_origin, Ray, Shape};
+use super::geometry::{error_scale, offset_origin, Ray, Rect, Shape, Sphere};
 use super::real::{Real, Vector};
 use super::world::{Accel, Fan, Hit, Prim, World};
 use crate::ir;
+pub use lanes::{FirstHits, Lanes};
+
+mod lanes;
 
 /// The share of a surface's colour that is lit without any light.
 pub const AMBIENT: f64 = 0.1;
@@ -152,20 +155,96 @@ impl<'a, R: Real> Tracer<'a, R> {
     /// ([`Counters::primary_rays`]). Out of line: most camera rays of a
     /// small scene miss, and their loop stays small.
     #[inline(never)]
-    pub fn path(&self, mut ray: Ray<R>, first: Hit<R>, counters: &mut Counters) -> DVec3 {
+    pub fn path(&self, ray: Ray<R>, first: Hit<R>, counters: &mut Counters) -> DVec3 {
+        self.trace_path(ray, first, counters)
+    }
+
+    /// [`Tracer::path`] of every camera ray [`Tracer::first_hits`] found
+    /// a hit for (`distances[k]` finite), each colour handed to `put` with
+    /// the ray's index; rays that miss are passed over. One call for a
+    /// row, out of line, the counts tallied in locals and added to
+    /// `counters` once. In a scene of a few primitives tested one by one,
+    /// the first bounces of the row are shaded in lanes ([`lanes`],
+    /// with `scratch` for room), the same values as a ray at a time.
+    #[inline(never)]
+    pub fn paths(
+        &self,
+        eye: R::Vec,
+        rays: FirstHits<'_, R>,
+        scratch: &mut Lanes<R>,
+        counters: &mut Counters,
+        mut put: impl FnMut(usize, DVec3),
+    ) {
+        let mut tally = Counters::default();
+        if self.world.scans_few() {
+            self.first_bounces(eye, rays, scratch, &mut tally, &mut put);
+        } else {
+            let FirstHits {
+                dirs: [x, y, z],
+                distances,
+                slots,
+            } = rays;
+            let rays = x.iter().zip(y).zip(z);
+            let hits = distances.iter().zip(slots);
+            for (k, (((&x, &y), &z), (&t, &slot))) in rays.zip(hits).enumerate() {
+                if t == R::infinity() {
+                    continue;
+                }
+                let ray = Ray::from_lanes(eye, (x, y, z), Ray::<R>::FROM_NO_PRIMITIVE);
+                put(k, self.trace_path(ray, Hit { t, slot }, &mut tally));
+            }
+        }
+        *counters += tally;
+    }
+
+    /// The one definition of [`Tracer::path`]: its first bounce, then
+    /// [`Tracer::onwards`].
+    #[inline(always)]
+    fn trace_path(&self, ray: Ray<R>, first: Hit<R>, counters: &mut Counters) -> DVec3 {
+        let prim = &self.world.prims[first.slot as usize];
+        let material = &self.world.materials[prim.material as usize];
+        let surface = self.surface(&ray, first.t, prim, material);
+        let albedo = self.albedo(material, surface.uv, counters);
+        let local = self.local(&surface, first.slot, albedo, DVec3::ZERO, 1.0, counters);
+        self.onwards(
+            ray,
+            first.slot,
+            surface,
+            local,
+            material.reflectivity,
+            counters,
+        )
+    }
+
+    /// The colour of a path whose camera ray `ray` met `surface` on
+    /// primitive `slot`, which reflects `k`, and found `local` light
+    /// there: that light, then the reflections, before clamping.
+    #[inline(always)]
+    fn onwards(
+        &self,
+        mut ray: Ray<R>,
+        mut slot: u32,
+        mut surface: Surface<R>,
+        mut local: DVec3,
+        mut k: f64,
+        counters: &mut Counters,
+    ) -> DVec3 {
         let mut color = DVec3::ZERO;
         let mut weight = 1.0;
-        let mut next = Some(first);
         for depth in 0..=self.max_depth {
-            let Some(hit) = next else {
-                break;
-            };
-            let prim = &self.world.prims[hit.slot as usize];
-            let material = &self.world.materials[prim.material as usize];
-            let surface = self.surface(&ray, hit.t, prim, material);
-            let albedo = self.albedo(material, &surface, counters);
-            color += self.local(&surface, hit.slot, albedo, color, weight, counters) * weight;
-            let k = material.reflectivity;
+            if depth > 0 {
+                let Some(hit) = self.world.closest(&ray, R::infinity()) else {
+                    break;
+                };
+                slot = hit.slot;
+                let prim = &self.world.prims[slot as usize];
+                let material = &self.world.materials[prim.material as usize];
+                surface = self.surface(&ray, hit.t, prim, material);
+                let albedo = self.albedo(material, surface.uv, counters);
+                local = self.local(&surface, slot, albedo, color, weight, counters);
+                k = material.reflectivity;
+            }
+            color += local * weight;
             if k == 0.0 || depth == self.max_depth {
                 break;
             }
@@ -179,10 +258,9 @@ impl<'a, R: Real> Tracer<'a, R> {
             ray = Ray {
                 origin: offset_origin::<R>(surface.point, n, surface.error_scale),
                 dir: (d - n * (R::of(2.0) * d.dot(n))).normalize(),
-                from: hit.slot,
+                from: slot,
             };
             counters.reflection_rays += 1;
-            next = self.world.closest(&ray, R::infinity());
         }
         debug_assert!(color.is_finite(), "non-finite colour {color}");
         if !color.is_finite() {
@@ -198,48 +276,24 @@ impl<'a, R: Real> Tracer<'a, R> {
 
     /// The hit point (on the surface to rounding), the face-forward normal
     /// and, for textured objects, the texture coordinates.
+    #[inline(always)]
     fn surface(&self, ray: &Ray<R>, t: R, prim: &Prim<R>, material: &ir::Material) -> Surface<R> {
-        let along = ray.origin + ray.dir * t;
         let textured = material.texture.is_some();
-        let shape = &prim.shape;
-        let (point, normal, uv) = match shape {
-            Shape::Sphere(s) => {
-                let outward = (along - s.center).normalize();
-                let point = s.center + outward * s.radius;
-                let uv = textured.then(|| sphere_uv(outward.wide()));
-                (point, outward, uv)
-            }
-            Shape::Rect(r) => {
-                let (x, y) = r.plane_coordinates(along);
-                let uv = textured.then(|| {
-                    let width = (r.half_width + r.half_width).wide();
-                    let height = (r.half_height + r.half_height).wide();
-                    (x.wide() / width + 0.5, y.wide() / height + 0.5)
-                });
-                (r.point(x, y), r.normal, uv)
-            }
-        };
-        let normal = if normal.dot(ray.dir) > R::zero() {
-            -normal
-        } else {
-            normal
-        };
-        Surface {
-            point,
-            normal,
-            uv,
-            error_scale: shape.error_scale(point),
+        match &prim.shape {
+            Shape::Sphere(s) => sphere_surface(s, ray, t, textured),
+            Shape::Rect(r) => rect_surface(r, ray, t, textured),
         }
     }
 
-    /// The surface colour: the texel under the hit, or the material colour.
+    /// The surface colour: the texel at `uv`, or the material colour.
+    #[inline(always)]
     fn albedo(
         &self,
         material: &ir::Material,
-        surface: &Surface<R>,
+        uv: Option<(f64, f64)>,
         counters: &mut Counters,
     ) -> DVec3 {
-        match (material.texture, surface.uv) {
+        match (material.texture, uv) {
             (Some(texture), Some((u, v))) => {
                 counters.texture_lookups += 1;
                 if !(u.is_finite() && v.is_finite()) {
@@ -253,6 +307,7 @@ impl<'a, R: Real> Tracer<'a, R> {
 
     /// Ambient plus every light a shadow ray reaches, times the albedo.
     /// `color` and `weight` are the path so far, for the saturation skip.
+    #[inline(always)]
     fn local(
         &self,
         surface: &Surface<R>,
@@ -264,39 +319,119 @@ impl<'a, R: Real> Tracer<'a, R> {
     ) -> DVec3 {
         let mut local = albedo * AMBIENT;
         for light in &self.lights {
-            let contribution = albedo * light.color;
-            let to_light = light.position - surface.point;
-            let length = to_light.length();
-            if length.is_zero() {
-                // A light at the hit point has no direction to normalise
-                // (it would be NaN): it lights nothing there.
-                continue;
-            }
-            let cos = surface.normal.dot(to_light * length.recip()).wide();
-            if self.skip
-                && (cos <= 0.0 || contribution == DVec3::ZERO || saturated(color + local * weight))
-            {
-                counters.shadow_rays_skipped += 1;
-                continue;
-            }
-            let origin = offset_origin::<R>(surface.point, surface.normal, surface.error_scale);
-            let to_light = light.position - origin;
-            let distance = to_light.length();
-            if distance.is_zero() {
-                // The light sits at the offset origin: nothing lies between.
-                continue;
-            }
-            let ray = Ray {
-                origin,
-                dir: to_light * distance.recip(),
-                from: slot,
-            };
-            counters.shadow_rays += 1;
-            if !self.world.occluded(&ray, distance * R::SHADOW_REACH) {
-                local += contribution * cos.max(0.0);
+            let step = self.light_step(light, surface, slot, albedo, color, weight, local);
+            counters.shadow_rays_skipped += u64::from(step.skipped);
+            if step.cast {
+                counters.shadow_rays += 1;
+                if !self.world.occluded(&step.ray, step.reach) {
+                    local += step.lit;
+                }
             }
         }
         local
+    }
+
+    /// What `light` does at `surface` (on primitive `slot`, of colour
+    /// `albedo`), where the path so far is `color`, its weight `weight`
+    /// and the local light of the lights before `local`: everything up to
+    /// the shadow ray's test, computed whatever the outcome (no branches,
+    /// so lanes of surfaces compute it side by side).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn light_step(
+        &self,
+        light: &Light<R>,
+        surface: &Surface<R>,
+        slot: u32,
+        albedo: DVec3,
+        color: DVec3,
+        weight: f64,
+        local: DVec3,
+    ) -> LightStep<R> {
+        let contribution = albedo * light.color;
+        let to_light = light.position - surface.point;
+        let length = to_light.length();
+        // A light at the hit point has no direction to normalise (it would
+        // be NaN): it lights nothing there, and is not counted as skipped.
+        let at_light = length.is_zero();
+        let cos = surface.normal.dot(to_light * length.recip()).wide();
+        let black = contribution.cmpeq(DVec3::ZERO).all();
+        let skipped =
+            !at_light & self.skip & ((cos <= 0.0) | black | saturated(color + local * weight));
+        let origin = offset_origin::<R>(surface.point, surface.normal, surface.error_scale);
+        let to_light = light.position - origin;
+        let distance = to_light.length();
+        LightStep {
+            skipped,
+            // A light at the offset origin: nothing lies between.
+            cast: !at_light & !skipped & !distance.is_zero(),
+            ray: Ray {
+                origin,
+                dir: to_light * distance.recip(),
+                from: slot,
+            },
+            reach: distance * R::SHADOW_REACH,
+            lit: contribution * cos.max(0.0),
+        }
+    }
+}
+
+/// What one light does at a surface, short of testing its shadow ray
+/// ([`Tracer::light_step`]).
+struct LightStep<R: Real> {
+    /// Not cast, as it cannot change the 8-bit result (counted).
+    skipped: bool,
+    /// Cast along `ray` up to `reach`.
+    cast: bool,
+    ray: Ray<R>,
+    reach: R,
+    /// What the light adds when its shadow ray reaches it.
+    lit: DVec3,
+}
+
+/// [`Tracer::surface`] of a sphere, for one ray or a lane of many.
+#[inline(always)]
+fn sphere_surface<R: Real>(s: &Sphere<R>, ray: &Ray<R>, t: R, textured: bool) -> Surface<R> {
+    let along = ray.origin + ray.dir * t;
+    let outward = (along - s.center).normalize();
+    let point = s.center + outward * s.radius;
+    let uv = textured.then(|| sphere_uv(outward.wide()));
+    facing(ray, point, outward, uv, s.center)
+}
+
+/// [`Tracer::surface`] of a rectangle, for one ray or a lane of many.
+#[inline(always)]
+fn rect_surface<R: Real>(r: &Rect<R>, ray: &Ray<R>, t: R, textured: bool) -> Surface<R> {
+    let along = ray.origin + ray.dir * t;
+    let (x, y) = r.plane_coordinates(along);
+    let uv = textured.then(|| {
+        let width = (r.half_width + r.half_width).wide();
+        let height = (r.half_height + r.half_height).wide();
+        (x.wide() / width + 0.5, y.wide() / height + 0.5)
+    });
+    facing(ray, r.point(x, y), r.normal, uv, r.center)
+}
+
+/// The surface at `point` of a primitive centred at `center`, its normal
+/// turned to face `ray`.
+#[inline(always)]
+fn facing<R: Real>(
+    ray: &Ray<R>,
+    point: R::Vec,
+    normal: R::Vec,
+    uv: Option<(f64, f64)>,
+    center: R::Vec,
+) -> Surface<R> {
+    let normal = if normal.dot(ray.dir) > R::zero() {
+        -normal
+    } else {
+        normal
+    };
+    Surface {
+        point,
+        normal,
+        uv,
+        error_scale: error_scale::<R>(center, point),
     }
 }
 
