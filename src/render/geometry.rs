@@ -126,6 +126,14 @@ impl<R: Real> Sphere<R> {
     #[inline(always)]
     pub fn hit(&self, ray: &Ray<R>, t_max: R, from_here: bool) -> Option<R> {
         let approach = self.approach(ray);
+        // With `b > 0` the sphere's centre lies behind the origin, so both
+        // roots are behind it too when the origin is outside (`c > 0`)
+        // and [`SphereApproach::root`] counts neither when the ray leaves
+        // this sphere heading out: the same `None`, without the square
+        // root and the division.
+        if approach.b > R::zero() && (from_here || approach.c > R::zero()) {
+            return None;
+        }
         if approach.delta < R::zero() {
             return None;
         }
