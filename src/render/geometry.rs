@@ -306,6 +306,52 @@ mod tests {
     }
 
     #[test]
+    fn sphere_hit_with_its_early_exits_agrees_with_the_branchless_root() {
+        // Origins outside, inside and on the sphere (as a ray leaving it
+        // starts), directions every way: `hit` is `root` below `t_max`.
+        fn check<R: Real>() {
+            let mut state = 0x9E37_79B9_7F4A_7C15u64;
+            let mut random = move || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+            };
+            let (mut behind, mut hits) = (0, 0);
+            for k in 0..20_000 {
+                let center = DVec3::new(random(), random(), random()) * 3.0;
+                let radius = 0.1 + random().abs();
+                let towards = DVec3::new(random(), random(), random()).normalize();
+                let origin = match k % 3 {
+                    0 => center + towards * radius,
+                    1 => center + towards * radius * 0.5,
+                    _ => center + towards * radius * 4.0,
+                };
+                let s = Sphere {
+                    center: R::Vec::of(center),
+                    radius: R::of(radius),
+                };
+                let ray = Ray {
+                    origin: R::Vec::of(origin),
+                    dir: R::Vec::of(DVec3::new(random(), random(), random()).normalize()),
+                    from: Ray::<R>::FROM_NO_PRIMITIVE,
+                };
+                for from_here in [false, true] {
+                    let approach = s.approach(&ray);
+                    let root = approach.root(from_here);
+                    let expected = (!root.is_nan() && root < R::infinity()).then_some(root);
+                    assert_eq!(s.hit(&ray, R::infinity(), from_here), expected, "{k}");
+                    behind += usize::from(approach.b > R::zero());
+                    hits += usize::from(expected.is_some());
+                }
+            }
+            assert!(behind > 10_000 && hits > 10_000, "{behind} {hits}");
+        }
+        check::<f32>();
+        check::<f64>();
+    }
+
+    #[test]
     fn rect_is_finite_and_two_sided() {
         let r = Rect {
             center: DVec3::new(0.0, 0.0, -5.0),
