@@ -164,6 +164,15 @@ impl Item {
         self.lo() + self.hi()
     }
 
+    /// [`Item::centroid`]'s coordinate on one axis, the same sum read
+    /// from memory: indexing the SIMD value by a variable axis stores it
+    /// to the stack first.
+    #[inline(always)]
+    fn centroid_along(&self, axis: usize) -> f32 {
+        let (lo, hi): (&[f32; 4], &[f32; 4]) = (self.lo.as_ref(), self.hi.as_ref());
+        lo[axis] + hi[axis]
+    }
+
     fn slot(&self) -> u32 {
         self.lo.w.to_bits()
     }
@@ -598,6 +607,12 @@ fn best_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usi
         let split_cost = 1.0 + PRIMITIVE_COST * cost / bounds.area();
         n > MAX_LEAF || split_cost < PRIMITIVE_COST * n as f64
     };
+    // A split costs at least the visit itself (or NaN, for a box of no
+    // area, which is no split either), so a leaf that tests fewer
+    // primitives than that costs needs no sweep.
+    if n <= MAX_LEAF && PRIMITIVE_COST * n as f64 <= 1.0 {
+        return None;
+    }
     if n <= SWEEP_MAX {
         let (cost, order, split) = sweep_split(items)?;
         worth_splitting(cost).then(|| {
@@ -708,7 +723,7 @@ impl Bins {
     /// is bin 0).
     #[inline(always)]
     fn along(&self, item: &Item, axis: usize) -> u32 {
-        let scaled = (item.centroid()[axis] - self.origin[axis]) * self.scale[axis];
+        let scaled = (item.centroid_along(axis) - self.origin[axis]) * self.scale[axis];
         (scaled as u32).min(BINS as u32 - 1)
     }
 

@@ -126,6 +126,14 @@ impl<R: Real> Sphere<R> {
     #[inline(always)]
     pub fn hit(&self, ray: &Ray<R>, t_max: R, from_here: bool) -> Option<R> {
         let approach = self.approach(ray);
+        // With `b > 0` the sphere's centre lies behind the origin, so both
+        // roots are behind it too when the origin is outside (`c > 0`)
+        // and [`SphereApproach::root`] counts neither when the ray leaves
+        // this sphere heading out: the same `None`, without the square
+        // root and the division.
+        if approach.b > R::zero() && (from_here || approach.c > R::zero()) {
+            return None;
+        }
         if approach.delta < R::zero() {
             return None;
         }
@@ -306,6 +314,52 @@ mod tests {
         assert_eq!(s.hit(&inward, f64::INFINITY, true), Some(4.0));
         let outward = ray(DVec3::new(0.0, 0.0, 2.0), DVec3::new(0.0, 1.0, 1.0));
         assert_eq!(s.hit(&outward, f64::INFINITY, true), None);
+    }
+
+    #[test]
+    fn sphere_hit_with_its_early_exits_agrees_with_the_branchless_root() {
+        // Origins outside, inside and on the sphere (as a ray leaving it
+        // starts), directions every way: `hit` is `root` below `t_max`.
+        fn check<R: Real>() {
+            let mut state = 0x9E37_79B9_7F4A_7C15u64;
+            let mut random = move || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+            };
+            let (mut behind, mut hits) = (0, 0);
+            for k in 0..20_000 {
+                let center = DVec3::new(random(), random(), random()) * 3.0;
+                let radius = 0.1 + random().abs();
+                let towards = DVec3::new(random(), random(), random()).normalize();
+                let origin = match k % 3 {
+                    0 => center + towards * radius,
+                    1 => center + towards * radius * 0.5,
+                    _ => center + towards * radius * 4.0,
+                };
+                let s = Sphere {
+                    center: R::Vec::of(center),
+                    radius: R::of(radius),
+                };
+                let ray = Ray {
+                    origin: R::Vec::of(origin),
+                    dir: R::Vec::of(DVec3::new(random(), random(), random()).normalize()),
+                    from: Ray::<R>::FROM_NO_PRIMITIVE,
+                };
+                for from_here in [false, true] {
+                    let approach = s.approach(&ray);
+                    let root = approach.root(from_here);
+                    let expected = (!root.is_nan() && root < R::infinity()).then_some(root);
+                    assert_eq!(s.hit(&ray, R::infinity(), from_here), expected, "{k}");
+                    behind += usize::from(approach.b > R::zero());
+                    hits += usize::from(expected.is_some());
+                }
+            }
+            assert!(behind > 10_000 && hits > 10_000, "{behind} {hits}");
+        }
+        check::<f32>();
+        check::<f64>();
     }
 
     #[test]
