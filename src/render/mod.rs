@@ -17,6 +17,8 @@
 
 pub mod adaptive;
 pub mod bvh;
+#[cfg(test)]
+mod fixture;
 pub mod geometry;
 mod prim;
 pub mod real;

@@ -261,51 +261,22 @@ mod tests {
         }
     }
 
-    /// A reflective sphere over a rectangle, lit: every path of the tracer.
+    /// The shared sphere on its floor, reflecting and lit, at 24²: every
+    /// path of the tracer.
     fn mirror_over_floor() -> crate::ir::Scene {
         use crate::ir;
-        let material = |color: DVec3, reflectivity| ir::Material {
-            color,
-            reflectivity,
-            texture: None,
+        let mut scene = crate::render::fixture::sphere_on_floor(0.6);
+        scene.resolution = 24;
+        scene.lights = vec![ir::Light {
+            position: DVec3::new(-1.0, 2.0, -1.0),
+            color: DVec3::new(1.0, 0.8, 0.8),
+        }];
+        scene.effects = ir::Effects {
+            shadows: true,
+            reflection: true,
+            textures: false,
         };
-        ir::Scene {
-            resolution: 24,
-            objects: vec![
-                ir::Object {
-                    shape: ir::Shape::Sphere {
-                        center: DVec3::new(0.0, 0.2, -3.0),
-                        radius: 0.8,
-                    },
-                    material: 0,
-                },
-                ir::Object {
-                    shape: ir::Shape::Rect {
-                        center: DVec3::new(0.0, -1.0, -3.0),
-                        normal: DVec3::Y,
-                        right: DVec3::X,
-                        up: DVec3::NEG_Z,
-                        width: 4.0,
-                        height: 4.0,
-                    },
-                    material: 1,
-                },
-            ],
-            materials: vec![
-                material(DVec3::splat(0.4), 0.6),
-                material(DVec3::new(0.9, 0.5, 0.2), 0.0),
-            ],
-            lights: vec![ir::Light {
-                position: DVec3::new(-1.0, 2.0, -1.0),
-                color: DVec3::new(1.0, 0.8, 0.8),
-            }],
-            textures: Vec::new(),
-            effects: ir::Effects {
-                shadows: true,
-                reflection: true,
-                textures: false,
-            },
-        }
+        scene
     }
 
     /// `row`, which makes a row's camera rays before tracing them, gives

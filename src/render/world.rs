@@ -312,41 +312,7 @@ mod tests {
     use glam::DVec3;
 
     use super::*;
-
-    /// A sphere resting on a rectangle, tested by every primitive.
-    fn sphere_on_rect() -> ir::Scene {
-        ir::Scene {
-            resolution: 1,
-            objects: vec![
-                ir::Object {
-                    shape: ir::Shape::Sphere {
-                        center: DVec3::new(0.0, 0.0, -5.0),
-                        radius: 1.0,
-                    },
-                    material: 0,
-                },
-                ir::Object {
-                    shape: ir::Shape::Rect {
-                        center: DVec3::new(0.0, -1.0, -5.0),
-                        normal: DVec3::Y,
-                        right: DVec3::X,
-                        up: DVec3::NEG_Z,
-                        width: 4.0,
-                        height: 4.0,
-                    },
-                    material: 0,
-                },
-            ],
-            materials: vec![ir::Material {
-                color: DVec3::ONE,
-                reflectivity: 0.0,
-                texture: None,
-            }],
-            lights: Vec::new(),
-            textures: Vec::new(),
-            effects: ir::Effects::default(),
-        }
-    }
+    use crate::render::fixture::sphere_on_floor;
 
     /// Directions from `origin` that hit, graze and miss both primitives:
     /// towards points spread over and around them, the sphere's tangent
@@ -383,7 +349,7 @@ mod tests {
     #[test]
     fn the_fan_finds_what_the_scan_finds_ray_by_ray() {
         fn check<R: Real>() {
-            let world = World::<R>::new(&sphere_on_rect(), Accel::Brute);
+            let world = World::<R>::new(&sphere_on_floor(0.0), Accel::Brute);
             let starts = [
                 (DVec3::ZERO, Ray::<R>::FROM_NO_PRIMITIVE),
                 (DVec3::new(0.0, 1.0, -5.0), 0),

@@ -397,8 +397,8 @@ mod tests {
     use crate::render::world::Accel;
     use crate::render::{camera_ray, eye};
 
-    /// A reflective sphere over a rectangle, either textured, lit by
-    /// `lights`.
+    /// The shared sphere on its floor, the sphere reflecting, either
+    /// textured, lit by `lights`, at 25².
     fn scene(sphere_texture: bool, rect_texture: bool, lights: Vec<ir::Light>) -> ir::Scene {
         let checker = ir::Texture {
             path: "checker.ppm".into(),
@@ -409,41 +409,18 @@ mod tests {
                 .map(|k| [(k % 3) as f32 / 2.0, 0.5, ((k / 4) % 2) as f32])
                 .collect(),
         };
-        let material = |color: DVec3, reflectivity, textured: bool| ir::Material {
-            color,
-            reflectivity,
-            texture: textured.then_some(0),
-        };
-        ir::Scene {
-            resolution: 25,
-            objects: vec![
-                ir::Object {
-                    shape: ir::Shape::Sphere {
-                        center: DVec3::new(0.0, 0.0, -5.0),
-                        radius: 1.0,
-                    },
-                    material: 0,
-                },
-                ir::Object {
-                    shape: ir::Shape::Rect {
-                        center: DVec3::new(0.0, -1.0, -5.0),
-                        normal: DVec3::Y,
-                        right: DVec3::X,
-                        up: DVec3::NEG_Z,
-                        width: 4.0,
-                        height: 4.0,
-                    },
-                    material: 1,
-                },
-            ],
-            materials: vec![
-                material(DVec3::splat(0.4), 0.7, sphere_texture),
-                material(DVec3::new(0.9, 0.5, 0.2), 0.0, rect_texture),
-            ],
-            lights,
-            textures: vec![checker],
-            effects: ir::Effects::default(),
+        let mut scene = crate::render::fixture::sphere_on_floor(0.7);
+        scene.resolution = 25;
+        for (material, textured) in scene
+            .materials
+            .iter_mut()
+            .zip([sphere_texture, rect_texture])
+        {
+            material.texture = textured.then_some(0);
         }
+        scene.lights = lights;
+        scene.textures = vec![checker];
+        scene
     }
 
     /// [`Tracer::paths`] with the first bounces in lanes (AVX2 where the
