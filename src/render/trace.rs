@@ -137,7 +137,7 @@ impl<'a, R: Real> Tracer<'a, R> {
     /// first, as [`Tracer::radiance`] finds it: `distances[k]` is ∞ where
     /// ray `k` misses (it sees black), else the hit's `t`, and `slots[k]`
     /// its slot ([`World::closest_fan`]). A caller finds the hits of many
-    /// rays before shading any with [`Tracer::path`].
+    /// rays before shading them with [`Tracer::paths`].
     pub fn first_hits(&self, eye: R::Vec, dirs: [&[R]; 3], distances: &mut [R], slots: &mut [u32]) {
         distances.fill(R::infinity());
         self.world.closest_fan(Fan {
@@ -153,9 +153,10 @@ impl<'a, R: Real> Tracer<'a, R> {
     /// before clamping: [`Tracer::radiance`] of a ray that hits, except
     /// that the caller counts the camera ray
     /// ([`Counters::primary_rays`]). Out of line: most camera rays of a
-    /// small scene miss, and their loop stays small.
+    /// small scene miss, and the loops over samples that call
+    /// [`Tracer::radiance`] stay small.
     #[inline(never)]
-    pub fn path(&self, ray: Ray<R>, first: Hit<R>, counters: &mut Counters) -> DVec3 {
+    fn path(&self, ray: Ray<R>, first: Hit<R>, counters: &mut Counters) -> DVec3 {
         self.trace_path(ray, first, counters)
     }
 
