@@ -976,13 +976,7 @@ mod tests {
     /// finds, the tie rule included, and shadow rays see a hit exactly
     /// when the scan does.
     fn the_hierarchy_finds_what_a_scan_finds<R: Real>() {
-        let mut state = 0x2545_F491_4F6C_DD1Du64;
-        let mut random = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut random = crate::render::fixture::uniform(0x2545_F491_4F6C_DD1D);
         let coincident = DVec3::new(0.5, 0.5, 0.5);
         let mut prims: Vec<Prim<R>> = (0..600)
             .map(|id| {

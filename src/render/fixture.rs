@@ -1,8 +1,9 @@
-//! The scene the render module's unit tests share: a sphere resting on a
-//! floor, in front of the eye. Camera rays hit either shape, miss both,
-//! and graze the sphere's rim and the floor's edges; the sphere shadows
-//! the floor and, when it reflects, sees it. Each test adds what it needs
-//! (lights, textures, a resolution).
+//! What the render module's unit tests share: a scene, a sphere resting
+//! on a floor in front of the eye (camera rays hit either shape, miss
+//! both, and graze the sphere's rim and the floor's edges; the sphere
+//! shadows the floor and, when it reflects, sees it; each test adds what
+//! it needs: lights, textures, a resolution), and a seeded source of
+//! random numbers for tests that fire many rays.
 
 use glam::DVec3;
 
@@ -47,5 +48,17 @@ pub fn sphere_on_floor(reflectivity: f64) -> ir::Scene {
         lights: Vec::new(),
         textures: Vec::new(),
         effects: ir::Effects::default(),
+    }
+}
+
+/// Numbers uniform in `[0, 1)`, the same sequence for the same `seed`
+/// (xorshift64, Marsaglia 2003; `seed` must not be 0).
+pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
     }
 }

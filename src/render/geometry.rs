@@ -321,13 +321,8 @@ mod tests {
         // Origins outside, inside and on the sphere (as a ray leaving it
         // starts), directions every way: `hit` is `root` below `t_max`.
         fn check<R: Real>() {
-            let mut state = 0x9E37_79B9_7F4A_7C15u64;
-            let mut random = move || {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-            };
+            let mut uniform = crate::render::fixture::uniform(0x9E37_79B9_7F4A_7C15);
+            let mut random = move || uniform() * 2.0 - 1.0;
             let (mut behind, mut hits) = (0, 0);
             for k in 0..20_000 {
                 let center = DVec3::new(random(), random(), random()) * 3.0;
