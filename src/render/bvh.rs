@@ -263,7 +263,10 @@ impl Bvh {
 
     /// The nearest hit in `(0, t_max)` among `prims` (the list the
     /// hierarchy was built over); among hits at the same `t`, the primitive
-    /// with the lowest IR index.
+    /// with the lowest IR index. Marked `inline`, so that
+    /// `World::closest_in` holds the traversal without a second call per
+    /// ray whichever codegen unit each lands in.
+    #[inline]
     pub fn closest<R: Real>(&self, prims: &[Prim<R>], ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {
         let slab = Slab::new(ray);
         let mut best: Option<Hit<R>> = None;
