@@ -5,7 +5,9 @@
 //! binned centroids (Wald 2007) for large nodes and over every split of
 //! the sorted centroids for nodes of up to 16 primitives, then collapsed into a 4-wide tree (each
 //! node the boxes of up to four children, tested at once, one SIMD slab
-//! test per axis over four lanes): a ray visits about half as many nodes.
+//! test per axis over four lanes; which binary nodes become wide nodes is
+//! chosen by expected cost in [`collapse`]): a ray visits about half as
+//! many nodes.
 //! Building reorders the world's primitives into leaf order, so a leaf
 //! names a run of slots and its primitives lie side by side in memory.
 //!
@@ -27,6 +29,8 @@
 //! [`Bvh::closest`] visits the nearer children first and skips boxes
 //! beyond the nearest hit so far; [`Bvh::occluded`] stops at the first hit (shadow
 //! rays need any hit, not the nearest).
+
+mod collapse;
 
 use arrayvec::ArrayVec;
 use glam::{DVec3, Vec3A, Vec4};
@@ -238,7 +242,7 @@ impl Bvh {
         let mut nodes = Vec::with_capacity(2 * items.len().div_ceil(2).max(1));
         build(&mut items, 0, 0, &mut nodes);
         let mut wide = Vec::with_capacity(nodes.len() / 2 + 1);
-        collapse(&nodes, 0, &mut wide);
+        collapse::Plan::new(&nodes, items.len()).collapse(&nodes, 0, &mut wide);
         drop(nodes);
         // Gathered in leaf order: independent reads, unlike moving the
         // primitives along the permutation's cycles in place, whose
@@ -259,7 +263,10 @@ impl Bvh {
 
     /// The nearest hit in `(0, t_max)` among `prims` (the list the
     /// hierarchy was built over); among hits at the same `t`, the primitive
-    /// with the lowest IR index.
+    /// with the lowest IR index. Marked `inline`, so that
+    /// `World::closest_in` holds the traversal without a second call per
+    /// ray whichever codegen unit each lands in.
+    #[inline]
     pub fn closest<R: Real>(&self, prims: &[Prim<R>], ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {
         let slab = Slab::new(ray);
         let mut best: Option<Hit<R>> = None;
@@ -488,47 +495,6 @@ impl Slab {
         }
         (near.to_array(), near.cmple(far).bitmask())
     }
-}
-
-/// Collapse the binary subtree at `root` into wide nodes appended to
-/// `wide`: starting from `root` alone, the interior child with the largest
-/// box is replaced by its two children until there are four or all are
-/// leaves; interior children become wide nodes in turn. Returns the index
-/// of the wide node made.
-fn collapse(nodes: &[Node], root: usize, wide: &mut Vec<Wide>) -> usize {
-    let area = |n: &Node| {
-        let e = [0, 1, 2].map(|axis| n.hi[axis] - n.lo[axis]);
-        e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
-    };
-    let mut children = vec![root];
-    while children.len() < 4 {
-        let widest = children
-            .iter()
-            .enumerate()
-            .filter(|(_, &c)| nodes[c].count() == 0)
-            .max_by(|(_, &a), (_, &b)| area(&nodes[a]).total_cmp(&area(&nodes[b])));
-        let Some((at, &c)) = widest else { break };
-        children[at] = c + 1;
-        children.insert(at + 1, nodes[c].index());
-    }
-    let at = wide.len();
-    wide.push(Wide::EMPTY);
-    let mut made = Wide::EMPTY;
-    for (lane, &c) in children.iter().enumerate() {
-        let n = &nodes[c];
-        for axis in 0..3 {
-            made.planes[axis][lane] = n.lo[axis];
-            made.planes[3 + axis][lane] = n.hi[axis];
-        }
-        if n.count() > 0 {
-            made.index[lane] = n.index() as u32;
-            made.count[lane] = n.count() as u32;
-        } else {
-            made.index[lane] = collapse(nodes, c, wide) as u32;
-        }
-    }
-    wide[at] = made;
-    at
 }
 
 /// Build the subtree over `items` (which start at leaf slot `offset`) into
