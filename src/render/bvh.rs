@@ -96,6 +96,14 @@ impl Node {
     fn count(&self) -> usize {
         self.hi[3].to_bits() as usize
     }
+
+    /// The node's box.
+    fn bounds(&self) -> Aabb {
+        Aabb {
+            lo: Vec3A::from_slice(&self.lo),
+            hi: Vec3A::from_slice(&self.hi),
+        }
+    }
 }
 
 /// A node of the 4-wide hierarchy the binary one is collapsed into: four

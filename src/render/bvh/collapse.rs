@@ -54,10 +54,7 @@ impl Plan {
     /// node, so children come after their parents and a reverse pass sees
     /// them first).
     pub(super) fn new(nodes: &[Node], primitives: usize) -> Plan {
-        let area = |n: &Node| {
-            let e = [0, 1, 2].map(|axis| f64::from(n.hi[axis] - n.lo[axis]));
-            e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
-        };
+        let area = |n: &Node| n.bounds().area();
         let root_area = area(&nodes[0]);
         let root_count = primitives.max(1) as f64;
         // A root box of no area (coincident primitives) weighs by count
@@ -164,7 +161,7 @@ impl Plan {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::bvh::{build, Item};
+    use crate::render::bvh::{build, Aabb, Item};
     use glam::Vec3A;
 
     /// Sphere-like boxes of varied sizes at random places.
@@ -180,8 +177,8 @@ mod tests {
     }
 
     fn area(lo: [f32; 3], hi: [f32; 3]) -> f64 {
-        let e = [0, 1, 2].map(|axis| f64::from(hi[axis] - lo[axis]));
-        e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
+        let (lo, hi) = (lo.into(), hi.into());
+        Aabb { lo, hi }.area()
     }
 
     /// The expected visits of the wide subtree at `node`, whose box is
