@@ -2,9 +2,8 @@
 //! numbers follow from the scene (an image without edges has no sampling
 //! error), assets are written when asked, and bad input gets its exit code.
 
-mod support;
 
-use support::{run, write};
+use crate::support::{run, write};
 
 const BALL: &str = "camera 16\nsphere dimension 1 center 0 0 -4 color .5 .5 .5\n\
                     light location 2 3 0 color 1 1 1\n";

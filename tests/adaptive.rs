@@ -3,14 +3,14 @@
 //! the shared corner samples (one per pixel, about) where the image is
 //! flat, and never more than `spp` samples of a pixel's own.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 
 use raytracer::render::{
     adaptive::DEFAULT_THRESHOLD, render, render_radiance, Antialias, Counters, Image, Options,
 };
-use support::{lower, lower_in, run};
+use crate::support::{lower, lower_in, run};
 
 const SPP: u32 = 16;
 

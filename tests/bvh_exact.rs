@@ -7,7 +7,7 @@
 //! The counters say which acceleration ran, and every comparison checks
 //! that it was the hierarchy, so none compares brute force with itself.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use std::time::Instant;

@@ -1,11 +1,10 @@
 //! `raytracer check` end to end: exit codes, the three formats, several
 //! files in one run, `--deny-warnings` and `--fix`.
 
-mod support;
 
 use std::process::Output;
 
-use support::{run, write};
+use crate::support::{run, write};
 
 const CLEAN: &str = "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\n  reflectivity .5\nlight location 0 5 0 color 1 1 1\n";
 const WARNS: &str = "camera 4\nplane\n\tdimension 4 4\n\tcenter 0 -1 -5\n\tnormal 0 -1 -1   # tilted\n\theadup 0 1 0\n";

@@ -2,10 +2,9 @@
 //! allowed); the one whose headup is parallel to its normal is warned
 //! about and rendered with the stand-in headup its warning names.
 
-mod support;
 
 use raytracer::frontend::load;
-use support::corpus_copy;
+use crate::support::corpus_copy;
 
 const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";
 

@@ -5,14 +5,13 @@
 //! diagnostics at the same places as `--format json`, and insta snapshots
 //! keep both layouts.
 
-mod support;
 
 use std::path::Path;
 use std::process::Output;
 
 use serde_json::Value;
 
-use support::command;
+use crate::support::command;
 
 /// Fixtures with one label, two labels, a warning, a JSON scene and an
 /// error without a scene: every path the two formats take (src/ci tests

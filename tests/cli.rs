@@ -8,13 +8,12 @@
 //! permission test run as root, a tmpfs that cannot be mounted) say so on
 //! stderr and pass without asserting.
 
-mod support;
 
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use support::{bin, listing, run, write};
+use crate::support::{bin, listing, run, write};
 
 const SCENE: &str =
     "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  reflectivity .5\nlight location 0 5 0 color 1 1 1\n";

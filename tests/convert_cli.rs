@@ -2,12 +2,11 @@
 //! `render`: output to stdout and to `-o`, exit codes, nothing written for
 //! a bad scene, diagnostics with JSON line and column.
 
-mod support;
 
 use std::path::Path;
 use std::process::{Output, Stdio};
 
-use support::command;
+use crate::support::command;
 
 const SCENE: &str = "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\n  color .5 .25 1\n\
                      light location 0 5 0 color 1 1 1\n";

@@ -8,7 +8,7 @@
 //! without it the test fails under `CI=true` and says it was skipped
 //! otherwise.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use std::process::Command;

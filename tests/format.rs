@@ -9,7 +9,7 @@
 //! - the command: `--check` lists and writes nothing, files are rewritten in
 //!   place, syntax errors refuse, stdin goes to stdout, JSON is refused.
 
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -18,7 +18,7 @@ use proptest::prelude::*;
 use raytracer::format::format;
 use raytracer::frontend::load_bytes;
 use raytracer::syntax::{self, trivia};
-use support::{run, write};
+use crate::support::{run, write};
 
 const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/format");
 const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");

@@ -5,7 +5,6 @@
 //! terminal format shows them as `\u{…}` escapes with labels still under
 //! their characters (snapshots); JSON keeps them exactly.
 
-mod support;
 
 use std::ffi::OsStr;
 use std::os::unix::ffi::OsStrExt;
@@ -14,7 +13,7 @@ use std::process::{Command, Output};
 use std::time::Instant;
 
 use raytracer::frontend::load_bytes;
-use support::bin;
+use crate::support::bin;
 
 /// A scene whose comments, attribute names and texture path hold every kind
 /// of hidden character.

@@ -6,7 +6,7 @@
 //! no protocol at all, and random edit sequences whose final diagnostics
 //! must equal `raytracer check`'s on the final text.
 
-mod support;
+use crate::support;
 
 use std::io::{BufRead, BufReader, Write};
 use std::path::Path;

@@ -6,7 +6,7 @@
 //! Without `nvim` on PATH the test prints that it was skipped, and fails
 //! under `CI=true` (.ci/run installs Debian's `neovim`).
 
-mod support;
+use crate::support;
 
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

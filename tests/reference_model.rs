@@ -7,14 +7,12 @@
 //! agree to within 1/255. A few small scenes are also checked, from scene
 //! text to pixel, against values worked out by hand.
 
-mod reference;
-mod support;
 
 use std::path::Path;
 
 use raytracer::render::Options;
-use reference::assert_renders_match_reference;
-use support::{corpus_copy, lower, lower_in, pixel, quantized, render};
+use crate::reference::assert_renders_match_reference;
+use crate::support::{corpus_copy, lower, lower_in, pixel, quantized, render};
 
 #[test]
 fn corpus_and_project_scenes_match_the_reference_model() {

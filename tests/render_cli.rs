@@ -3,12 +3,12 @@
 //! scene calls for are simulated, the image is the same for any number of
 //! threads, and the output is what its extension says.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 
 use serde_json::Value;
-use support::{corpus_copy, listing, lower, render, run};
+use crate::support::{corpus_copy, listing, lower, render, run};
 
 /// Render `scene` (text) with `--stats-json` and return the statistics.
 fn stats_of(scene: &str) -> Value {

@@ -15,7 +15,6 @@
 //! infinity reaches a pixel or a texture lookup (the tracer counts both in
 //! every build, so the check holds in release too).
 
-mod reference;
 
 use std::path::Path;
 use std::time::Instant;
@@ -28,7 +27,7 @@ use raytracer::render::real::Vector;
 use raytracer::render::trace::{texel, Tracer};
 use raytracer::render::{camera_ray, render, Counters, Image, Options, Real};
 
-use reference::{assert_renders_match_reference, Expected, Reference};
+use crate::reference::{assert_renders_match_reference, Expected, Reference};
 
 /// Load and lower a scene of scenes/hard/.
 fn hard_scene(name: &str) -> ir::Scene {

@@ -6,7 +6,7 @@
 //! diagnostic and never a panic. Every fixture is built here, by hand or
 //! with an encoder. The texel lookup is checked to be total over sizes.
 
-mod support;
+use crate::support;
 
 use std::io::Cursor;
 

@@ -12,23 +12,26 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use raytracer::check::CheckError;
-use raytracer::frontend::load;
+use raytracer::frontend::{load_bytes, Loaded};
 use raytracer::json::JsonError;
 use raytracer::syntax::SyntaxError;
 
 /// Each namespace's fixture folder and the extension of its fixtures.
 const NAMESPACES: [(&str, &str); 3] = [("syntax", "txt"), ("scene", "txt"), ("json", "json")];
 
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
 /// Every fixture, as a path relative to the crate root (so rendered file
 /// names and texture paths do not depend on where the repository is).
 fn fixtures() -> Vec<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    std::env::set_current_dir(root).expect("cd to the crate root");
     let mut fixtures = Vec::new();
     for (namespace, extension) in NAMESPACES {
         let dir = Path::new("tests/ui").join(namespace);
-        for entry in std::fs::read_dir(&dir).expect("fixture dir") {
-            let path = entry.expect("fixture").path();
+        for entry in std::fs::read_dir(root().join(&dir)).expect("fixture dir") {
+            let name = entry.expect("fixture").file_name();
+            let path = dir.join(name);
             if path.extension().is_some_and(|e| e == extension) {
                 fixtures.push(path);
             }
@@ -36,6 +39,20 @@ fn fixtures() -> Vec<PathBuf> {
     }
     fixtures.sort();
     fixtures
+}
+
+/// A fixture checked as `check` would, named by its path relative to the
+/// crate root and with textures resolved from its own folder, without
+/// changing the working directory of the test process (other tests share it).
+fn load(fixture: &Path) -> Loaded {
+    let bytes = std::fs::read(root().join(fixture)).expect("fixture readable");
+    let dir = root().join(fixture.parent().expect("fixture folder"));
+    load_bytes(
+        &fixture.to_string_lossy(),
+        &dir,
+        &bytes,
+        std::time::Instant::now(),
+    )
 }
 
 /// `syntax::invalid_number` for `tests/ui/syntax/invalid_number.txt`.
@@ -66,7 +83,7 @@ fn every_fixture_renders_as_its_snapshot() {
     assert!(!fixtures.is_empty());
     for fixture in fixtures {
         let code = code_of(&fixture);
-        let loaded = load(&fixture).expect("fixture readable");
+        let loaded = load(&fixture);
         let codes: Vec<String> = loaded.report.entries().map(|e| e.code).collect();
         assert!(
             codes.contains(&code),
@@ -123,7 +140,6 @@ fn docs_show_every_code_as_rendered() {
             );
         }
         let rendered = load(&fixture)
-            .expect("fixture")
             .report
             .render_human(80, false);
         assert!(
@@ -137,7 +153,7 @@ fn docs_show_every_code_as_rendered() {
 fn fixes_show_in_the_json_format() {
     let mut with_fixes = Vec::new();
     for fixture in fixtures() {
-        let loaded = load(&fixture).expect("fixture readable");
+        let loaded = load(&fixture);
         let fixed: Vec<_> = loaded
             .report
             .entries()

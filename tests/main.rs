@@ -1,0 +1,34 @@
+//! The integration tests, as one test binary with a module per area (the
+//! layout rust-analyzer and cargo use for large suites): every file in
+//! `tests/` links the crate once, not once per file. `interrupt.rs` is the
+//! one test with a binary of its own, because the clean-up it exercises
+//! ([`raytracer::output::abandon`]) is for good in the process that runs it.
+
+mod reference;
+mod support;
+
+mod accuracy_cli;
+mod adaptive;
+mod bvh_exact;
+mod check_cli;
+mod check_corpus;
+mod check_formats;
+mod check_rules;
+mod cli;
+mod convert_cli;
+mod distributed;
+mod format;
+mod hostile_text;
+mod intersection;
+mod language_table;
+mod lsp;
+mod neovim;
+mod no_panic;
+mod pov;
+mod reference_model;
+mod render_cli;
+mod round_trip;
+mod stability;
+mod textures;
+mod tile_cli;
+mod ui;
