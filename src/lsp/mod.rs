@@ -11,6 +11,9 @@
 //! for code actions. Nothing here panics on a client's input: bad parameters
 //! get an error response, unknown documents an empty answer.
 //!
+//! Semantic tokens (`tokens.rs`) come from the syntax tree and the comments
+//! beside it, marked `invalid` where the diagnostics' errors point.
+//!
 //! The protocol's ending: `shutdown` is answered, then `exit` ends the
 //! loop with [`Ending::Shutdown`] (exit code 0); `exit` without `shutdown`,
 //! or the client closing stdin, ends with [`Ending::Abandoned`] (exit 1).
