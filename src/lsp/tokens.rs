@@ -43,7 +43,7 @@ const TYPES: [SemanticTokenType; 5] = [
 ];
 
 /// The modifier on tokens an error points at (bit 0 of the modifier set).
-pub const INVALID: SemanticTokenModifier = SemanticTokenModifier::new("invalid");
+const INVALID: SemanticTokenModifier = SemanticTokenModifier::new("invalid");
 
 /// The token types and modifiers the server's tokens index into.
 pub fn legend() -> SemanticTokensLegend {
