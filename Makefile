@@ -7,7 +7,7 @@ CARGO ?= cargo
 CARGO_FLAGS ?=
 BIN := target/release/raytracer
 
-.PHONY: all build test cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean
+.PHONY: all build test cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean vsix
 
 all: raytracer
 
@@ -102,6 +102,14 @@ fuzz-cmin:
 	cd fuzz && for target in $(FUZZ_TARGETS); do \
 	  RUSTC_BOOTSTRAP=1 $(CARGO) fuzz cmin -O $(FUZZ_FLAGS) $$target corpus/$$target || exit 1; \
 	done
+
+# The VS Code extension of editors/vscode/, packaged by @vscode/vsce for
+# `code --install-extension target/vscode/raytracer-scene.vsix` (needs node
+# and npm; the packages install from its package-lock.json).
+vsix:
+	mkdir -p target/vscode
+	cd editors/vscode && npm ci --no-audit --no-fund && \
+	  npm run package -- --out ../../target/vscode/raytracer-scene.vsix
 
 clean:
 	$(CARGO) clean

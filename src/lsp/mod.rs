@@ -11,6 +11,9 @@
 //! for code actions. Nothing here panics on a client's input: bad parameters
 //! get an error response, unknown documents an empty answer.
 //!
+//! Semantic tokens (`tokens.rs`) come from the syntax tree and the comments
+//! beside it, marked `invalid` where the diagnostics' errors point.
+//!
 //! The protocol's ending: `shutdown` is answered, then `exit` ends the
 //! loop with [`Ending::Shutdown`] (exit code 0); `exit` without `shutdown`,
 //! or the client closing stdin, ends with [`Ending::Abandoned`] (exit 1).
@@ -21,6 +24,7 @@ mod document;
 mod hover;
 mod outline;
 pub mod position;
+mod tokens;
 
 use std::collections::HashMap;
 use std::time::{Duration, Instant};
@@ -129,6 +133,15 @@ fn capabilities() -> ServerCapabilities {
             ]),
             ..CodeActionOptions::default()
         })),
+        semantic_tokens_provider: Some(
+            lsp_types::SemanticTokensOptions {
+                legend: tokens::legend(),
+                full: Some(lsp_types::SemanticTokensFullOptions::Bool(true)),
+                range: Some(true),
+                ..lsp_types::SemanticTokensOptions::default()
+            }
+            .into(),
+        ),
         ..ServerCapabilities::default()
     }
 }
@@ -251,6 +264,14 @@ impl Server<'_> {
                 });
                 Ok(serde_json::to_value(found.unwrap_or_default()).unwrap_or_default())
             }
+            request::SemanticTokensFullRequest::METHOD => {
+                let p: lsp_types::SemanticTokensParams = params(request)?;
+                Ok(self.semantic_tokens(&p.text_document.uri, None))
+            }
+            request::SemanticTokensRangeRequest::METHOD => {
+                let p: lsp_types::SemanticTokensRangeParams = params(request)?;
+                Ok(self.semantic_tokens(&p.text_document.uri, Some(p.range)))
+            }
             method => Err((
                 ErrorCode::MethodNotFound,
                 format!("`{method}` is not supported"),
@@ -276,6 +297,25 @@ impl Server<'_> {
             Ok(_) => serde_json::json!([]),
             Err(_) => Value::Null,
         }
+    }
+
+    /// The document's semantic tokens (all, or those in `within`), each
+    /// marked `invalid` where an error of its diagnostics points; none for
+    /// JSON, which its client colours itself.
+    fn semantic_tokens(&self, uri: &Url, within: Option<lsp_types::Range>) -> Value {
+        let Some(document) = self.documents.get(uri) else {
+            return Value::Null;
+        };
+        if document.language != crate::frontend::Language::Text {
+            return Value::Null;
+        }
+        let errors: Vec<lsp_types::Range> = document
+            .diagnostics(None)
+            .into_iter()
+            .filter(|(d, _)| d.severity == Some(lsp_types::DiagnosticSeverity::ERROR))
+            .map(|(d, _)| d.range)
+            .collect();
+        serde_json::to_value(tokens::tokens(&document.text, &errors, within)).unwrap_or_default()
     }
 
     fn notified(&mut self, n: Notification) {
