@@ -15,7 +15,6 @@
 //! infinity reaches a pixel or a texture lookup (the tracer counts both in
 //! every build, so the check holds in release too).
 
-
 use std::path::Path;
 use std::time::Instant;
 
@@ -415,7 +414,7 @@ fn narrow(ray: &Ray<f64>) -> Ray<f32> {
 
 proptest! {
     #![proptest_config(ProptestConfig {
-        cases: 96,
+        cases: 256,
         failure_persistence: None,
         ..ProptestConfig::default()
     })]

@@ -42,7 +42,10 @@
 //! each a function of its position alone: the image is the same for any
 //! number of threads, and a band of rows decides its pixels as the whole
 //! frame does when its corner pass covers one corner row beyond the band
-//! above and below, which [`Corners::rows`] takes.
+//! above and below, which [`Corners::rows`] takes. Those rows belong to
+//! the neighbouring bands, which count them: a band counts the rays of
+//! its own corner rows only, so the counters of the bands that cut a frame
+//! add up to the whole frame's.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -72,7 +75,10 @@ pub(super) struct Corners {
 
 impl Corners {
     /// The samples at the corners of every pixel of rows `band`, and at
-    /// the corner row above and below them where the frame has one.
+    /// the corner row above and below them where the frame has one. The
+    /// counters count only the corner rows the band owns (see
+    /// [`owns_corner_row`]), so a frame's bands together count each corner
+    /// once, as the whole frame does, though each traces its neighbours'.
     pub(super) fn rows<R: Real>(
         sampler: &Sampler,
         tracer: &Tracer<'_, R>,
@@ -91,7 +97,11 @@ impl Corners {
                 for (x, value) in (0..=size).zip(row.iter_mut()) {
                     *value = sampler.corner(tracer, (x, y), &mut counters);
                 }
-                counters
+                if owns_corner_row(&band, size, y) {
+                    counters
+                } else {
+                    Counters::default()
+                }
             })
             .reduce(Counters::default, |mut a, b| {
                 a += b;
@@ -148,6 +158,14 @@ impl Corners {
             bend.max_element() >= limit
         })
     }
+}
+
+/// Whether the band of pixel rows `band` of a `size`-row frame owns
+/// corner row `y`: the top corners of its own rows, and the frame's bottom
+/// corner row when the band is the last. Every corner row has exactly one
+/// owner among the bands that cut a frame.
+fn owns_corner_row(band: &std::ops::Range<u32>, size: u32, y: u32) -> bool {
+    band.contains(&y) || (y == size && band.end == size)
 }
 
 /// Pixel (i, j) sampled as the module header describes; `counters` hears
@@ -253,6 +271,21 @@ mod tests {
         let bent: Vec<u32> = (0..6).filter(|&i| edge.bends((i, 2), 2.0)).collect();
         assert_eq!(bent, [3]);
         assert!(ramp.bends((2, 2), 0.0), "0 refines everything");
+    }
+
+    #[test]
+    fn every_corner_row_has_one_owner_among_the_bands() {
+        let size = 7;
+        for cuts in [vec![0, 7], vec![0, 3, 7], vec![0, 1, 2, 5, 6, 7]] {
+            let bands: Vec<_> = cuts.windows(2).map(|w| w[0]..w[1]).collect();
+            for y in 0..=size {
+                let owners = bands
+                    .iter()
+                    .filter(|band| owns_corner_row(band, size, y))
+                    .count();
+                assert_eq!(owners, 1, "corner row {y} of bands {bands:?}");
+            }
+        }
     }
 
     #[test]
