@@ -97,11 +97,12 @@ fn an_image_without_edges_has_no_sampling_error() {
     assert!(!assets.join("flat.sampling.png").exists());
 }
 
-/// Two mirrors facing each other over a ball: reflections past depth 8.
+/// Two wide mirrors facing each other, the eye between them, and a ball:
+/// paths reflect past depth 8.
 const MIRRORS: &str = "camera 16\n\
-    plane dimension 8 8 center 0 0 -6 normal 0 0 1 headup 0 1 0 reflectivity .9 color .2 .2 .2\n\
-    plane dimension 8 8 center 0 0 2 normal 0 0 -1 headup 0 1 0 reflectivity .9 color .2 .2 .2\n\
-    sphere dimension 1 center 0 0 -4 color 1 .5 .2\n\
+    plane dimension 400 400 center 0 0 -6 normal 0 0 1 headup 0 1 0 reflectivity .9 color .2 .2 .2\n\
+    plane dimension 400 400 center 0 0 2 normal 0 0 -1 headup 0 1 0 reflectivity .9 color .2 .2 .2\n\
+    sphere dimension .5 center 1.5 1 -4 color 1 .5 .2\n\
     light location 2 3 0 color 1 1 1\n";
 
 #[test]

@@ -18,18 +18,14 @@
 //!    mean of all `spp` samples in the order uniform sampling averages
 //!    them: bit for bit the uniform render's pixel.
 //!
-//! Against the first design (refine when a pixel's centre sample differs
-//! from one of its eight neighbours'), measured with docs/accuracy.md's
-//! scenes and reference: the corners see an edge or a texture step that
-//! crosses the pixel itself, so an edge refines the one or two pixels it
-//! crosses, not a band three wide; the bend test keeps smooth shading
-//! (a lit plane at 64 px changes by several 1/255 a pixel) from being
-//! refined at all; and the middle level stops where an edge only clips a
-//! corner. On the 64-px scaled scenes the samples per pixel at 16 spp fell
-//! from 8.9 to 3.3. What no level sees is detail between samples whose
-//! contrast is under the threshold: textures.txt's grain, dimmed to a
-//! tenth by ambient-only light, changes by less than 2/255 a texel, which
-//! is why the default threshold is a fraction of a step
+//! The corners see an edge or a texture step that crosses the pixel
+//! itself, so an edge refines the one or two pixels it crosses, not a band
+//! three wide; the bend test keeps smooth shading (a lit plane changes by
+//! several 1/255 a pixel) from being refined at all; and the middle level
+//! stops where an edge only clips a corner. What no level sees is detail
+//! between samples whose contrast is under the threshold: a texture's
+//! grain dimmed by ambient-only light changes by less than a step a texel,
+//! which is why the default threshold is a fraction of a step
 //! ([`DEFAULT_THRESHOLD`]).
 //!
 //! With threshold 0 every pixel takes all its samples and the image is
@@ -56,12 +52,10 @@ use super::trace::{Counters, Tracer};
 
 /// The default contrast that refines a pixel, in steps of 1/255: a
 /// quarter step, under which a pixel's error seldom moves its rounded
-/// 8-bit value. Measured over docs/accuracy.md's scenes at 16 spp against
-/// uniform 16 spp (2 repetitions, 2 × 64-spp references): at 0.25 all 16
-/// meet the target (RMSE within 1.25× in half the time), the closest
-/// textures.txt at RMSE ×1.19 and sample.txt at time ×0.44; at 0.5
-/// textures.txt's grain, contrast under a step, leaves RMSE ×1.34; at 2,
-/// the earlier default, ×2.4.
+/// 8-bit value. `make accuracy` chooses it on a tuning set of scenes by a
+/// fixed rule (`accuracy::summary`) and judges it on scenes held out from
+/// the choice; docs/accuracy.md has the candidates, the choice and the
+/// verdicts.
 pub const DEFAULT_THRESHOLD: f64 = 0.25;
 
 /// The corner samples of a band of rows and of the corner rows either
