@@ -54,9 +54,11 @@ bench:
 bench-scaling:
 	scripts/scaling.sh
 
-# What accuracy costs: `raytracer accuracy` over scenes/ and scenes/hard/
-# (each at its own resolution) with plots, to docs/accuracy.md and
-# docs/accuracy/ (scripts/accuracy.sh). Under 10 minutes on 2 cores.
+# What accuracy costs: one run of `raytracer accuracy` over a tuning set
+# (scenes/, scenes/hard/), which chooses adaptive sampling's threshold, and
+# a held-out set (the course corpus), with plots, to docs/accuracy.md and
+# docs/accuracy/ (scripts/accuracy.sh; the doc's heading says how long the
+# run took).
 accuracy: raytracer
 	scripts/accuracy.sh
 

@@ -205,7 +205,7 @@ fn verdicts(tuning: &[Measured], held_out: &[Measured], chosen: usize) -> String
             "## Choosing the threshold on the tuning set\n\n\
              The tuning set: {}. Each is measured at every candidate threshold; the rule \
              picks the threshold under which the most (scene, spp) pairs meet the target, and \
-             among equals the largest. It picks **{threshold}**; the default \
+             among equals the largest. It picks **{threshold}**; the default of the binary measured \
              (`DEFAULT_THRESHOLD`, src/render/adaptive.rs) is {default}.\n\n{}\n",
             names(tuning),
             summary::tuning_table(tuning),
