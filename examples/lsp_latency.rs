@@ -12,7 +12,8 @@
 //!
 //! `cargo run --release --example lsp_latency -- BINARY [TARGET_BYTES] [KEYS]`
 //! prints one line per edit to stderr and a summary line to stdout:
-//! `bytes,keys,median_ms,p90_ms,max_ms,cpu_mean_ms,diagnostics`.
+//! `bytes,keys,p50_ms,p95_ms,max_ms,cpu_mean_ms,diagnostics`, the
+//! percentiles the nearest-rank ones of the unrounded times.
 
 use std::io::{BufRead, BufReader, Write};
 use std::process::{ChildStdin, Command, Stdio};
@@ -115,13 +116,15 @@ fn main() {
     assert_eq!(status.code(), Some(0), "the server's exit code");
 
     times.sort_by(f64::total_cmp);
-    let at = |q: f64| times[((times.len() - 1) as f64 * q).round() as usize];
+    // Nearest rank: the smallest time at least a share q of the edits
+    // take no longer than.
+    let at = |q: f64| times[((times.len() as f64 * q).ceil() as usize).clamp(1, times.len()) - 1];
     println!(
         "{},{},{:.1},{:.1},{:.1},{cpu_per_edit},{}",
         text.len(),
         keys,
         at(0.5),
-        at(0.9),
+        at(0.95),
         times[times.len() - 1],
         diagnostics
     );

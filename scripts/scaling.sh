@@ -4,9 +4,10 @@
 # 10 to 1,000,000 spheres at 1000², one thread, REPS runs each (default 3),
 # the counts interleaved; brute force too where it finishes in seconds.
 # Writes the medians to docs/scaling.csv:
-#   spheres,accel,render_s,rays,mrays_per_s,peak_mb,parse_check_s
-# and the render times as `series,x,y` for examples/plot.rs to
-# docs/scaling_plot.csv.
+#   spheres,accel,render_s,rays,mrays_per_s,peak_mb,parse_check_s,commit
+# (commit: the code measured, marked when src/ differs from it), the render
+# times as `series,x,y` to docs/scaling_plot.csv, and plots them with
+# examples/plot.rs to docs/scaling.png, its title naming the commit.
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
@@ -15,8 +16,11 @@ OUT=target/bench
 BIN=target/release/raytracer
 COUNTS=(10 100 1000 10000 100000 1000000)
 
+commit=$(git rev-parse --short HEAD)
+git diff --quiet HEAD -- src Cargo.toml Cargo.lock || commit="$commit+changes"
+
 cargo build --release --locked --quiet
-cargo build --release --locked --quiet --example grid_scene
+cargo build --release --locked --quiet --example grid_scene --example plot
 mkdir -p "$OUT"
 cp scenes/wood_tex.ppm "$OUT/"
 for n in "${COUNTS[@]}"; do
@@ -48,7 +52,7 @@ median() {
     sort -g | awk '{v[NR] = $1} END {if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2}'
 }
 
-echo "spheres,accel,render_s,rays,mrays_per_s,peak_mb,parse_check_s" >docs/scaling.csv
+echo "spheres,accel,render_s,rays,mrays_per_s,peak_mb,parse_check_s,commit" >docs/scaling.csv
 echo "series,spheres,seconds" >docs/scaling_plot.csv
 for run in "${RUNS[@]}"; do
   read -r n accel <<<"$run"
@@ -56,9 +60,12 @@ for run in "${RUNS[@]}"; do
   rays=$(median "$n,$accel" 4)
   kb=$(median "$n,$accel" 5)
   front=$(median "$n,$accel" 6)
-  awk -v n="$n" -v a="$accel" -v r="$r" -v rays="$rays" -v kb="$kb" -v f="$front" \
-    'BEGIN {printf "%s,%s,%.4f,%d,%.2f,%.1f,%.4f\n", n, a, r, rays, rays / r / 1e6, kb / 1024, f}' >>docs/scaling.csv
+  awk -v n="$n" -v a="$accel" -v r="$r" -v rays="$rays" -v kb="$kb" -v f="$front" -v c="$commit" \
+    'BEGIN {printf "%s,%s,%.4f,%d,%.2f,%.1f,%.4f,%s\n", n, a, r, rays, rays / r / 1e6, kb / 1024, f, c}' >>docs/scaling.csv
   series=$([ "$accel" = auto ] && echo "hierarchy (--accel auto)" || echo "brute force")
   echo "$series,$n,$r" >>docs/scaling_plot.csv
 done
 column -s, -t docs/scaling.csv
+target/release/examples/plot docs/scaling_plot.csv docs/scaling.png \
+  --title "Render time against sphere count (1000², one thread), commit $commit" \
+  --x-label "spheres" --y-label "render time, s (median of $REPS)" --log-x --log-y --lines

@@ -226,10 +226,17 @@ impl ConvertArgs {
 
 #[derive(Debug, Args)]
 pub struct AccuracyArgs {
-    /// Scene file (`.json` is read as JSON; `-` reads stdin).
-    pub scene: PathBuf,
+    /// Scene files (`.json` is read as JSON). With several thresholds they
+    /// are the tuning set that chooses one.
+    #[arg(required = true, num_args = 1..)]
+    pub scenes: Vec<PathBuf>,
+    /// Scenes measured only at the threshold the SCENES chose, and judged
+    /// apart from them.
+    #[arg(long, value_name = "SCENE", num_args = 1..)]
+    pub held_out: Vec<PathBuf>,
     /// Render at N×N [default: the scene's own side, or its smallest odd
-    /// multiple of at least 128, which keeps every pixel centre].
+    /// multiple of at least 128, or its largest odd divisor of at most
+    /// 400, each of which keeps every pixel centre].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub size: Option<u32>,
     /// Timed repetitions of every setting (interleaved).
@@ -243,9 +250,10 @@ pub struct AccuracyArgs {
     #[arg(long, value_name = "DIR")]
     pub assets: Option<PathBuf>,
     /// The contrast that refines a pixel in the adaptive rows, in steps
-    /// of 1/255 (fractions allowed).
-    #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "STEPS", value_parser = contrast_steps)]
-    pub aa_threshold: f64,
+    /// of 1/255 (fractions allowed); several, comma-separated, are
+    /// candidates the SCENES choose among.
+    #[arg(long, default_values_t = [DEFAULT_THRESHOLD], value_name = "STEPS", value_parser = contrast_steps, value_delimiter = ',')]
+    pub aa_threshold: Vec<f64>,
     /// Worker threads for the reference (timed renders use one).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,

@@ -6,10 +6,14 @@
 //! `series,x,y[,label]`: one coloured series per distinct `series` (in
 //! order of first appearance), a point at (`x`, `y`), and an optional
 //! `label` written beside the point. Fields are split on commas; there is
-//! no quoting. A series the chart names as a guide is a reference line
-//! (thin, grey, no markers), not data. On a log axis, points with a value
-//! ≤ 0 cannot be drawn: they are left out, and [`Drawn::left_out`] counts
-//! them.
+//! no quoting. Each data series has its own colour, marker and line dash,
+//! the first a hollow ring that a later series' marker on the same point
+//! leaves visible. A series the chart names as a guide is a reference line
+//! (thin, grey, each guide its own dash, no markers), not data. On a log
+//! axis, points with a value ≤ 0 cannot be drawn: they are left out, and
+//! [`Drawn::left_out`] counts them. Log-axis ticks are placed by [`log_ticks`] across
+//! the data's whole range, so a log axis spanning less than a power of ten
+//! is still labelled.
 //!
 //! Text is drawn with DejaVu Sans, bundled from docs/fonts/ (Debian's
 //! fonts-dejavu-core; licence beside it), so a chart does not depend on
@@ -161,11 +165,40 @@ pub fn draw(chart: &Chart, mut series: Vec<Series>) -> Result<Drawn, PlotError> 
         let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(drawing)?;
         let (x, y) = (pad(x, chart.log_x), pad(y, chart.log_y));
+        // A log axis is labelled at [`log_ticks`]; a linear one where
+        // plotters' own choice of round steps puts its labels.
         match (chart.log_x, chart.log_y) {
             (false, false) => draw_on(&root, chart, &series, x, y)?,
-            (true, false) => draw_on(&root, chart, &series, x.log_scale(), y)?,
-            (false, true) => draw_on(&root, chart, &series, x, y.log_scale())?,
-            (true, true) => draw_on(&root, chart, &series, x.log_scale(), y.log_scale())?,
+            (true, false) => {
+                let x_ticks = log_ticks(&x);
+                draw_on(
+                    &root,
+                    chart,
+                    &series,
+                    x.log_scale().with_key_points(x_ticks),
+                    y,
+                )?
+            }
+            (false, true) => {
+                let y_ticks = log_ticks(&y);
+                draw_on(
+                    &root,
+                    chart,
+                    &series,
+                    x,
+                    y.log_scale().with_key_points(y_ticks),
+                )?
+            }
+            (true, true) => {
+                let (x_ticks, y_ticks) = (log_ticks(&x), log_ticks(&y));
+                draw_on(
+                    &root,
+                    chart,
+                    &series,
+                    x.log_scale().with_key_points(x_ticks),
+                    y.log_scale().with_key_points(y_ticks),
+                )?
+            }
         }
         root.present().map_err(drawing)?;
     }
@@ -219,30 +252,56 @@ where
     let mut data_index = 0;
     for s in series {
         let xy: Vec<(f64, f64)> = s.points.iter().map(|p| (p.x, p.y)).collect();
-        if chart.guides.contains(&s.name) {
-            let grey = RGBColor(150, 150, 150);
-            context
-                .draw_series(LineSeries::new(xy, grey.stroke_width(1)))
-                .map_err(drawing)?
+        if let Some(guide) = chart.guides.iter().position(|g| *g == s.name) {
+            let grey = RGBColor(130, 130, 130).stroke_width(1 + (guide % 3 == 2) as u32);
+            let (dash, gap) = [(0, 0), (8, 5), (2, 4)][guide % 3];
+            let line = if dash == 0 {
+                context.draw_series(LineSeries::new(xy, grey))
+            } else {
+                context.draw_series(DashedLineSeries::new(xy, dash, gap, grey))
+            };
+            line.map_err(drawing)?
                 .label(s.name.as_str())
-                .legend(move |(x, y)| PathElement::new([(x - 8, y), (x + 8, y)], grey));
+                .legend(move |(x, y)| {
+                    let ends = [(x - 10, y), (x + 10, y)];
+                    PathElement::new(ends, grey)
+                });
             continue;
         }
+        let style = data_index % 4;
         let color = COLOURS[data_index % COLOURS.len()].to_rgba();
         data_index += 1;
         if chart.lines {
-            context
-                .draw_series(LineSeries::new(xy.clone(), color.stroke_width(2)))
-                .map_err(drawing)?;
+            let stroke = color.stroke_width(2);
+            match style {
+                0 => context.draw_series(LineSeries::new(xy.clone(), stroke)),
+                1 => context.draw_series(DashedLineSeries::new(xy.clone(), 8, 5, stroke)),
+                2 => context.draw_series(DashedLineSeries::new(xy.clone(), 2, 4, stroke)),
+                _ => context.draw_series(LineSeries::new(xy.clone(), color.stroke_width(1))),
+            }
+            .map_err(drawing)?;
         }
-        context
-            .draw_series(
-                xy.iter()
-                    .map(|&point| Circle::new(point, 4, color.filled())),
-            )
-            .map_err(drawing)?
-            .label(s.name.as_str())
-            .legend(move |(x, y)| Circle::new((x, y), 4, color.filled()));
+        // Markers in turn: a hollow ring, a filled triangle, a cross, a
+        // hollow square.
+        let outline = color.stroke_width(2);
+        let square = |at| EmptyElement::at(at) + Rectangle::new([(-4, -4), (4, 4)], outline);
+        let points = xy.iter().copied();
+        let markers = match style {
+            0 => context.draw_series(points.map(|at| Circle::new(at, 6, outline))),
+            1 => context.draw_series(points.map(|at| TriangleMarker::new(at, 5, color.filled()))),
+            2 => context.draw_series(points.map(|at| Cross::new(at, 5, outline))),
+            _ => context.draw_series(points.map(square)),
+        }
+        .map_err(drawing)?
+        .label(s.name.as_str());
+        match style {
+            0 => markers.legend(move |at| Circle::new(at, 6, outline)),
+            1 => markers.legend(move |at| TriangleMarker::new(at, 5, color.filled())),
+            2 => markers.legend(move |at| Cross::new(at, 5, outline)),
+            _ => markers.legend(move |at| {
+                EmptyElement::at(at) + Rectangle::new([(-4, -4), (4, 4)], outline)
+            }),
+        };
         context
             .draw_series(s.points.iter().filter_map(|p| {
                 let label = p.label.as_deref()?;
@@ -269,6 +328,28 @@ where
         .draw()
         .map_err(drawing)?;
     Ok(())
+}
+
+/// Where a log axis over `range` is labelled: 1, 2 and 5 times each power
+/// of ten inside it, or every whole multiple 1–9 when that gives fewer
+/// than four ticks (an axis spanning less than a decade, where powers of
+/// ten alone would label nothing). Each tick has one significant digit, so
+/// no two print alike.
+fn log_ticks(range: &Range<f64>) -> Vec<f64> {
+    let (low, high) = (range.start, range.end);
+    let decades = low.log10().floor() as i32..=high.log10().ceil() as i32;
+    let within = |multiples: &[f64]| -> Vec<f64> {
+        decades
+            .clone()
+            .flat_map(|e| multiples.iter().map(move |m| m * 10f64.powi(e)))
+            .filter(|v| (low..=high).contains(v))
+            .collect()
+    };
+    let coarse = within(&[1.0, 2.0, 5.0]);
+    if coarse.len() >= 4 {
+        return coarse;
+    }
+    within(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0])
 }
 
 /// Remove points a log axis cannot show; return how many.
@@ -365,6 +446,17 @@ mod tests {
                 found: "inf".into()
             })
         );
+    }
+
+    #[test]
+    fn log_ticks_label_the_whole_range_of_the_data() {
+        let labels = |range| log_ticks(&range).iter().map(tick).collect::<Vec<_>>();
+        // Inside one decade, where powers of ten label nothing and 1, 2, 5
+        // too little: every multiple.
+        assert_eq!(labels(0.25..0.75), ["0.3", "0.4", "0.5", "0.6", "0.7"]);
+        // Over decades: 1, 2, 5 of each, each printed differently.
+        assert_eq!(labels(0.8..130.0), ["1", "2", "5", "10", "20", "50", "100"]);
+        assert_eq!(labels(0.04..0.7), ["0.05", "0.1", "0.2", "0.5"]);
     }
 
     #[test]

@@ -80,7 +80,7 @@ fn an_image_without_edges_has_no_sampling_error() {
         "{stdout}"
     );
     assert!(
-        stdout.contains("the RMSE is 0 at every sample count"),
+        stdout.contains("the RMSE is 0 at every jittered sample count"),
         "{stdout}"
     );
     assert!(stdout.contains("**f32 is enough here**"), "{stdout}");
@@ -95,6 +95,146 @@ fn an_image_without_edges_has_no_sampling_error() {
     // A log axis cannot show RMSE 0: no empty chart is drawn.
     assert!(assets.join("flat.sampling.csv").exists());
     assert!(!assets.join("flat.sampling.png").exists());
+}
+
+/// Two wide mirrors facing each other, the eye between them, and a ball:
+/// paths reflect past depth 8.
+const MIRRORS: &str = "camera 16\n\
+    plane dimension 400 400 center 0 0 -6 normal 0 0 1 headup 0 1 0 reflectivity .9 color .2 .2 .2\n\
+    plane dimension 400 400 center 0 0 2 normal 0 0 -1 headup 0 1 0 reflectivity .9 color .2 .2 .2\n\
+    sphere dimension .5 center 1.5 1 -4 color 1 .5 .2\n\
+    light location 2 3 0 color 1 1 1\n";
+
+#[test]
+fn the_sampling_fit_and_the_references_are_stated() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let scene = write(dir.path(), "mirrors.txt", MIRRORS);
+    let output = accuracy(&scene, &["--size", "16"]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    // The fit leaves out 1 spp, the pixel centre, and says so.
+    assert!(
+        stdout.contains("(least squares over 4–64 spp, jittered counts only)"),
+        "{stdout}"
+    );
+    // Depth truncation is its own source, against the depth-64 reference.
+    assert!(stdout.contains("at depth 8 ("), "{stdout}");
+    assert!(stdout.contains("**Depth truncation**, a source of its own: the depth-8 reference against the depth-64 one differs by RMSE "), "{stdout}");
+    // The default renders at depth 8, as its reference does: its error is
+    // sampling alone, and depth 8's truncation shows only in the split.
+    let truncation: f64 = stdout
+        .split("the depth-8 reference against the depth-64 one differs by RMSE ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .expect("the truncation RMSE");
+    assert!(
+        truncation > 0.0,
+        "the mirrors reflect past depth 8: {stdout}"
+    );
+}
+
+#[test]
+fn the_tuning_set_chooses_and_the_held_out_scenes_are_judged_apart() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let ball = write(dir.path(), "ball.txt", BALL);
+    let flat = write(dir.path(), "flat.txt", FLAT);
+    let held = write(dir.path(), "held/ball.txt", BALL);
+    let assets = dir.path().join("assets");
+    let output = run(&[
+        "accuracy",
+        &ball,
+        &flat,
+        "--held-out",
+        &held,
+        "--aa-threshold",
+        "0.5,2",
+        "--reps",
+        "3",
+        "--reference-spp",
+        "16",
+        "--size",
+        "12",
+        "--assets",
+        assets.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        stdout.contains("## Choosing the threshold on the tuning set"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains(&format!("The tuning set: `{ball}`, `{flat}`.")),
+        "{stdout}"
+    );
+    let picked: f64 = stdout
+        .split("It picks **")
+        .nth(1)
+        .and_then(|rest| rest.split("**").next())
+        .and_then(|n| n.parse().ok())
+        .expect("the picked threshold");
+    assert!([0.5, 2.0].contains(&picked), "{picked}");
+    // Both candidates in the tuning table; the tuning scenes measured at
+    // both, the held-out one at the pick only.
+    assert!(stdout.contains("| 0.5 | "), "{stdout}");
+    assert!(stdout.contains("| 2 | "), "{stdout}");
+    let held_out = stdout
+        .split("the held-out scenes\n")
+        .nth(1)
+        .expect("a held-out section");
+    assert!(
+        held_out.contains(&format!(
+            "measured after it at the chosen threshold only: `{held}`."
+        )),
+        "{held_out}"
+    );
+    for spp in [4, 16, 64] {
+        let row = format!("| `{held}` | {spp} | ");
+        assert!(held_out.contains(&row), "no `{row}` in {held_out}");
+    }
+    assert!(
+        stdout.contains("Meet the target (RMSE ≤ 1.25× uniform's in ≤ 0.5× its time"),
+        "{stdout}"
+    );
+    let sections: Vec<&str> = stdout.split("\n### `").skip(1).collect();
+    assert_eq!(sections.len(), 3, "{stdout}");
+    assert!(
+        sections[0].contains("| adaptive 16 spp, threshold 0.5 |"),
+        "{}",
+        sections[0]
+    );
+    assert!(
+        sections[0].contains("| adaptive 16 spp, threshold 2 |"),
+        "{}",
+        sections[0]
+    );
+    assert!(
+        sections[2].contains("| adaptive 16 spp |"),
+        "{}",
+        sections[2]
+    );
+    assert!(!sections[2].contains("threshold 2 |") || picked == 2.0);
+    // Two scenes named ball: their assets are told apart by folder.
+    assert!(assets.join("held-ball.sampling.csv").exists());
+    assert!(assets
+        .join(format!(
+            "{}-ball.sampling.csv",
+            dir.path().file_name().unwrap().to_string_lossy()
+        ))
+        .exists());
+    assert!(
+        stdout.contains("](assets/held-ball.f32_f64.png)"),
+        "{stdout}"
+    );
 }
 
 #[test]

@@ -140,17 +140,56 @@ fn a_flat_image_takes_only_its_corner_samples() {
     assert!(image == one, "a flat image is its 1-spp image");
 }
 
+/// A ball of radius 1 at (0, 0, −6) in front of [`FLAT`]'s wall: ambient
+/// light only, so the ball is one flat colour and the wall another.
+const BALL: &str = "sphere dimension 1 center 0 0 -6 color 1 1 1\n";
+
+/// Whether the ray through corner (x, y) of a `size`² frame hits
+/// [`BALL`], from docs/rendering.md's camera: the ray towards
+/// (−0.5 + x/N, 0.5 − y/N, −1) passes the centre c at distance
+/// √(|c|² − (c·d)²) for the unit direction d. Panics for a ray within
+/// 1e-9 of tangent, which rounding could send either way.
+fn corner_hits_ball(size: u32, (x, y): (u32, u32)) -> bool {
+    let n = f64::from(size);
+    let d = glam::DVec3::new(-0.5 + f64::from(x) / n, 0.5 - f64::from(y) / n, -1.0).normalize();
+    let centre = glam::DVec3::new(0.0, 0.0, -6.0);
+    let miss_distance = centre.length_squared() - centre.dot(d).powi(2);
+    assert!(
+        (miss_distance - 1.0).abs() > 1e-9,
+        "corner ({x}, {y}) is tangent"
+    );
+    miss_distance < 1.0
+}
+
+/// The pixels of a `size`² frame whose four corners are not all on the
+/// ball nor all off it: the pixels adaptive sampling must refine when the
+/// image is two flat colours, and the only ones it may.
+fn pixels_on_the_ball_edge(size: u32) -> u64 {
+    let pixels = (0..size).flat_map(|j| (0..size).map(move |i| (i, j)));
+    pixels
+        .filter(|&(i, j)| {
+            let hits = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
+                .map(|corner| corner_hits_ball(size, corner));
+            hits.contains(&true) && hits.contains(&false)
+        })
+        .count() as u64
+}
+
 #[test]
-fn only_pixels_near_an_edge_are_refined() {
+fn only_pixels_the_edge_crosses_are_refined() {
     // A small ball inside the flat sphere: its silhouette has contrast.
-    let scene = lower(&format!(
-        "{FLAT}sphere dimension 1 center 0 0 -6 color 1 1 1\n"
-    ));
+    let scene = lower(&format!("{FLAT}{BALL}"));
     let (image, counters) = render::<f64>(&scene, &adaptive(DEFAULT_THRESHOLD), &|| {});
     assert_samples_bounded("ball", 32, &counters);
-    // The ball's disk is about 5 px across: its edge ring, not the frame.
+    // A pixel whose corners straddle the silhouette disagrees and bends
+    // (two flat colours: its step differs from both sides' flat steps).
     let refined = counters.pixels_refined + counters.pixels_partly_refined;
-    assert!((8..=100).contains(&refined), "{counters:?}");
+    let edge = pixels_on_the_ball_edge(32);
+    assert!(
+        edge > 20,
+        "the ball's rim crosses more than a few pixels: {edge}"
+    );
+    assert_eq!(refined, edge, "{counters:?}");
     let Image { rgb, .. } = image;
     let corner = &rgb[..3];
     assert_eq!(corner, [13, 8, 5], "the flat wall keeps its 1-spp value");
@@ -159,11 +198,7 @@ fn only_pixels_near_an_edge_are_refined() {
 #[test]
 fn the_cli_reports_adaptive_samples() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let scene = support::write(
-        dir.path(),
-        "ball.txt",
-        format!("{FLAT}sphere dimension 1 center 0 0 -6 color 1 1 1\n"),
-    );
+    let scene = support::write(dir.path(), "ball.txt", format!("{FLAT}{BALL}"));
     let out = dir.path().join("out.ppm");
     let json = dir.path().join("stats.json");
     let output = run(&[
@@ -182,10 +217,10 @@ fn the_cli_reports_adaptive_samples() {
     let stats: serde_json::Value =
         serde_json::from_slice(&std::fs::read(json).expect("stats")).expect("JSON");
     let refined = stats["pixels_refined"].as_u64().expect("pixels_refined");
-    assert!(refined > 0 && refined < 32 * 32, "{refined}");
     let partly = stats["pixels_partly_refined"]
         .as_u64()
         .expect("pixels_partly_refined");
+    assert_eq!(refined + partly, pixels_on_the_ball_edge(32));
     assert_eq!(stats["primary_rays"], 33 * 33 + partly * 4 + refined * 16);
     assert_eq!(stats["antialias"], "adaptive");
     let stderr = String::from_utf8_lossy(&output.stderr);

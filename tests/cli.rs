@@ -90,13 +90,6 @@ fn run_unprivileged(dir: &Path, args: &[&str]) -> Output {
     output
 }
 
-/// Say a test was skipped where `cargo test` shows it: libtest captures
-/// `eprintln!` of a passing test, not a write to the stderr handle.
-fn visible_skip(why: &str) {
-    use std::io::Write;
-    let _ = writeln!(std::io::stderr(), "SKIPPED {why}");
-}
-
 fn is_root() -> bool {
     Command::new("id")
         .arg("-u")
@@ -273,7 +266,7 @@ fn a_full_tmpfs_leaves_no_output() {
     let output = match output {
         Ok(output) if output.stdout.starts_with(b"mounted\n") => output,
         _ => {
-            visible_skip("a_full_tmpfs_leaves_no_output: cannot mount a tmpfs here (no unshare or no permission)");
+            crate::support::skipped("a_full_tmpfs_leaves_no_output: cannot mount a tmpfs here (no unshare or no permission)");
             return;
         }
     };

@@ -5,7 +5,7 @@
 //! N = the row count (one row a tile).
 //!
 //! GNU parallel is a Debian package (`parallel`) that .ci/run installs;
-//! without it the test fails under `CI=true` and says it was skipped
+//! without it the test fails under CI (`support::under_ci`) and says it was skipped
 //! otherwise.
 
 use crate::support;
@@ -31,11 +31,13 @@ fn parallel_available() -> bool {
         .is_ok_and(|o| o.status.success());
     if !found {
         assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
+            !support::under_ci(),
             "GNU `parallel` is not installed, and CI must run the distributed recipe: \
              .ci/run installs it (`apt-get install -y parallel`)"
         );
-        eprintln!("SKIPPED: GNU `parallel` is not installed (`apt-get install parallel`)");
+        support::skipped(
+            "distributed recipe: GNU `parallel` is not installed (`apt-get install parallel`)",
+        );
     }
     found
 }

@@ -4,7 +4,7 @@
 //! formats, and writes the file, which must then read as expected.
 //!
 //! Without `nvim` on PATH the test prints that it was skipped, and fails
-//! under `CI=true` (.ci/run installs Debian's `neovim`).
+//! under CI (`support::under_ci`; .ci/run installs Debian's `neovim`).
 
 use crate::support;
 
@@ -30,10 +30,12 @@ fn nvim_available() -> bool {
 fn neovim_shows_diagnostics_applies_a_quick_fix_and_formats() {
     if !nvim_available() {
         assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
+            !support::under_ci(),
             "nvim is not installed, and CI must run this test (.ci/run installs neovim)"
         );
-        eprintln!("SKIPPED neovim end-to-end test: nvim is not installed (apt-get install neovim)");
+        support::skipped(
+            "neovim end-to-end test: nvim is not installed (`apt-get install neovim`)",
+        );
         return;
     }
     let dir = tempfile::tempdir().unwrap();

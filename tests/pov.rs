@@ -15,7 +15,9 @@
 //! texture mapping agree, not only the geometry.
 //!
 //! POV-Ray is a Debian package (`povray`) that .ci/run installs; without it
-//! the tests fail when `CI` is set and print `SKIPPED` visibly otherwise.
+//! the tests fail under CI (`support::under_ci`) and print `SKIPPED` visibly otherwise.
+
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -32,10 +34,8 @@ const SIZE: u32 = 96;
 /// A covered pixel is 26/255 and the background 0: split halfway.
 const COVERED: u8 = 13;
 
-/// True when `povray` runs. Without it, `test` fails when `CI` is set (to
-/// anything but empty, `0` or `false`, as CI services set it) and otherwise
-/// says it was skipped where `cargo test` shows it: libtest captures
-/// `eprintln!` of a passing test, not a write to the stderr handle.
+/// True when `povray` runs. Without it, `test` fails under CI and
+/// otherwise says it was skipped where `cargo test` shows it.
 fn povray_available(test: &str) -> bool {
     let found = Command::new("povray")
         .arg("--version")
@@ -43,22 +43,15 @@ fn povray_available(test: &str) -> bool {
         .is_ok_and(|o| o.status.success());
     if !found {
         assert!(
-            !under_ci(),
+            !support::under_ci(),
             "`povray` is not installed, and CI must run the POV-Ray comparison: \
              .ci/run installs it (`apt-get install -y povray`)"
         );
-        use std::io::Write;
-        let _ = writeln!(
-            std::io::stderr(),
-            "SKIPPED {test}: `povray` is not installed (`apt-get install povray`)"
-        );
+        support::skipped(&format!(
+            "{test}: `povray` is not installed (`apt-get install povray`)"
+        ));
     }
     found
-}
-
-/// Whether the tests run under CI: `CI` set, and not to a false value.
-fn under_ci() -> bool {
-    std::env::var("CI").is_ok_and(|ci| !matches!(ci.trim(), "" | "0" | "false" | "FALSE"))
 }
 
 fn run(command: &mut Command) {

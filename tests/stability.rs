@@ -414,7 +414,7 @@ fn narrow(ray: &Ray<f64>) -> Ray<f32> {
 
 proptest! {
     #![proptest_config(ProptestConfig {
-        cases: 96,
+        cases: 256,
         failure_persistence: None,
         ..ProptestConfig::default()
     })]

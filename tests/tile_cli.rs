@@ -170,63 +170,106 @@ fn tiles_stitched_in_any_order_are_the_whole_render() {
     assert!(!listing(d).iter().any(|name| name.ends_with(".tmp")));
 }
 
+/// Every counter of `--stats-json` that stitching sums over the tiles.
+const COUNTERS: [&str; 9] = [
+    "primary_rays",
+    "shadow_rays",
+    "reflection_rays",
+    "texture_lookups",
+    "shadow_rays_skipped",
+    "paths_saturated",
+    "pixels_refined",
+    "pixels_partly_refined",
+    "non_finite",
+];
+
 #[test]
 fn tile_statistics_sum_to_the_whole_render() {
     let dir = scene_dir();
     let d = dir.path();
-    let whole_stats = ["--stats-json", "whole.json"];
-    render_whole(d, "whole.png", &whole_stats);
-    let parts = render_tiles(d, "t", 3, &[]);
-
-    let first = stats(&d.join("t1.json"));
-    let tile = &first["tile"];
-    assert_eq!(tile["tile"], 1);
-    assert_eq!(tile["tiles"], 3);
-    assert_eq!(
-        tile["region"],
-        serde_json::json!({"x": 0, "y": 0, "width": 29, "height": 9})
-    );
-    assert_eq!(first["primary_rays"], 29 * 9);
-    assert!(stats(&d.join("whole.json")).get("tile").is_none());
-
-    let mut args = vec![
-        "stitch",
-        "out.png",
-        "--stats-json",
-        "total.json",
-        "--part-stats",
-        "t3.json",
-        "t1.json",
-        "t2.json",
-        "--",
+    // Uniform, and adaptive: each tile traces its neighbours' corner rows
+    // too, and counts only its own, so the sums are the whole render's.
+    let cases: [(u32, &[&str]); 4] = [
+        (3, &[]),
+        (3, &["--spp", "16", "--aa", "adaptive"]),
+        (29, &["--spp", "16", "--aa", "adaptive"]),
+        (
+            4,
+            &["--spp", "4", "--aa", "adaptive", "--aa-threshold", "0"],
+        ),
     ];
-    args.extend(parts.iter().map(String::as_str));
-    ok(&run_in(d, &args));
-    let total = stats(&d.join("total.json"));
-    let whole = stats(&d.join("whole.json"));
-    for counter in [
-        "primary_rays",
-        "shadow_rays",
-        "reflection_rays",
-        "texture_lookups",
-        "shadow_rays_skipped",
-        "paths_saturated",
-    ] {
-        assert_eq!(total[counter], whole[counter], "{counter}");
+    for (case, (n, options)) in cases.into_iter().enumerate() {
+        let whole_json = format!("whole{case}.json");
+        let mut whole_args = vec!["--stats-json", whole_json.as_str()];
+        whole_args.extend(options);
+        render_whole(d, &format!("whole{case}.png"), &whole_args);
+        let prefix = format!("s{case}-");
+        let parts = render_tiles(d, &prefix, n, options);
+        let json = |k: u32| format!("{prefix}{k}.json");
+
+        let first = stats(&d.join(json(1)));
+        let tile = &first["tile"];
+        assert_eq!(tile["tile"], 1);
+        assert_eq!(tile["tiles"], n);
+        let whole = stats(&d.join(&whole_json));
+        assert!(whole.get("tile").is_none());
+
+        let total_json = format!("total{case}.json");
+        let out = format!("out{case}.png");
+        let mut args = vec![
+            "stitch",
+            out.as_str(),
+            "--stats-json",
+            total_json.as_str(),
+            "--part-stats",
+        ];
+        // The statistics in reverse order: matched by their `tile`.
+        let jsons: Vec<String> = (1..=n).rev().map(json).collect();
+        args.extend(jsons.iter().map(String::as_str));
+        args.push("--");
+        args.extend(parts.iter().map(String::as_str));
+        ok(&run_in(d, &args));
+        let total = stats(&d.join(&total_json));
+        for counter in COUNTERS {
+            assert_eq!(
+                total[counter], whole[counter],
+                "{counter} {n} tiles {options:?}"
+            );
+        }
+        assert_eq!(total["tiles"], n);
+        let parts = total["parts"].as_array().unwrap();
+        let order: Vec<&Value> = parts.iter().map(|p| &p["tile"]["tile"]).collect();
+        let expected: Vec<u32> = (1..=n).collect();
+        assert_eq!(order, expected, "top band first");
+        let summed: f64 = parts
+            .iter()
+            .map(|p| p["seconds"]["render"].as_f64().unwrap())
+            .sum();
+        assert!((total["seconds"]["render"].as_f64().unwrap() - summed).abs() < 1e-9);
+        assert_eq!(total["scene_hash"], first["tile"]["scene_hash"]);
     }
+
+    // The counts themselves: uniform 1 spp is one camera ray a pixel; a
+    // first tile of 9 rows counts its 9 own rows, and adaptive's first
+    // tile its own 9 corner rows of 30 corners besides its pixels' own.
+    assert_eq!(stats(&d.join("s0-1.json"))["primary_rays"], 29 * 9);
+    let whole = stats(&d.join("whole0.json"));
     assert!(whole["shadow_rays"].as_u64().unwrap() > 0);
     assert!(whole["reflection_rays"].as_u64().unwrap() > 0);
     assert!(whole["texture_lookups"].as_u64().unwrap() > 0);
-    assert_eq!(total["tiles"], 3);
-    let parts = total["parts"].as_array().unwrap();
-    let order: Vec<&Value> = parts.iter().map(|p| &p["tile"]["tile"]).collect();
-    assert_eq!(order, [1, 2, 3], "top band first");
-    let summed: f64 = parts
-        .iter()
-        .map(|p| p["seconds"]["render"].as_f64().unwrap())
-        .sum();
-    assert!((total["seconds"]["render"].as_f64().unwrap() - summed).abs() < 1e-9);
-    assert_eq!(total["scene_hash"], first["tile"]["scene_hash"]);
+    let adaptive = stats(&d.join("whole1.json"));
+    assert!(adaptive["pixels_refined"].as_u64().unwrap() > 0);
+    let first = stats(&d.join("s1-1.json"));
+    let own = |field: &str| first[field].as_u64().unwrap();
+    assert_eq!(
+        own("primary_rays"),
+        30 * 9 + 4 * own("pixels_partly_refined") + 16 * own("pixels_refined"),
+        "{first}"
+    );
+    // Threshold 0 refines every pixel: the whole frame's 30² corners and
+    // all 4 samples of each of its 29² pixels, whatever the tiles.
+    let all = stats(&d.join("total3.json"));
+    assert_eq!(all["primary_rays"], 30 * 30 + 29 * 29 * 4);
 }
 
 #[test]

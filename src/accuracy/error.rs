@@ -64,26 +64,21 @@ pub fn average(a: &Radiance, b: &Radiance) -> Radiance {
     }
 }
 
-/// A grey map of the largest channel difference per pixel, scaled so the
-/// largest difference in the image is white (black: equal). Also returns
-/// that largest difference, linear ×255 (0 for equal images: all black).
-pub fn difference_map(a: &Radiance, b: &Radiance) -> (Image, f64) {
-    let differences: Vec<f64> = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .map(|(x, y)| (*x - *y).abs().max_element())
-        .collect();
-    let largest = differences.iter().copied().fold(0.0, f64::max);
-    let scale = if largest > 0.0 { 1.0 / largest } else { 0.0 };
+/// A grey map of the largest channel difference per pixel on an absolute
+/// scale: black where the images are equal, white where they differ by
+/// `white` (linear) or more, grey in proportion between. One scale for
+/// every scene, so a map's brightness reads the same everywhere.
+pub fn difference_map(a: &Radiance, b: &Radiance, white: f64) -> Image {
     let map = Radiance {
         size: a.size,
-        pixels: differences
+        pixels: a
+            .pixels
             .iter()
-            .map(|&d| DVec3::splat(d * scale))
+            .zip(&b.pixels)
+            .map(|(x, y)| DVec3::splat(((*x - *y).abs().max_element() / white).min(1.0)))
             .collect(),
     };
-    (map.quantize(), largest * 255.0)
+    map.quantize()
 }
 
 #[cfg(test)]
@@ -126,11 +121,11 @@ mod tests {
     }
 
     #[test]
-    fn the_difference_map_is_white_where_the_difference_is_largest() {
-        let (map, largest) = difference_map(&image(&[0.5]), &image(&[0.25]));
-        assert_eq!(map.rgb, [255, 255, 255]);
-        assert!((largest - 63.75).abs() < 1e-9);
-        let (map, largest) = difference_map(&image(&[0.5]), &image(&[0.5]));
-        assert_eq!((map.rgb, largest), (vec![0, 0, 0], 0.0));
+    fn the_difference_map_has_an_absolute_scale() {
+        let map = difference_map(&image(&[0.5, 0.5, 0.5]), &image(&[1.0, 0.625, 0.5]), 0.25);
+        // Twice the scale is white, half of it mid grey, none black.
+        assert_eq!(map.rgb[..3], [255, 255, 255]);
+        assert_eq!(map.rgb[3..6], [128, 128, 128]);
+        assert_eq!(map.rgb[6..], [0, 0, 0]);
     }
 }

@@ -6,7 +6,10 @@
 use std::fmt::Write as _;
 
 use super::error::{compare, difference_map, Error};
-use super::{measured_size, total_rays, Kind, Measurement, DEEP, DEPTHS, MIN_MEASURED_SIZE, SPPS};
+use super::{
+    measured_size, total_rays, Kind, Measurement, DEEP, DEPTHS, MAX_MEASURED_SIZE,
+    MIN_MEASURED_SIZE, SPPS,
+};
 use crate::render::Image;
 
 /// Sampling has converged for this scene once the linear RMSE is at most
@@ -31,6 +34,12 @@ pub const RESOLVED: f64 = 2.0;
 fn scaled(m: &Measurement) -> String {
     match m.size {
         size if size == m.own_size => String::new(),
+        size if size == measured_size(m.own_size) && size < m.own_size => format!(
+            " (its own {own} ÷ {k}, the largest side of at most {MAX_MEASURED_SIZE} px it is an \
+             odd multiple of, which keeps every pixel centre of the smaller frame)",
+            k = m.own_size / size,
+            own = m.own_size,
+        ),
         size if size == measured_size(m.own_size) => format!(
             " ({k} × its own {own}, the smallest odd multiple of at least {MIN_MEASURED_SIZE} px, \
              which keeps every pixel centre of its own frame)",
@@ -44,22 +53,28 @@ fn scaled(m: &Measurement) -> String {
 /// The full report: setup, table, splits and findings.
 pub fn markdown(m: &Measurement, scene: &str) -> String {
     let mut out = String::new();
-    let r = &m.reference;
+    let (r, deep) = (&m.reference, &m.deep);
     let default = m.row(Kind::Default);
     let _ = writeln!(
         out,
-        "`{scene}` at {size}×{size}{scaled}. Reference: f64, depth {DEEP}, the mean of two \
-         renders of {spp} spp with independent jitter ({rays} rays, {secs:.1} s); its own \
-         RMSE, estimated from its halves, is {own:.3}/255. Times: whole frames on one \
-         thread (its CPU time), {reps} repetitions with the settings interleaved; × is the median \
-         ratio to the default in the same repetition (range in brackets); the default \
-         takes {median:.4} CPU s ({min:.4}–{max:.4}).\n",
+        "`{scene}` at {size}×{size}{scaled}. References: f64, each the mean of two renders of \
+         {spp} spp with independent jitter, at depth {depth} ({rays} rays, {secs:.1} s; its own \
+         RMSE, estimated from its halves, {own:.3}/255), which every row but the depths is \
+         judged against, and at depth {DEEP} ({deep_rays} rays, {deep_secs:.1} s; own RMSE \
+         {deep_own:.3}/255), which the depths are. Times: whole frames on one thread (its CPU \
+         time), {reps} repetitions, the settings in a fresh random order in each; × is the \
+         median over repetitions of the ratio to the default in the same repetition (range in \
+         brackets); the default takes {median:.4} CPU s ({min:.4}–{max:.4}).\n",
         size = m.size,
         scaled = scaled(m),
         spp = r.spp,
+        depth = r.depth,
         rays = r.rays,
         secs = r.seconds,
         own = r.own_rmse,
+        deep_rays = deep.rays,
+        deep_secs = deep.seconds,
+        deep_own = deep.own_rmse,
         reps = m.reps,
         median = default.seconds.median,
         min = default.seconds.min,
@@ -74,7 +89,7 @@ pub fn markdown(m: &Measurement, scene: &str) -> String {
         let _ = writeln!(
             out,
             "| {} | {:.2} ({:.2}–{:.2}) | {} | {:.3} | {:.2} | {:.3} | {:.2}% |",
-            row.kind.name(),
+            row.kind.name(&m.thresholds),
             row.ratio.median,
             row.ratio.min,
             row.ratio.max,
@@ -85,10 +100,13 @@ pub fn markdown(m: &Measurement, scene: &str) -> String {
             100.0 * e.changed,
         );
     }
-    out.push_str(
+    let _ = writeln!(
+        out,
         "\nRMSE and max: linear radiance (the mean of clamped samples) before \
-         quantization, in units of 1/255; 8-bit RMSE in steps; rays: camera, \
-         shadow and reflection.\n\n",
+         quantization, in units of 1/255, against the depth-{} reference (the depth rows: \
+         against the depth-{DEEP} one); 8-bit RMSE in steps; rays: camera, shadow and \
+         reflection.\n",
+        r.depth
     );
 
     let numeric = numeric(m);
@@ -100,10 +118,21 @@ pub fn markdown(m: &Measurement, scene: &str) -> String {
         numeric.max,
         100.0 * numeric.changed
     );
-    out.push_str(
-        "**Depth truncation** (against depth 64, 1 spp):\n\n\
-         | depth | rays | RMSE | max | pixels changed |\n|---:|---:|---:|---:|---:|\n",
+    let truncation = m.truncation();
+    let _ = writeln!(
+        out,
+        "**Depth truncation**, a source of its own: the depth-{} reference against the \
+         depth-{DEEP} one differs by RMSE {:.3} (max {:.2}, {:.2}% of pixels changed in 8 bits; \
+         the two references' own RMSE is {:.3} and {:.3}). Each depth against depth {DEEP} at \
+         1 spp, pixel for pixel (the same samples, so only the depth differs):\n",
+        r.depth,
+        truncation.rmse,
+        truncation.max,
+        100.0 * truncation.changed,
+        r.own_rmse,
+        deep.own_rmse,
     );
+    out.push_str("| depth | rays | RMSE | max | pixels changed |\n|---:|---:|---:|---:|---:|\n");
     for (depth, error, rays) in depth_split(m) {
         let _ = writeln!(
             out,
@@ -125,13 +154,21 @@ pub fn numeric(m: &Measurement) -> Error {
     compare(&m.row(Kind::F32).radiance, &m.row(Kind::Default).radiance)
 }
 
-/// The f32 − f64 difference map, each pixel a block of pixels so the
-/// map is at least [`MAP_SIZE`] a side, and its largest difference (in
-/// 1/255).
-pub fn numeric_map(m: &Measurement) -> (Image, f64) {
-    let (map, largest) = difference_map(&m.row(Kind::F32).radiance, &m.row(Kind::Default).radiance);
-    (enlarge(&map, MAP_SIZE.div_ceil(map.size.max(1))), largest)
+/// The f32 − f64 difference map on an absolute scale (black equal, white
+/// a difference of [`MAP_WHITE`]/255 or more), each pixel a block of
+/// pixels so the map is at least [`MAP_SIZE`] a side.
+pub fn numeric_map(m: &Measurement) -> Image {
+    let map = difference_map(
+        &m.row(Kind::F32).radiance,
+        &m.row(Kind::Default).radiance,
+        MAP_WHITE / 255.0,
+    );
+    enlarge(&map, MAP_SIZE.div_ceil(map.size.max(1)))
 }
+
+/// The difference, in 1/255, that a difference map shows white: one 8-bit
+/// step, the difference that can change a pixel's output.
+pub const MAP_WHITE: f64 = 1.0;
 
 /// The smallest side of a difference map: a 17-pixel scene's is legible.
 pub const MAP_SIZE: u32 = 256;
@@ -170,10 +207,14 @@ fn depth_split(m: &Measurement) -> Vec<(u32, Error, u64)> {
         .collect()
 }
 
-/// The least-squares slope of ln RMSE against ln spp over uniform 1 to
-/// 64 spp, where the RMSE is not 0; `None` with fewer than two points.
+/// The least-squares slope of ln RMSE against ln spp over the jittered
+/// uniform counts ([`SPPS`], 4 to 64: 1 spp is the pixel centre, not a
+/// jittered sample), where the RMSE is not 0; `None` with fewer than two
+/// points.
 pub fn sampling_slope(m: &Measurement) -> Option<f64> {
-    let points: Vec<(f64, f64)> = uniform(m)
+    let points: Vec<(f64, f64)> = SPPS
+        .iter()
+        .map(|&n| (n, m.row(Kind::Uniform(n)).error))
         .filter(|&(_, e)| e.rmse > 0.0)
         .map(|(n, e)| (f64::from(n).ln(), e.rmse.ln()))
         .collect();
@@ -190,10 +231,83 @@ pub fn sampling_slope(m: &Measurement) -> Option<f64> {
     Some(sxy / sxx)
 }
 
+/// The range of spp [`sampling_slope`] fits over, as a report names it.
+pub fn fitted_range() -> String {
+    format!(
+        "{}–{} spp, jittered counts only",
+        SPPS[0],
+        SPPS[SPPS.len() - 1]
+    )
+}
+
 /// (spp, error) of uniform sampling, 1 spp (the default) first.
 fn uniform(m: &Measurement) -> impl Iterator<Item = (u32, Error)> + '_ {
     std::iter::once((1, m.row(Kind::Default).error))
         .chain(SPPS.iter().map(|&n| (n, m.row(Kind::Uniform(n)).error)))
+}
+
+/// Adaptive sampling at `spp` and threshold index `threshold` against
+/// uniform at `spp`: what [`ADAPTIVE_RMSE`] and [`ADAPTIVE_TIME`] judge.
+#[derive(Clone, Copy, Debug)]
+pub struct Verdict {
+    pub spp: u32,
+    pub uniform_rmse: f64,
+    pub adaptive_rmse: f64,
+    /// Adaptive's RMSE over uniform's (1 when both are 0).
+    pub rmse: f64,
+    /// Adaptive's time over uniform's, within each repetition.
+    pub time: super::timing::Spread,
+    /// Shares of the pixels that took all `spp` samples, and 4.
+    pub refined: f64,
+    pub partly_refined: f64,
+}
+
+impl Verdict {
+    /// Adaptive at `spp` with threshold index `threshold` in `m`.
+    pub fn of(m: &Measurement, spp: u32, threshold: usize) -> Verdict {
+        let kind = Kind::Adaptive { spp, threshold };
+        let (a, u) = (m.row(kind), m.row(Kind::Uniform(spp)));
+        let share = |count: u64| count as f64 / f64::from(m.size).powi(2);
+        Verdict {
+            spp,
+            uniform_rmse: u.error.rmse,
+            adaptive_rmse: a.error.rmse,
+            rmse: ratio(a.error.rmse, u.error.rmse),
+            time: m.time_ratio(kind, Kind::Uniform(spp)),
+            refined: share(a.counters.pixels_refined),
+            partly_refined: share(a.counters.pixels_partly_refined),
+        }
+    }
+
+    /// Whether the RMSE is within [`ADAPTIVE_RMSE`]× uniform's.
+    pub fn rmse_met(&self) -> bool {
+        self.rmse <= ADAPTIVE_RMSE
+    }
+
+    /// Whether the median time is within [`ADAPTIVE_TIME`]× uniform's.
+    pub fn time_met(&self) -> bool {
+        self.time.median <= ADAPTIVE_TIME
+    }
+
+    pub fn meets(&self) -> bool {
+        self.rmse_met() && self.time_met()
+    }
+
+    /// "meets", or "misses" with what missed.
+    pub fn outcome(&self) -> String {
+        match (self.rmse_met(), self.time_met()) {
+            (true, true) => "meets".into(),
+            (false, true) => format!("**misses**: RMSE ×{:.2} > {ADAPTIVE_RMSE}", self.rmse),
+            (true, false) => format!(
+                "**misses**: time ×{:.2} > {ADAPTIVE_TIME}",
+                self.time.median
+            ),
+            (false, false) => format!(
+                "**misses**: RMSE ×{:.2} > {ADAPTIVE_RMSE} and time ×{:.2} > {ADAPTIVE_TIME}",
+                self.rmse, self.time.median
+            ),
+        }
+    }
 }
 
 /// What the numbers say, each against a stated threshold.
@@ -204,8 +318,13 @@ pub fn findings(m: &Measurement) -> Vec<String> {
 
     // Sampling.
     let slope = sampling_slope(m).map_or_else(
-        || "the RMSE is 0 at every sample count".to_string(),
-        |s| format!("the RMSE falls as N^{s:.2} (least squares over 1–64 spp)"),
+        || "the RMSE is 0 at every jittered sample count".to_string(),
+        |s| {
+            format!(
+                "the RMSE falls as N^{s:.2} (least squares over {})",
+                fitted_range()
+            )
+        },
     );
     let converged = uniform(m).find(|(_, e)| e.rmse <= CONVERGED_RMSE);
     let verdict = match converged {
@@ -215,7 +334,7 @@ pub fn findings(m: &Measurement) -> Vec<String> {
         ),
         Some((n, e)) => format!(
             "{n} spp is the first to bring the RMSE to {CONVERGED_RMSE}/255 or less \
-             ({:.3}, ×{:.1} the time)",
+             ({:.3}, ×{:.1} the time of the default)",
             e.rmse,
             m.row(Kind::Uniform(n)).ratio.median
         ),
@@ -235,27 +354,31 @@ pub fn findings(m: &Measurement) -> Vec<String> {
     }
 
     // Adaptive against uniform.
-    let mut comparisons = Vec::new();
-    for &n in &SPPS {
-        let (a, u) = (m.row(Kind::Adaptive(n)), m.row(Kind::Uniform(n)));
-        let rmse = ratio(a.error.rmse, u.error.rmse);
-        let time = a.ratio.median / u.ratio.median;
-        let met = rmse <= ADAPTIVE_RMSE && time <= ADAPTIVE_TIME;
-        let share = |count: u64| 100.0 * count as f64 / f64::from(m.size).powi(2);
-        comparisons.push(format!(
-            "{n} spp: RMSE ×{rmse:.2}, time ×{time:.2}, {:.1}% of pixels took all {n} samples \
-             and {:.1}% took 4 ({})",
-            share(a.counters.pixels_refined),
-            share(a.counters.pixels_partly_refined),
-            if met { "meets" } else { "misses" }
+    for (t, &threshold) in m.thresholds.iter().enumerate() {
+        let comparisons: Vec<String> = SPPS
+            .iter()
+            .map(|&n| {
+                let v = Verdict::of(m, n, t);
+                format!(
+                    "{n} spp: RMSE ×{:.2}, time ×{:.2} ({:.2}–{:.2}), {:.1}% of pixels took all \
+                     {n} samples and {:.1}% took 4 ({})",
+                    v.rmse,
+                    v.time.median,
+                    v.time.min,
+                    v.time.max,
+                    100.0 * v.refined,
+                    100.0 * v.partly_refined,
+                    v.outcome()
+                )
+            })
+            .collect();
+        findings.push(format!(
+            "**Adaptive** (threshold {threshold}/255) against uniform at the same N, time as \
+             adaptive's over uniform's in each repetition; the target is RMSE ≤ \
+             {ADAPTIVE_RMSE}× in ≤ {ADAPTIVE_TIME}× the time: {}.",
+            comparisons.join("; ")
         ));
     }
-    findings.push(format!(
-        "**Adaptive** (threshold {}/255) against uniform at the same N; \
-         the target is RMSE ≤ {ADAPTIVE_RMSE}× in ≤ {ADAPTIVE_TIME}× the time: {}.",
-        m.threshold,
-        comparisons.join("; ")
-    ));
 
     // Precision.
     let numeric = numeric(m);
@@ -263,7 +386,7 @@ pub fn findings(m: &Measurement) -> Vec<String> {
     let enough = numeric.changed <= F32_CHANGED || numeric.max <= F32_MAX;
     findings.push(format!(
         "**f32 is {}enough here**: it changes {:.2}% of 8-bit pixels and moves a channel by \
-         up to {:.3}/255, at ×{f32_time:.2} the time (enough means at most {:.1}% of pixels \
+         up to {:.3}/255, at ×{f32_time:.2} the time of f64 (enough means at most {:.1}% of pixels \
          change, or no channel moves by more than {F32_MAX}/255).",
         if enough { "" } else { "not " },
         100.0 * numeric.changed,
@@ -298,9 +421,12 @@ pub fn findings(m: &Measurement) -> Vec<String> {
     let saved = total_rays(&no_skip.counters) - total_rays(&default.counters);
     findings.push(format!(
         "**Skipping** invisible work saves {saved} rays ({:.1}% of --no-skip's); \
-         --no-skip takes ×{:.2} the time; the 8-bit image is {}.",
+         --no-skip takes ×{:.2} the time of the default (range {:.2}–{:.2}); the 8-bit image \
+         is {}.",
         100.0 * saved as f64 / total_rays(&no_skip.counters).max(1) as f64,
         no_skip.ratio.median,
+        no_skip.ratio.min,
+        no_skip.ratio.max,
         if same { "the same" } else { "different" }
     ));
     findings
@@ -325,46 +451,78 @@ pub const GUIDE_HALF: &str = "N^-1/2";
 /// The guide series for error falling as N^-1, the rate of stratified
 /// sampling across edges.
 pub const GUIDE_ONE: &str = "N^-1";
+/// The series of the reference's own RMSE: the floor under which no
+/// error is resolved.
+pub const FLOOR: &str = "reference's own RMSE";
+
+/// The name of the adaptive series at threshold index `t`.
+fn adaptive_series(m: &Measurement, t: usize) -> String {
+    match m.thresholds.len() {
+        1 => "adaptive".into(),
+        _ => format!("adaptive {}", m.thresholds[t]),
+    }
+}
 
 /// `series,x,y` rows of RMSE against spp: uniform (named with its
-/// fitted slope), adaptive, and guide lines ([`GUIDE_HALF`], [`GUIDE_ONE`])
-/// through uniform 1 spp. Rows with RMSE 0 are left out (a log axis cannot show
-/// them); empty when every uniform RMSE is 0.
+/// slope fitted over the jittered counts), adaptive (one series per
+/// threshold), guide lines ([`GUIDE_HALF`], [`GUIDE_ONE`]) through uniform
+/// 4 spp, and the reference's own RMSE ([`FLOOR`]). Rows with RMSE 0 are
+/// left out (a log axis cannot show them); empty when every jittered
+/// uniform RMSE is 0.
 pub fn sampling_csv(m: &Measurement) -> String {
     let mut csv = String::from("series,spp,rmse\n");
     let Some(slope) = sampling_slope(m) else {
         return csv;
     };
-    let name = format!("uniform (slope {slope:.2})");
+    let name = format!("uniform (slope {slope:.2} over 4–64)");
     for (n, e) in uniform(m).filter(|(_, e)| e.rmse > 0.0) {
         let _ = writeln!(csv, "{name},{n},{}", e.rmse);
     }
-    let adaptive = std::iter::once((1, m.row(Kind::Default).error))
-        .chain(SPPS.iter().map(|&n| (n, m.row(Kind::Adaptive(n)).error)));
-    for (n, e) in adaptive.filter(|(_, e)| e.rmse > 0.0) {
-        let _ = writeln!(csv, "adaptive,{n},{}", e.rmse);
+    for t in 0..m.thresholds.len() {
+        let series = adaptive_series(m, t);
+        let adaptive = std::iter::once((1, m.row(Kind::Default).error)).chain(
+            SPPS.iter()
+                .map(|&spp| (spp, m.row(Kind::Adaptive { spp, threshold: t }).error)),
+        );
+        for (n, e) in adaptive.filter(|(_, e)| e.rmse > 0.0) {
+            let _ = writeln!(csv, "{series},{n},{}", e.rmse);
+        }
     }
-    let start = m.row(Kind::Default).error.rmse;
-    for (guide, power) in [(GUIDE_HALF, 0.5), (GUIDE_ONE, 1.0)] {
-        for n in [1, 4, 16, 64] {
-            let _ = writeln!(csv, "{guide},{n},{}", start / f64::from(n).powf(power));
+    let start = m.row(Kind::Uniform(SPPS[0])).error.rmse;
+    if start > 0.0 {
+        for (guide, power) in [(GUIDE_HALF, 0.5), (GUIDE_ONE, 1.0)] {
+            for n in SPPS {
+                let relative = f64::from(n) / f64::from(SPPS[0]);
+                let _ = writeln!(csv, "{guide},{n},{}", start / relative.powf(power));
+            }
+        }
+    }
+    let own = m.reference.own_rmse;
+    if own > 0.0 {
+        for n in [1, 64] {
+            let _ = writeln!(csv, "{FLOOR},{n},{own}");
         }
     }
     csv
 }
 
 /// `series,x,y,label` rows of RMSE against time (× the default) for
-/// uniform and adaptive sampling, labelled with their spp.
+/// uniform and adaptive sampling (a series per threshold), labelled with
+/// their spp.
 pub fn pareto_csv(m: &Measurement) -> String {
     let mut csv = String::from("series,time,rmse,spp\n");
-    for (series, kinds) in [
-        ("uniform", SPPS.map(Kind::Uniform)),
-        ("adaptive", SPPS.map(Kind::Adaptive)),
-    ] {
+    let mut series = vec![("uniform".to_string(), SPPS.map(Kind::Uniform))];
+    for t in 0..m.thresholds.len() {
+        series.push((
+            adaptive_series(m, t),
+            SPPS.map(|spp| Kind::Adaptive { spp, threshold: t }),
+        ));
+    }
+    for (series, kinds) in series {
         for kind in std::iter::once(Kind::Default).chain(kinds) {
             let row = m.row(kind);
             let spp = match kind {
-                Kind::Uniform(n) | Kind::Adaptive(n) => n,
+                Kind::Uniform(n) | Kind::Adaptive { spp: n, .. } => n,
                 _ => 1,
             };
             if row.error.rmse > 0.0 {

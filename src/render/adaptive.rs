@@ -18,18 +18,14 @@
 //!    mean of all `spp` samples in the order uniform sampling averages
 //!    them: bit for bit the uniform render's pixel.
 //!
-//! Against the first design (refine when a pixel's centre sample differs
-//! from one of its eight neighbours'), measured with docs/accuracy.md's
-//! scenes and reference: the corners see an edge or a texture step that
-//! crosses the pixel itself, so an edge refines the one or two pixels it
-//! crosses, not a band three wide; the bend test keeps smooth shading
-//! (a lit plane at 64 px changes by several 1/255 a pixel) from being
-//! refined at all; and the middle level stops where an edge only clips a
-//! corner. On the 64-px scaled scenes the samples per pixel at 16 spp fell
-//! from 8.9 to 3.3. What no level sees is detail between samples whose
-//! contrast is under the threshold: textures.txt's grain, dimmed to a
-//! tenth by ambient-only light, changes by less than 2/255 a texel, which
-//! is why the default threshold is a fraction of a step
+//! The corners see an edge or a texture step that crosses the pixel
+//! itself, so an edge refines the one or two pixels it crosses, not a band
+//! three wide; the bend test keeps smooth shading (a lit plane changes by
+//! several 1/255 a pixel) from being refined at all; and the middle level
+//! stops where an edge only clips a corner. What no level sees is detail
+//! between samples whose contrast is under the threshold: a texture's
+//! grain dimmed by ambient-only light changes by less than a step a texel,
+//! which is why the default threshold is a fraction of a step
 //! ([`DEFAULT_THRESHOLD`]).
 //!
 //! With threshold 0 every pixel takes all its samples and the image is
@@ -42,7 +38,10 @@
 //! each a function of its position alone: the image is the same for any
 //! number of threads, and a band of rows decides its pixels as the whole
 //! frame does when its corner pass covers one corner row beyond the band
-//! above and below, which [`Corners::rows`] takes.
+//! above and below, which [`Corners::rows`] takes. Those rows belong to
+//! the neighbouring bands, which count them: a band counts the rays of
+//! its own corner rows only, so the counters of the bands that cut a frame
+//! add up to the whole frame's.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -51,15 +50,15 @@ use super::real::Real;
 use super::sampling::{mean, Sampler};
 use super::trace::{Counters, Tracer};
 
-/// The default contrast that refines a pixel, in steps of 1/255: a
-/// quarter step, under which a pixel's error seldom moves its rounded
-/// 8-bit value. Measured over docs/accuracy.md's scenes at 16 spp against
-/// uniform 16 spp (2 repetitions, 2 × 64-spp references): at 0.25 all 16
-/// meet the target (RMSE within 1.25× in half the time), the closest
-/// textures.txt at RMSE ×1.19 and sample.txt at time ×0.44; at 0.5
-/// textures.txt's grain, contrast under a step, leaves RMSE ×1.34; at 2,
-/// the earlier default, ×2.4.
-pub const DEFAULT_THRESHOLD: f64 = 0.25;
+/// The default contrast that refines a pixel, in steps of 1/255: one
+/// step. `make accuracy` chooses it among candidates on a tuning set of
+/// scenes by a rule fixed before the run (`accuracy::summary`: the most
+/// scene and sample-count pairs meeting adaptive sampling's target) and
+/// judges it on scenes held out from the choice; docs/accuracy.md has the
+/// candidates, the choice, each miss and the held-out verdicts. A smaller
+/// threshold keeps more of a faint texture's grain at more cost
+/// (`--aa-threshold`).
+pub const DEFAULT_THRESHOLD: f64 = 1.0;
 
 /// The corner samples of a band of rows and of the corner rows either
 /// side of it, each row `size + 1` corners wide.
@@ -72,7 +71,10 @@ pub(super) struct Corners {
 
 impl Corners {
     /// The samples at the corners of every pixel of rows `band`, and at
-    /// the corner row above and below them where the frame has one.
+    /// the corner row above and below them where the frame has one. The
+    /// counters count only the corner rows the band owns (see
+    /// [`owns_corner_row`]), so a frame's bands together count each corner
+    /// once, as the whole frame does, though each traces its neighbours'.
     pub(super) fn rows<R: Real>(
         sampler: &Sampler,
         tracer: &Tracer<'_, R>,
@@ -91,7 +93,11 @@ impl Corners {
                 for (x, value) in (0..=size).zip(row.iter_mut()) {
                     *value = sampler.corner(tracer, (x, y), &mut counters);
                 }
-                counters
+                if owns_corner_row(&band, size, y) {
+                    counters
+                } else {
+                    Counters::default()
+                }
             })
             .reduce(Counters::default, |mut a, b| {
                 a += b;
@@ -148,6 +154,14 @@ impl Corners {
             bend.max_element() >= limit
         })
     }
+}
+
+/// Whether the band of pixel rows `band` of a `size`-row frame owns
+/// corner row `y`: the top corners of its own rows, and the frame's bottom
+/// corner row when the band is the last. Every corner row has exactly one
+/// owner among the bands that cut a frame.
+fn owns_corner_row(band: &std::ops::Range<u32>, size: u32, y: u32) -> bool {
+    band.contains(&y) || (y == size && band.end == size)
 }
 
 /// Pixel (i, j) sampled as the module header describes; `counters` hears
@@ -253,6 +267,21 @@ mod tests {
         let bent: Vec<u32> = (0..6).filter(|&i| edge.bends((i, 2), 2.0)).collect();
         assert_eq!(bent, [3]);
         assert!(ramp.bends((2, 2), 0.0), "0 refines everything");
+    }
+
+    #[test]
+    fn every_corner_row_has_one_owner_among_the_bands() {
+        let size = 7;
+        for cuts in [vec![0, 7], vec![0, 3, 7], vec![0, 1, 2, 5, 6, 7]] {
+            let bands: Vec<_> = cuts.windows(2).map(|w| w[0]..w[1]).collect();
+            for y in 0..=size {
+                let owners = bands
+                    .iter()
+                    .filter(|band| owns_corner_row(band, size, y))
+                    .count();
+                assert_eq!(owners, 1, "corner row {y} of bands {bands:?}");
+            }
+        }
     }
 
     #[test]

@@ -12,6 +12,24 @@ use raytracer::frontend::load_bytes;
 use raytracer::ir;
 use raytracer::render::{self, Counters, Image, Options};
 
+/// Whether the tests run under CI: `CI` set, and not empty, `0` or
+/// `false` (in any case). Every test that needs a tool CI installs asks
+/// this before it may skip: under CI a missing tool is a failure.
+pub fn under_ci() -> bool {
+    std::env::var_os("CI").is_some_and(|ci| {
+        let ci = ci.to_string_lossy();
+        let ci = ci.trim();
+        !(ci.is_empty() || ci == "0" || ci.eq_ignore_ascii_case("false"))
+    })
+}
+
+/// Say a test was skipped where `cargo test` shows it: libtest captures
+/// `eprintln!` of a passing test, not a write to the stderr handle.
+pub fn skipped(why: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "SKIPPED {why}");
+}
+
 /// The `raytracer` binary under test.
 pub fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_raytracer")
