@@ -95,7 +95,7 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
     } = load(&args.scene)?;
     let stderr = std::io::stderr();
     if diagnostics.warning_count() > 0 || checked.is_none() {
-        eprint!(
+        say!(
             "{}",
             diagnostics.render_human(terminal_width(), use_color(&stderr))
         );
@@ -115,14 +115,14 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
     let show_progress = stderr.is_terminal();
     let progress = |step: &str| {
         if show_progress {
-            eprintln!("{stem}: {step}");
+            sayln!("{stem}: {step}");
         }
     };
     let measurement = all.install(|| measure(&scene, plan, &single, &progress));
-    print!(
+    out!(
         "{}",
         report::markdown(&measurement, &args.scene.display().to_string())
-    );
+    )?;
     if let Some(assets) = assets {
         let write_text = |path: &PathBuf, text: String| {
             output::write_atomically(path, |out| out.write_all(text.as_bytes())).map_err(|source| {
