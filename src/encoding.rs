@@ -171,7 +171,9 @@ fn mostly_not_text(head: &[u8]) -> bool {
 
 fn controls(text: &str) -> usize {
     text.bytes()
-        .filter(|&b| (b < 0x20 && !matches!(b, b'\t' | b'\n' | 0x0B | 0x0C | b'\r' | 0x1B)) || b == 0x7F)
+        .filter(|&b| {
+            (b < 0x20 && !matches!(b, b'\t' | b'\n' | 0x0B | 0x0C | b'\r' | 0x1B)) || b == 0x7F
+        })
         .count()
 }
 

@@ -16,7 +16,8 @@ use crate::support::{bin, write};
 
 /// A scene with one warning (the light inside the sphere is not the
 /// point; any diagnostic would do) at its end.
-const SCENE: &str = "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\nlight\n  location 0 0 0\n  color 1 1 1\n";
+const SCENE: &str =
+    "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\nlight\n  location 0 0 0\n  color 1 1 1\n";
 
 /// Bytes from a fixed linear congruential sequence.
 fn noise(len: usize) -> Vec<u8> {
@@ -98,12 +99,32 @@ fn inputs() -> Vec<(&'static str, &'static str, Vec<u8>, bool)> {
         ("many lines", "many.txt", many_lines(), true),
         ("binary", "program.txt", binary, false),
         ("random bytes", "noise.txt", noise(1 << 20), false),
-        ("UTF-16LE with BOM", "u16le_bom.txt", utf16(SCENE, true, true), false),
-        ("UTF-16BE with BOM", "u16be_bom.txt", utf16(SCENE, false, true), false),
+        (
+            "UTF-16LE with BOM",
+            "u16le_bom.txt",
+            utf16(SCENE, true, true),
+            false,
+        ),
+        (
+            "UTF-16BE with BOM",
+            "u16be_bom.txt",
+            utf16(SCENE, false, true),
+            false,
+        ),
         ("UTF-16LE", "u16le.txt", utf16(SCENE, true, false), false),
         ("UTF-16BE", "u16be.txt", utf16(SCENE, false, false), false),
-        ("UTF-32LE with BOM", "u32le_bom.txt", utf32(SCENE, true, true), false),
-        ("UTF-32BE with BOM", "u32be_bom.txt", utf32(SCENE, false, true), false),
+        (
+            "UTF-32LE with BOM",
+            "u32le_bom.txt",
+            utf32(SCENE, true, true),
+            false,
+        ),
+        (
+            "UTF-32BE with BOM",
+            "u32be_bom.txt",
+            utf32(SCENE, false, true),
+            false,
+        ),
         ("UTF-32LE", "u32le.txt", utf32(SCENE, true, false), false),
         ("UTF-32BE", "u32be.txt", utf32(SCENE, false, false), false),
         ("empty", "empty.txt", Vec::new(), true),

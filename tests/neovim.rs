@@ -102,7 +102,16 @@ fn the_neovim_0_7_recipe_in_the_docs_attaches_the_server() {
                 then io.stdout:write('diagnostics: ' .. #vim.diagnostic.get(0) .. '\\n') vim.cmd('qa!') \
                 else vim.cmd('cquit 1') end";
     let output = Command::new("nvim")
-        .args(["--headless", "-u", &init_path, "-i", "NONE", &scene, "-c", wait])
+        .args([
+            "--headless",
+            "-u",
+            &init_path,
+            "-i",
+            "NONE",
+            &scene,
+            "-c",
+            wait,
+        ])
         .env("HOME", dir.path())
         .stdin(Stdio::null())
         .output()

@@ -164,7 +164,10 @@ impl Output {
         let shown = self.max_problems.unwrap_or(usize::MAX);
         match self.format {
             Format::Human => {
-                out!("{}", report.render_human_at_most(shown, self.width, self.color))?;
+                out!(
+                    "{}",
+                    report.render_human_at_most(shown, self.width, self.color)
+                )?;
                 self.not_shown(report)?;
                 out!("{}\n", summary(loaded))?;
             }
@@ -230,7 +233,11 @@ impl Output {
         };
         match self.format {
             Format::Human | Format::Short => {
-                out!("{}: skipped, not a scene: {}\n", escape(&name), escape(reason))
+                out!(
+                    "{}: skipped, not a scene: {}\n",
+                    escape(&name),
+                    escape(reason)
+                )
             }
             Format::Json => {
                 self.json.push(entry);

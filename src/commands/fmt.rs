@@ -20,8 +20,8 @@ use miette::Diagnostic;
 use super::Outcome;
 use crate::cli::FmtArgs;
 use crate::diagnostic::BoxedDiagnostic;
-use crate::discover::{discover, Found, Kind};
 use crate::diagnostic::{boxed, terminal_width, use_color, Report, SourceFile};
+use crate::discover::{discover, Found, Kind};
 use crate::escape::escape;
 use crate::format::format;
 use crate::frontend::{read_scene, Language};
@@ -59,7 +59,11 @@ pub fn run(args: FmtArgs) -> Result<Outcome, BoxedDiagnostic> {
         let path = match found {
             Found::Scene(path) => path,
             Found::Skipped { path, reason } => {
-                sayln!("{}: skipped, not a scene: {}", shown(&path), escape(&reason));
+                sayln!(
+                    "{}: skipped, not a scene: {}",
+                    shown(&path),
+                    escape(&reason)
+                );
                 continue;
             }
             Found::Unreadable(error) => {

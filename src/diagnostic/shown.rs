@@ -81,7 +81,13 @@ impl ShownSource {
     /// the renderer does not use), or, when those lines are longer than
     /// [`MAX_SNIPPET_BYTES`], a clip of the label's own lines around it.
     /// Also whether it was clipped.
-    fn window(&self, start: usize, end: usize, before: usize, after: usize) -> (usize, usize, bool) {
+    fn window(
+        &self,
+        start: usize,
+        end: usize,
+        before: usize,
+        after: usize,
+    ) -> (usize, usize, bool) {
         let text = self.named.inner().as_str();
         let (first, last) = (self.lines.line(start), self.lines.line(end));
         let line_start = |line: usize| self.lines.start(line).unwrap_or(text.len());
@@ -135,7 +141,8 @@ impl SourceCode for ShownSource {
         if end > text.len() {
             return Err(MietteError::OutOfBounds);
         }
-        let (from, to, clipped) = self.window(start, end, context_lines_before, context_lines_after);
+        let (from, to, clipped) =
+            self.window(start, end, context_lines_before, context_lines_after);
         let window = &text[from..to];
         let local = SourceSpan::new((start - from).into(), span.len());
         // A clip is one line, started and ended inside it: reading it with
