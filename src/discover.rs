@@ -47,16 +47,6 @@ pub struct Discovered {
     pub walked: bool,
 }
 
-impl Discovered {
-    /// The scenes, in order.
-    pub fn scenes(&self) -> impl Iterator<Item = &Path> {
-        self.found.iter().filter_map(|found| match found {
-            Found::Scene(path) => Some(path.as_path()),
-            _ => None,
-        })
-    }
-}
-
 /// A folder entry that a walk could not read.
 #[derive(Debug, thiserror::Error, Diagnostic)]
 #[error("cannot read folder entry `{path}`: {reason}")]
