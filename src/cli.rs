@@ -315,7 +315,7 @@ fn unknown_command(first: &OsString) -> Option<clap::Error> {
     let word = first.to_string_lossy();
     let nearest = crate::suggest::nearest(&word, &COMMANDS).map(|(command, _)| command);
     let looks_like_path = word.contains(['.', '/', '\\']);
-    if PathBuf::from(first).exists() || (looks_like_path && nearest.is_none()) {
+    if word == "-" || PathBuf::from(first).exists() || (looks_like_path && nearest.is_none()) {
         return None;
     }
     let shown = crate::escape::escape(&word);
@@ -390,7 +390,7 @@ mod tests {
         let error = parse(&["raytracer", "frobnicate", "--help"]).unwrap_err();
         assert_eq!(error.exit_code(), 2);
         assert!(error.to_string().contains("unknown command"), "{error}");
-        for scene in ["scene.txt", "scenes/a", "missing.json"] {
+        for scene in ["scene.txt", "scenes/a", "missing.json", "-"] {
             assert!(
                 matches!(
                     parse(&["raytracer", scene, "out.png"]).map(|c| c.command),
