@@ -5,6 +5,7 @@
 //! diagnostics at the same places as `--format json`, and insta snapshots
 //! keep both layouts.
 
+
 use std::path::Path;
 use std::process::Output;
 

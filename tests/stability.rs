@@ -15,6 +15,7 @@
 //! infinity reaches a pixel or a texture lookup (the tracer counts both in
 //! every build, so the check holds in release too).
 
+
 use std::path::Path;
 use std::time::Instant;
 
