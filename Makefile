@@ -86,7 +86,7 @@ accuracy: raytracer
 # nightly-only rustc flags: RUSTC_BOOTSTRAP=1 allows them on the stable
 # toolchain (use FUZZ_FLAGS="--sanitizer none" to fuzz without ASan).
 FUZZ_SECONDS ?= 600
-FUZZ_TARGETS ?= scene json texture format lsp
+FUZZ_TARGETS ?= scene json texture format lsp expand
 FUZZ_CPU_SECONDS ?=
 FUZZ_FLAGS ?=
 fuzz:

@@ -296,6 +296,7 @@ cat "$GEN"
 echo "samples: $OUT/samples.csv, $OUT/agreement.csv, $OUT/frontend.csv; wrote $DOC" >&2
 
 scripts/bench_lsp.sh
+scripts/bench_diagnostics.sh
 if [ "$failed" = 1 ]; then
   echo "bench: Embree and ours disagree on some scene (see the agreement table)" >&2
   exit 1

@@ -9,8 +9,6 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::render::adaptive::DEFAULT_THRESHOLD;
-#[cfg(doc)]
-use crate::render::world::BRUTE_FORCE_MAX;
 use crate::render::Accel;
 use crate::tile::Band;
 
@@ -49,8 +47,7 @@ pub enum Command {
 /// `--accel`: the renderer's [`Accel`] as the command line spells it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum AccelArg {
-    /// A hierarchy when the scene has more than [`BRUTE_FORCE_MAX`]
-    /// primitives, else testing them all.
+    /// A hierarchy above a few primitives, else testing them all.
     #[default]
     Auto,
     /// Always a bounding volume hierarchy.
@@ -187,6 +184,11 @@ pub struct CheckArgs {
     /// mean" replacement).
     #[arg(long, requires = "fix")]
     pub unsafe_fixes: bool,
+    /// Show at most N problems per file in the human and short formats,
+    /// then how many more there are (0 shows every one; the json, sarif
+    /// and github formats always carry every one).
+    #[arg(long, value_name = "N", default_value_t = 50)]
+    pub max_errors: usize,
 }
 
 /// What `convert` writes.
@@ -290,22 +292,49 @@ fn contrast_steps(text: &str) -> Result<f64, String> {
     }
 }
 
+/// The commands, as the first argument names them.
+const COMMANDS: [&str; 8] = [
+    "render", "check", "convert", "stitch", "accuracy", "fmt", "lsp", "help",
+];
+
 /// Parse the process arguments, accepting `raytracer SCENE OUT` for
-/// `raytracer render SCENE OUT`.
+/// `raytracer render SCENE OUT`. A first argument that is no command and
+/// no existing file, and does not look like a path (no `.`, `/` or `\`),
+/// is a mistyped command (exit 2), with the nearest command suggested.
 pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap::Error> {
     let mut args: Vec<OsString> = args.into_iter().collect();
     let is_subcommand = |a: &OsString| {
         let a = a.to_string_lossy();
-        a.starts_with('-') && a != "-"
-            || matches!(
-                &*a,
-                "render" | "check" | "convert" | "stitch" | "accuracy" | "fmt" | "lsp" | "help"
-            )
+        a.starts_with('-') && a != "-" || COMMANDS.contains(&&*a)
     };
     if args.len() > 1 && !is_subcommand(&args[1]) {
+        if let Some(error) = unknown_command(&args[1]) {
+            return Err(error);
+        }
         args.insert(1, "render".into());
     }
     Cli::try_parse_from(args)
+}
+
+/// The usage error for a first argument that is a mistyped command rather
+/// than a scene path, or `None` when it may be a scene.
+fn unknown_command(first: &OsString) -> Option<clap::Error> {
+    use clap::CommandFactory;
+    let word = first.to_string_lossy();
+    let nearest = crate::suggest::nearest(&word, &COMMANDS).map(|(command, _)| command);
+    let looks_like_path = word.contains(['.', '/', '\\']);
+    if word == "-" || PathBuf::from(first).exists() || (looks_like_path && nearest.is_none()) {
+        return None;
+    }
+    let shown = crate::escape::escape(&word);
+    let message = match nearest {
+        Some(command) => format!("unknown command `{shown}`: did you mean `{command}`?"),
+        None => format!(
+            "unknown command `{shown}`: expected one of {}, or a scene file",
+            COMMANDS.map(|c| format!("`{c}`")).join(", ")
+        ),
+    };
+    Some(Cli::command().error(clap::error::ErrorKind::InvalidSubcommand, message))
 }
 
 #[cfg(test)]
@@ -356,6 +385,68 @@ mod tests {
             target(&["raytracer", "convert", "s.txt"]),
             Err(clap::error::ErrorKind::MissingRequiredArgument)
         );
+    }
+
+    #[test]
+    fn mistyped_commands_are_usage_errors_and_scene_paths_are_render() {
+        let error = parse(&["raytracer", "chekc", "x.txt"]).unwrap_err();
+        assert_eq!(error.exit_code(), 2);
+        assert!(
+            error.to_string().contains("did you mean `check`?"),
+            "{error}"
+        );
+        let error = parse(&["raytracer", "frobnicate", "--help"]).unwrap_err();
+        assert_eq!(error.exit_code(), 2);
+        assert!(error.to_string().contains("unknown command"), "{error}");
+        for scene in ["scene.txt", "scenes/a", "missing.json", "-"] {
+            assert!(
+                matches!(
+                    parse(&["raytracer", scene, "out.png"]).map(|c| c.command),
+                    Ok(Command::Render(_))
+                ),
+                "{scene}"
+            );
+        }
+    }
+
+    /// Whether `text` names `option` (`--aa` in `--aa adaptive`, not in
+    /// `--aa-threshold`).
+    fn names(text: &str, option: &str) -> bool {
+        text.match_indices(option).any(|(at, _)| {
+            !text[at + option.len()..].starts_with(|c: char| c.is_alphanumeric() || c == '-')
+        })
+    }
+
+    #[test]
+    fn docs_cli_md_has_every_command_and_option() {
+        use clap::CommandFactory;
+        let docs = include_str!("../docs/cli.md");
+        for command in Cli::command().get_subcommands() {
+            let name = command.get_name();
+            let heading = format!("\n## `raytracer {name}");
+            let start = docs
+                .find(&heading)
+                .unwrap_or_else(|| panic!("docs/cli.md has no section for `{name}`"));
+            let section = &docs[start + heading.len()..];
+            let section = &section[..section.find("\n## ").unwrap_or(section.len())];
+            for arg in command.get_arguments() {
+                let Some(long) = arg.get_long() else { continue };
+                assert!(
+                    names(section, &format!("--{long}")),
+                    "docs/cli.md's `{name}` section lacks `--{long}`"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn help_texts_hold_no_rustdoc_links() {
+        use clap::CommandFactory;
+        let mut command = Cli::command();
+        for sub in command.get_subcommands_mut() {
+            let help = sub.render_long_help().to_string();
+            assert!(!help.contains("[`"), "{help}");
+        }
     }
 
     #[test]

@@ -12,14 +12,15 @@
 mod shown;
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use miette::{Diagnostic, GraphicalReportHandler, GraphicalTheme, Severity};
 use serde::Serialize;
 
 use crate::escape::escape;
 use crate::fix::{Applicability, Fix};
-use crate::span::{floor_char_boundary, Span};
+use crate::line_index::LineIndex;
+use crate::span::Span;
 use crate::syntax::SyntaxError;
 
 pub use shown::{Shown, ShownSource};
@@ -48,6 +49,9 @@ pub struct SourceFile {
     pub text: Arc<String>,
     /// The scene file's folder (the working directory for stdin).
     pub dir: PathBuf,
+    /// Where `text`'s lines start, built on the first lookup (a file
+    /// without problems never needs it).
+    lines: Arc<OnceLock<LineIndex>>,
 }
 
 impl SourceFile {
@@ -60,36 +64,48 @@ impl SourceFile {
     }
 
     /// [`SourceFile::from_bytes`], taking the buffer: valid UTF-8 (the
-    /// usual case) is validated once and becomes the text as it is.
+    /// usual case) is validated once and becomes the text as it is. A file
+    /// that is not text at all ([`crate::encoding::sniff`]) becomes an
+    /// empty text and one [`SyntaxError::NotText`], and is not parsed
+    /// (see [`crate::frontend`]).
     pub fn from_vec(name: &str, dir: &Path, bytes: Vec<u8>) -> (SourceFile, Option<SyntaxError>) {
-        let (text, error) = match String::from_utf8(bytes) {
-            Ok(text) => (text, None),
-            Err(e) => {
-                let (bytes, e) = (e.as_bytes(), e.utf8_error());
-                let len = e.error_len().unwrap_or(bytes.len() - e.valid_up_to());
-                let error = SyntaxError::InvalidUtf8 {
-                    span: Span::new(e.valid_up_to(), e.valid_up_to() + len).into(),
-                };
-                (String::from_utf8_lossy(bytes).into_owned(), Some(error))
-            }
+        let (text, error) = match crate::encoding::sniff(&bytes) {
+            Some(not_text) => (
+                String::new(),
+                Some(SyntaxError::NotText {
+                    found: not_text.found(),
+                    help: not_text.help(),
+                }),
+            ),
+            None => match String::from_utf8(bytes) {
+                Ok(text) => (text, None),
+                Err(e) => {
+                    let (bytes, e) = (e.as_bytes(), e.utf8_error());
+                    let len = e.error_len().unwrap_or(bytes.len() - e.valid_up_to());
+                    let error = SyntaxError::InvalidUtf8 {
+                        span: Span::new(e.valid_up_to(), e.valid_up_to() + len).into(),
+                    };
+                    (String::from_utf8_lossy(bytes).into_owned(), Some(error))
+                }
+            },
         };
         let file = SourceFile {
             name: name.to_string(),
             text: Arc::new(text),
             dir: dir.to_path_buf(),
+            lines: Arc::default(),
         };
         (file, error)
     }
 
     /// 1-based line and column (in characters) of a byte offset. Lines end
-    /// at `\n`, as in the human renderer.
+    /// at `\n`, as in the human renderer. Logarithmic in the text's size
+    /// (see [`LineIndex`]), so a report costs no more per problem in a
+    /// large file than in a small one.
     pub fn line_col(&self, offset: usize) -> (usize, usize) {
-        let offset = floor_char_boundary(&self.text, offset);
-        let before = &self.text[..offset];
-        let line = before.matches('\n').count() + 1;
-        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        let column = before[line_start..].chars().count() + 1;
-        (line, column)
+        self.lines
+            .get_or_init(|| LineIndex::new(&self.text))
+            .line_col(&self.text, offset)
     }
 }
 
@@ -162,12 +178,20 @@ impl Report {
     /// miette's graphical rendering of every diagnostic, `width` columns
     /// wide, with colour or with the plain Unicode theme, its text escaped.
     pub fn render_human(&self, width: usize, color: bool) -> String {
+        self.render_human_at_most(usize::MAX, width, color)
+    }
+
+    /// [`Report::render_human`] of the first `max` diagnostics. Each costs
+    /// the same wherever it is in the file (snippets are read through a
+    /// line index, [`ShownSource`]), so a report is linear in the number
+    /// shown.
+    pub fn render_human_at_most(&self, max: usize, width: usize, color: bool) -> String {
         let theme = if color {
             GraphicalTheme::unicode()
         } else {
             GraphicalTheme::unicode_nocolor()
         };
-        if self.diagnostics.is_empty() {
+        if self.diagnostics.is_empty() || max == 0 {
             // No snippet to show: the source is not escaped (a scan of all
             // of a large scene's text).
             return String::new();
@@ -175,7 +199,7 @@ impl Report {
         let handler = GraphicalReportHandler::new_themed(theme).with_width(width);
         let source = ShownSource::new(&self.source.name, &self.source.text);
         let mut out = String::new();
-        for diagnostic in &self.diagnostics {
+        for diagnostic in self.diagnostics.iter().take(max) {
             let shown = Shown::new(diagnostic.as_ref(), Some(&source));
             // Writing to a String cannot fail.
             let _ = handler.render_report(&mut out, &shown);
@@ -187,7 +211,13 @@ impl Report {
     /// One line per diagnostic: `file:line:col: severity[code]: message`,
     /// its text escaped.
     pub fn render_short(&self) -> String {
+        self.render_short_at_most(usize::MAX)
+    }
+
+    /// [`Report::render_short`] of the first `max` diagnostics.
+    pub fn render_short_at_most(&self, max: usize) -> String {
         self.entries()
+            .take(max)
             .map(|e| {
                 let (line, column) = e.labels.first().map_or((1, 1), |l| (l.line, l.column));
                 format!(

@@ -167,8 +167,10 @@ fn folders_are_walked_in_order_and_non_scenes_skipped() {
     assert_eq!(
         summaries,
         [
+            "README.txt: skipped, not a scene: its first word `Submissions` is not a section keyword",
             "a.txt: ok; effects: shadows, reflection",
             "c.json: ok; effects: none",
+            "package.json: skipped, not a scene: a JSON file without `\"raytracer-scene/` in its first 64 KiB",
             "sub/b.txt: 0 errors, 1 warning; effects: none",
             "z_last.scene: 2 errors, 0 warnings",
             "checked 4 files: 2 errors, 1 warning; 2 files skipped (not a scene)",

@@ -18,6 +18,7 @@ mod cli;
 mod convert_cli;
 mod distributed;
 mod format;
+mod hostile_inputs;
 mod hostile_text;
 mod intersection;
 mod language_table;

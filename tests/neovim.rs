@@ -74,3 +74,52 @@ fn neovim_shows_diagnostics_applies_a_quick_fix_and_formats() {
     );
     assert_eq!(std::fs::read_to_string(&scene).unwrap(), EXPECTED);
 }
+
+/// The Neovim 0.7 recipe of docs/editors.md, pasted into an `init.lua` as
+/// a user would (the server's name replaced by the binary under test),
+/// attaches the server to a scene under `scenes/`: its diagnostics arrive.
+#[test]
+fn the_neovim_0_7_recipe_in_the_docs_attaches_the_server() {
+    if !nvim_available() {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "nvim is not installed, and CI must run this test (.ci/run installs neovim)"
+        );
+        eprintln!("SKIPPED neovim recipe test: nvim is not installed (apt-get install neovim)");
+        return;
+    }
+    let docs = include_str!("../docs/editors.md");
+    let start = docs
+        .find("-- Neovim 0.7: one client")
+        .expect("docs/editors.md has the Neovim 0.7 recipe");
+    let recipe = &docs[start..];
+    let recipe = &recipe[..recipe.find("```").expect("the recipe's block ends")];
+    let server = format!("{:?}, \"lsp\"", support::bin());
+    assert!(recipe.contains("\"raytracer\", \"lsp\""), "{recipe}");
+    let init = recipe.replace("\"raytracer\", \"lsp\"", &server);
+    let dir = tempfile::tempdir().unwrap();
+    let init_path = support::write(dir.path(), "init.lua", init);
+    let scene = support::write(dir.path(), "scenes/scene.txt", SCENE);
+    let wait = "lua if vim.wait(10000, function() return #vim.diagnostic.get(0) > 0 end, 20) \
+                then io.stdout:write('diagnostics: ' .. #vim.diagnostic.get(0) .. '\\n') vim.cmd('qa!') \
+                else vim.cmd('cquit 1') end";
+    let output = Command::new("nvim")
+        .args([
+            "--headless",
+            "-u",
+            &init_path,
+            "-i",
+            "NONE",
+            &scene,
+            "-c",
+            wait,
+        ])
+        .env("HOME", dir.path())
+        .stdin(Stdio::null())
+        .output()
+        .expect("run nvim");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stdout}\n{stderr}");
+    assert!(stdout.contains("diagnostics: "), "{stdout}\n{stderr}");
+}

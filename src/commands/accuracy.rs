@@ -110,7 +110,7 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
             ..
         } = load(path)?;
         if diagnostics.warning_count() > 0 || checked.is_none() {
-            eprint!(
+            say!(
                 "{}",
                 diagnostics.render_human(terminal_width(), use_color(&stderr))
             );
@@ -137,7 +137,7 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
         let stem = &stems[k];
         let progress = |step: &str| {
             if show_progress {
-                eprintln!("{stem}: {step}");
+                sayln!("{stem}: {step}");
             }
         };
         let measurement = all.install(|| measure(scene, &plan, &single, &progress));
@@ -161,21 +161,21 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
     let measured: Vec<&Measured> = tuning.iter().chain(&held_out).collect();
     let alone = measured.len() == 1 && args.aa_threshold.len() == 1;
     if !alone {
-        print!("{}", verdicts(&tuning, &held_out, chosen));
-        println!("## Scene by scene\n");
+        out!("{}", verdicts(&tuning, &held_out, chosen))?;
+        out!("## Scene by scene\n\n")?;
     }
     for (k, (name, measurement)) in measured.into_iter().enumerate() {
         if !alone {
-            println!("### `{name}`\n");
+            out!("### `{name}`\n\n")?;
         }
-        print!("{}", report::markdown(measurement, name));
+        out!("{}", report::markdown(measurement, name))?;
         if let (Some(assets), Some(dir)) = (&assets, &args.assets) {
             let drawn = write_assets(measurement, &stems[k], &assets[k])?;
             let largest = report::numeric(measurement).max;
-            print!(
+            out!(
                 "{}",
                 asset_links(dir, &stems[k], &assets[k], drawn, largest)
-            );
+            )?;
         }
     }
     Ok(Outcome::Success)

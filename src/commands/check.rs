@@ -1,8 +1,11 @@
 //! `raytracer check`: the linter. Checks every scene given or found in the
-//! folders given ([`super::discover`]), prints every diagnostic in the chosen
-//! format (and, over several files, a total line), and exits 0 (clean or
-//! warnings only), 1 (errors, or warnings with `--deny-warnings`) or 2 (a
-//! scene could not be read; the others are still checked).
+//! folders given ([`crate::discover`]), names every file a walk skipped
+//! with the reason, prints every diagnostic in the chosen format (the
+//! first `--max-errors` of each file in the formats read by people, then
+//! how many more there are), over several files a total line, and exits 0
+//! (clean or warnings only), 1 (errors, or warnings with
+//! `--deny-warnings`) or 2 (a scene could not be read; the others are
+//! still checked).
 //!
 //! Diagnostics are the command's output, so they go to stdout (as for other
 //! linters); only failures that are not the scene's fault go to stderr.
@@ -18,12 +21,12 @@ use std::path::Path;
 
 use miette::Diagnostic;
 
-use super::discover::discover;
-use super::{Outcome, WriteStdoutError};
+use super::Outcome;
 use crate::check::Summary;
 use crate::ci::{self, github, sarif, Finding};
 use crate::cli::{CheckArgs, Format};
 use crate::diagnostic::{terminal_width, use_color, BoxedDiagnostic, JsonDiagnostic, Report};
+use crate::discover::{discover, Found};
 use crate::escape::escape;
 use crate::fix::{self, Applicability};
 use crate::frontend::{load_summary, Loaded};
@@ -32,18 +35,26 @@ use crate::output;
 
 /// Run `raytracer check`.
 pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
-    let found = discover(&args.scenes);
-    let mut out = Output::new(args.format);
-    let mut totals = Totals {
-        skipped: found.skipped,
-        unreadable: found.errors.len(),
-        ..Totals::default()
-    };
-    for error in &found.errors {
-        out.unreadable(Path::new(&error.path), error);
-    }
+    let discovered = discover(&args.scenes);
+    let max_problems = (args.max_errors > 0).then_some(args.max_errors);
+    let mut out = Output::new(args.format, max_problems);
+    let mut totals = Totals::default();
     let mut failed = false;
-    for path in &found.scenes {
+    let several = discovered.walked || discovered.found.len() > 1;
+    for found in &discovered.found {
+        let path = match found {
+            Found::Scene(path) => path,
+            Found::Skipped { path, reason } => {
+                totals.skipped += 1;
+                out.skipped(path, reason)?;
+                continue;
+            }
+            Found::Unreadable(error) => {
+                totals.unreadable += 1;
+                out.unreadable(Path::new(&error.path), error)?;
+                continue;
+            }
+        };
         if args.fix {
             let applicability = if args.unsafe_fixes {
                 Applicability::Unsafe
@@ -51,10 +62,10 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
                 Applicability::Safe
             };
             match fix_in_place(path, applicability) {
-                Ok(fixed) => out.fixed(&fixed),
+                Ok(fixed) => out.fixed(&fixed)?,
                 Err(error) => {
                     totals.unreadable += 1;
-                    eprintln!("error: {}", escape(&error.to_string()));
+                    sayln!("error: {}", escape(&error.to_string()));
                 }
             }
         }
@@ -64,16 +75,16 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
                 failed |=
                     report.error_count() > 0 || (args.deny_warnings && report.warning_count() > 0);
                 totals.add(report);
-                out.scene(&loaded);
+                out.scene(&loaded)?;
             }
             Err(error) => {
                 totals.unreadable += 1;
-                out.unreadable(path, &error);
+                out.unreadable(path, &error)?;
             }
         }
     }
-    if found.walked || found.scenes.len() > 1 {
-        out.total(&totals);
+    if several {
+        out.total(&totals)?;
     }
     out.finish()?;
     if totals.unreadable > 0 {
@@ -122,73 +133,138 @@ impl Totals {
     }
 }
 
+/// The code of the entry the machine formats give a file a walk skipped.
+const SKIPPED_CODE: &str = "io::skipped";
+
 /// Where results go, per format.
 struct Output {
     format: Format,
     color: bool,
     width: usize,
+    /// The most diagnostics the human and short formats show per file.
+    max_problems: Option<usize>,
     json: Vec<JsonDiagnostic>,
     sarif: Vec<Finding>,
 }
 
 impl Output {
-    fn new(format: Format) -> Output {
+    fn new(format: Format, max_problems: Option<usize>) -> Output {
         Output {
             format,
             color: use_color(&std::io::stdout()),
             width: terminal_width(),
+            max_problems,
             json: Vec::new(),
             sarif: Vec::new(),
         }
     }
 
-    fn scene(&mut self, loaded: &Loaded<Summary>) {
+    fn scene(&mut self, loaded: &Loaded<Summary>) -> Result<(), BoxedDiagnostic> {
         let report = &loaded.report;
+        let shown = self.max_problems.unwrap_or(usize::MAX);
         match self.format {
             Format::Human => {
-                print!("{}", report.render_human(self.width, self.color));
-                println!("{}", summary(loaded));
+                out!(
+                    "{}",
+                    report.render_human_at_most(shown, self.width, self.color)
+                )?;
+                self.not_shown(report)?;
+                out!("{}\n", summary(loaded))?;
             }
             Format::Short => {
-                print!("{}", report.render_short());
-                println!("{}", summary(loaded));
+                out!("{}", report.render_short_at_most(shown))?;
+                self.not_shown(report)?;
+                out!("{}\n", summary(loaded))?;
             }
             Format::Json => self.json.extend(report.entries()),
             Format::Sarif => self.sarif.extend(ci::findings(report)),
             Format::Github => {
                 for finding in ci::findings(report) {
-                    println!("{}", github::command(&finding));
+                    out!("{}\n", github::command(&finding))?;
                 }
             }
         }
+        Ok(())
+    }
+
+    /// `scene.txt: 9980 more problems not shown (…)`, after the first
+    /// `--max-errors` of a file's diagnostics.
+    fn not_shown(&self, report: &Report) -> Result<(), BoxedDiagnostic> {
+        let Some(max) = self.max_problems else {
+            return Ok(());
+        };
+        let hidden = report.diagnostics.len().saturating_sub(max);
+        if hidden == 0 {
+            return Ok(());
+        }
+        out!(
+            "{}: {} not shown (`--max-errors 0` shows every one)\n",
+            escape(&report.source.name),
+            plural(hidden, "more problem")
+        )
     }
 
     /// Say what `--fix` changed: on stdout with the diagnostics, or on
     /// stderr when stdout is for machines.
-    fn fixed(&self, fixed: &[String]) {
+    fn fixed(&self, fixed: &[String]) -> Result<(), BoxedDiagnostic> {
         for line in fixed {
             let line = escape(line);
             if self.format_is_for_machines() {
-                eprintln!("{line}");
+                sayln!("{line}");
             } else {
-                println!("{line}");
+                out!("{line}\n")?;
             }
+        }
+        Ok(())
+    }
+
+    /// A file a walk found and did not check, named with the reason: a
+    /// line in the formats read by people, a note in the others.
+    fn skipped(&mut self, path: &Path, reason: &str) -> Result<(), BoxedDiagnostic> {
+        let name = path.display().to_string();
+        let entry = JsonDiagnostic {
+            code: SKIPPED_CODE.to_string(),
+            severity: "advice",
+            message: format!("not checked: not a scene: {reason}"),
+            help: None,
+            file: name.clone(),
+            labels: Vec::new(),
+            fix: None,
+        };
+        match self.format {
+            Format::Human | Format::Short => {
+                out!(
+                    "{}: skipped, not a scene: {}\n",
+                    escape(&name),
+                    escape(reason)
+                )
+            }
+            Format::Json => {
+                self.json.push(entry);
+                Ok(())
+            }
+            Format::Sarif => {
+                self.sarif.push(Finding::without_source(entry));
+                Ok(())
+            }
+            Format::Github => out!("{}\n", github::command(&Finding::without_source(entry))),
         }
     }
 
     /// The closing line of a run over several files or a folder, in the
     /// formats read by people.
-    fn total(&self, totals: &Totals) {
+    fn total(&self, totals: &Totals) -> Result<(), BoxedDiagnostic> {
         if matches!(self.format, Format::Human | Format::Short) {
-            println!("{}", totals.line());
+            out!("{}\n", totals.line())?;
         }
+        Ok(())
     }
 
     fn format_is_for_machines(&self) -> bool {
         matches!(self.format, Format::Json | Format::Sarif | Format::Github)
     }
 
-    fn unreadable(&mut self, path: &Path, error: &dyn Diagnostic) {
+    fn unreadable(&mut self, path: &Path, error: &dyn Diagnostic) -> Result<(), BoxedDiagnostic> {
         let entry = JsonDiagnostic {
             code: error.code().map(|c| c.to_string()).unwrap_or_default(),
             severity: "error",
@@ -202,12 +278,13 @@ impl Output {
             Format::Human | Format::Short => {}
             Format::Json => self.json.push(entry),
             Format::Sarif => self.sarif.push(Finding::without_source(entry)),
-            Format::Github => println!("{}", github::command(&Finding::without_source(entry))),
+            Format::Github => out!("{}\n", github::command(&Finding::without_source(entry)))?,
         }
-        eprintln!("error: {}", escape(&error.to_string()));
+        sayln!("error: {}", escape(&error.to_string()));
         if let Some(help) = error.help() {
-            eprintln!("  help: {}", escape(&help.to_string()));
+            sayln!("  help: {}", escape(&help.to_string()));
         }
+        Ok(())
     }
 
     fn finish(self) -> Result<(), BoxedDiagnostic> {
@@ -219,7 +296,7 @@ impl Output {
         };
         written
             .and_then(|()| stdout.flush())
-            .map_err(|e| Box::new(WriteStdoutError::from(e)) as BoxedDiagnostic)
+            .map_err(super::stdout_error)
     }
 }
 

@@ -10,7 +10,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::{Outcome, WriteStdoutError};
+use super::Outcome;
 use crate::cli::{ConvertArgs, Target};
 use crate::convert::{json, paths, pov, scene_text};
 use crate::diagnostic::BoxedDiagnostic;
@@ -36,7 +36,7 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, BoxedDiagnostic> {
     let report = &loaded.report;
     if !report.diagnostics.is_empty() {
         let stderr = std::io::stderr();
-        eprint!(
+        say!(
             "{}",
             report.render_human(terminal_width(), use_color(&stderr))
         );
@@ -77,7 +77,7 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, BoxedDiagnostic> {
             stdout
                 .write_all(text.as_bytes())
                 .and_then(|()| stdout.flush())
-                .map_err(WriteStdoutError::from)?;
+                .map_err(super::stdout_error)?;
         }
     }
     Ok(Outcome::Success)

@@ -2,14 +2,18 @@
 //! [`crate::format`], each written atomically, or with `--check` list the
 //! files that would change and write nothing.
 //!
-//! Folders are searched (recursively) for `.txt` and `.scene` files; `-`
-//! formats stdin to stdout. A file with syntax errors is never rewritten:
-//! its diagnostics go to stderr and the command exits 1. JSON scenes have
-//! no layout of ours to impose and are refused (exit 2), as are files that
-//! cannot be read.
+//! Folders are walked as `check` walks them ([`crate::discover`]): only
+//! the files classified as scenes are formatted, and every other file is
+//! named on stderr with the reason it was skipped, so prose beside the
+//! scenes is never rewritten. `-` formats stdin to stdout. A file with
+//! syntax errors (or that is not text) is never rewritten: its diagnostics
+//! go to stderr and the command exits 1. A rewritten file keeps its
+//! byte-order mark and `\r\n` line ends. JSON scenes have no layout of
+//! ours to impose: one named is refused (exit 2), one found in a folder is
+//! skipped; files that cannot be read exit 2.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use miette::Diagnostic;
 
@@ -17,6 +21,7 @@ use super::Outcome;
 use crate::cli::FmtArgs;
 use crate::diagnostic::BoxedDiagnostic;
 use crate::diagnostic::{boxed, terminal_width, use_color, Report, SourceFile};
+use crate::discover::{discover, Found, Kind};
 use crate::escape::escape;
 use crate::format::format;
 use crate::frontend::{read_scene, Language};
@@ -50,19 +55,44 @@ enum Formatted {
 pub fn run(args: FmtArgs) -> Result<Outcome, BoxedDiagnostic> {
     let mut failed = false;
     let mut unreadable = false;
-    for path in files(&args.paths, &mut unreadable) {
+    for found in discover(&args.paths).found {
+        let path = match found {
+            Found::Scene(path) => path,
+            Found::Skipped { path, reason } => {
+                sayln!(
+                    "{}: skipped, not a scene: {}",
+                    shown(&path),
+                    escape(&reason)
+                );
+                continue;
+            }
+            Found::Unreadable(error) => {
+                unreadable = true;
+                sayln!("{:?}", miette::Report::new(error));
+                continue;
+            }
+        };
+        // A JSON scene a walk found has no layout of ours; one named on
+        // the command line is refused below.
+        if !args.paths.contains(&path) && Kind::of(&path) == Some(Kind::Json) {
+            sayln!(
+                "{}: skipped, a JSON scene (`fmt` lays out scene text)",
+                shown(&path)
+            );
+            continue;
+        }
         match format_file(&path, args.check) {
             Ok(Formatted::Unchanged) => {}
             Ok(Formatted::Changed) => {
                 if args.check {
-                    println!("{}", shown(&path));
+                    out!("{}\n", shown(&path))?;
                     failed = true;
                 }
             }
             Ok(Formatted::SyntaxErrors) => failed = true,
             Err(error) => {
                 unreadable = true;
-                eprintln!("{:?}", miette::Report::new(error));
+                sayln!("{:?}", miette::Report::new(error));
             }
         }
     }
@@ -84,40 +114,23 @@ fn shown(path: &Path) -> String {
     }
 }
 
-/// The files named, with folders expanded to the scene text files under
-/// them (sorted, so the output order is stable).
-fn files(paths: &[PathBuf], unreadable: &mut bool) -> Vec<PathBuf> {
-    let mut found = Vec::new();
-    for path in paths {
-        if path.is_dir() {
-            let mut under = Vec::new();
-            if let Err(error) = walk(path, &mut under) {
-                *unreadable = true;
-                eprintln!("{:?}", miette::Report::new(error));
-            }
-            under.sort();
-            found.extend(under);
-        } else {
-            found.push(path.clone());
-        }
-    }
-    found
-}
-
-fn walk(dir: &Path, found: &mut Vec<PathBuf>) -> Result<(), FmtError> {
-    let read_error = |error: std::io::Error| FmtError::Read {
-        path: shown(dir),
-        reason: crate::diagnostic::io_reason(&error),
+/// `formatted` with the conventions of `original` the layout does not
+/// carry: a leading byte-order mark, and `\r\n` line ends when the
+/// original's first line ends so (the formatter writes `\n`).
+fn keep_conventions(original: &str, formatted: String) -> String {
+    let crlf = original
+        .find('\n')
+        .is_some_and(|at| original[..at].ends_with('\r'));
+    let formatted = if crlf {
+        formatted.replace('\n', "\r\n")
+    } else {
+        formatted
     };
-    for entry in std::fs::read_dir(dir).map_err(read_error)? {
-        let path = entry.map_err(read_error)?.path();
-        if path.is_dir() {
-            walk(&path, found)?;
-        } else if path.extension().is_some_and(|e| e == "txt" || e == "scene") {
-            found.push(path);
-        }
+    if original.starts_with('\u{feff}') && !formatted.starts_with('\u{feff}') {
+        format!("\u{feff}{formatted}")
+    } else {
+        formatted
     }
-    Ok(())
 }
 
 /// Format one file (or stdin to stdout), or with `check` only compare.
@@ -141,15 +154,15 @@ fn format_file(path: &Path, check: bool) -> Result<Formatted, FmtError> {
         None => format(&source.text),
     };
     let formatted = match result {
-        Ok(formatted) => formatted,
+        Ok(formatted) => keep_conventions(&source.text, formatted),
         Err(errors) => {
             let report = Report::new(source, boxed(errors));
             let stderr = std::io::stderr();
-            eprint!(
+            say!(
                 "{}",
                 report.render_human(terminal_width(), use_color(&stderr))
             );
-            eprintln!("{name}: not formatted: fix the syntax errors first");
+            sayln!("{name}: not formatted: fix the syntax errors first");
             return Ok(Formatted::SyntaxErrors);
         }
     };

@@ -1,22 +1,51 @@
 //! The commands and what they share: mapping outcomes to the exit
-//! codes of docs/cli.md. Each command loads its scenes through
-//! [`crate::frontend`] and only handles arguments and printing.
+//! codes of docs/cli.md, and writing to stdout and stderr without
+//! panicking. Each command loads its scenes through [`crate::frontend`]
+//! and only handles arguments and printing.
+//!
+//! Output goes through [`out!`], [`say!`] and [`sayln!`], never `print!` or
+//! `eprint!`, which panic when the stream is a pipe whose reader has gone
+//! (`raytracer check scenes/ | head -1`). A closed stdout ends the command
+//! quietly with exit 0, as ripgrep does: the reader took what it wanted. A
+//! message stderr cannot take is dropped: there is no one left to tell.
+
+/// `print!` to stdout, returning `Err(BoxedDiagnostic)` when stdout cannot
+/// be written ([`stdout_error`]) instead of panicking.
+macro_rules! out {
+    ($($arg:tt)*) => {
+        $crate::commands::write_stdout(format_args!($($arg)*))
+    };
+}
+
+/// `eprint!` that drops what stderr cannot take instead of panicking.
+macro_rules! say {
+    ($($arg:tt)*) => {
+        $crate::commands::write_stderr(format_args!($($arg)*))
+    };
+}
+
+/// `eprintln!` that drops what stderr cannot take instead of panicking.
+macro_rules! sayln {
+    ($($arg:tt)*) => {
+        $crate::commands::write_stderr(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
 
 pub mod accuracy;
 pub mod check;
 pub mod convert;
-pub mod discover;
 pub mod fmt;
 pub mod lsp;
 pub mod render;
 pub mod stitch;
 
+use std::io::Write;
 use std::process::ExitCode;
 
 use miette::Diagnostic;
 
 use crate::cli::{Cli, Command};
-use crate::diagnostic::Shown;
+use crate::diagnostic::{BoxedDiagnostic, Shown};
 
 /// How a command ended, when it ran to completion.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,6 +67,38 @@ pub enum Outcome {
 pub struct WriteStdoutError {
     /// The I/O error, as [`crate::diagnostic::io_reason`] words it.
     pub reason: String,
+}
+
+/// Stdout is a pipe whose reader has gone: the command stops quietly.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error("stdout was closed")]
+#[diagnostic(code(io::closed_stdout))]
+pub struct ClosedStdout;
+
+/// A failed write to stdout as the command's failure: [`ClosedStdout`]
+/// for a closed pipe, which ends the command quietly, else a
+/// [`WriteStdoutError`].
+pub fn stdout_error(error: std::io::Error) -> BoxedDiagnostic {
+    if error.kind() == std::io::ErrorKind::BrokenPipe {
+        Box::new(ClosedStdout)
+    } else {
+        Box::new(WriteStdoutError::from(error))
+    }
+}
+
+fn is_closed_stdout(failure: &(dyn Diagnostic + Send + Sync + 'static)) -> bool {
+    let failure: &(dyn std::error::Error + 'static) = failure;
+    failure.is::<ClosedStdout>()
+}
+
+/// What [`out!`] runs.
+pub fn write_stdout(text: std::fmt::Arguments) -> Result<(), BoxedDiagnostic> {
+    std::io::stdout().write_fmt(text).map_err(stdout_error)
+}
+
+/// What [`say!`] runs.
+pub fn write_stderr(text: std::fmt::Arguments) {
+    let _ = std::io::stderr().write_fmt(text);
 }
 
 impl From<std::io::Error> for WriteStdoutError {
@@ -63,10 +124,11 @@ pub fn run(cli: Cli) -> ExitCode {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
         Ok(Outcome::SceneErrors) => ExitCode::from(1),
         Ok(Outcome::InputErrors) => ExitCode::from(2),
+        Err(failure) if is_closed_stdout(failure.as_ref()) => ExitCode::SUCCESS,
         Err(failure) => {
             // Paths in the message are escaped like scene text.
             let shown = Shown::new(failure.as_ref(), None);
-            eprintln!("{:?}", miette::Report::new(shown));
+            sayln!("{:?}", miette::Report::new(shown));
             ExitCode::from(2)
         }
     }
@@ -89,6 +151,6 @@ pub const INTERRUPTED_EXIT_CODE: i32 = 130;
 /// file being written (no rename can follow), say so, and exit.
 pub fn interrupt() -> ! {
     crate::output::abandon();
-    eprintln!("\n{:?}", miette::Report::new(Interrupted));
+    sayln!("\n{:?}", miette::Report::new(Interrupted));
     std::process::exit(INTERRUPTED_EXIT_CODE)
 }

@@ -134,7 +134,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
     } = load(&args.scene)?;
     let show_diagnostics = || {
         let stderr = std::io::stderr();
-        eprint!(
+        say!(
             "{}",
             report.render_human(terminal_width(), use_color(&stderr))
         );
@@ -219,7 +219,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
         tile,
     };
     if args.stats {
-        eprint!("{}", stats.human());
+        say!("{}", stats.human());
     }
     if let Some(path) = &args.stats_json {
         write_stats(path, &stats)?;

@@ -146,7 +146,7 @@ pub fn run(args: StitchArgs) -> Result<Outcome, BoxedDiagnostic> {
         }
     }
     for problem in stitch::problems(&parts) {
-        eprintln!("{:?}", miette::Report::new(problem));
+        sayln!("{:?}", miette::Report::new(problem));
         fine = false;
     }
     if !fine {
@@ -198,7 +198,7 @@ fn report<E: Diagnostic + Send + Sync + 'static>(
     if is_io(&error) {
         return Err(Box::new(error));
     }
-    eprintln!("{:?}", miette::Report::new(error));
+    sayln!("{:?}", miette::Report::new(error));
     Ok(false)
 }
 

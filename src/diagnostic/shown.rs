@@ -18,14 +18,26 @@ use miette::{
 };
 
 use crate::escape::{escape, EscapedSource};
+use crate::line_index::LineIndex;
+use crate::span::floor_char_boundary;
 
 /// A source file as snippets show it.
 pub struct ShownSource {
     named: NamedSource<Arc<String>>,
-    original: Arc<String>,
     /// The offset map when the text had something to escape.
     escaped: Option<EscapedSource>,
+    /// The lines of the shown text.
+    lines: LineIndex,
 }
+
+/// The most bytes of a snippet's lines handed to the renderer: a label on
+/// a longer line (a minified scene, a binary file) shows this much of the
+/// line around it, not all of it.
+const MAX_SNIPPET_BYTES: usize = 4096;
+
+/// How much of a long line a clipped snippet shows on each side of its
+/// label.
+const CLIPPED_CONTEXT_BYTES: usize = 120;
 
 impl ShownSource {
     /// `text` named `name`, both escaped.
@@ -36,8 +48,8 @@ impl ShownSource {
             None => text.clone(),
         };
         ShownSource {
+            lines: LineIndex::new(&shown_text),
             named: NamedSource::new(escape(name), shown_text),
-            original: text.clone(),
             escaped,
         }
     }
@@ -53,36 +65,112 @@ impl ShownSource {
             }
         }
     }
+
+    /// The column miette shows for byte `at` of the shown text: bytes from
+    /// the start of its line in the original file.
+    fn column(&self, at: usize) -> usize {
+        let line_start = self.lines.start(self.lines.line(at)).unwrap_or(0);
+        match &self.escaped {
+            None => at - line_start,
+            Some(escaped) => escaped.original(at) - escaped.original(line_start),
+        }
+    }
+
+    /// The part of the shown text that holds `start..end` with `before`
+    /// lines before and `after` lines after it (and one more line, which
+    /// the renderer does not use), or, when those lines are longer than
+    /// [`MAX_SNIPPET_BYTES`], a clip of the label's own lines around it.
+    /// Also whether it was clipped.
+    fn window(
+        &self,
+        start: usize,
+        end: usize,
+        before: usize,
+        after: usize,
+    ) -> (usize, usize, bool) {
+        let text = self.named.inner().as_str();
+        let (first, last) = (self.lines.line(start), self.lines.line(end));
+        let line_start = |line: usize| self.lines.start(line).unwrap_or(text.len());
+        let from = line_start(first.saturating_sub(before));
+        let to = line_start(last + after + 2);
+        if to - from <= MAX_SNIPPET_BYTES {
+            return (from, to, false);
+        }
+        let from = floor_char_boundary(
+            text,
+            start
+                .saturating_sub(CLIPPED_CONTEXT_BYTES)
+                .max(line_start(first)),
+        );
+        let line_end = line_start(last + 1);
+        let to = ceil_char_boundary(text, (end + CLIPPED_CONTEXT_BYTES).min(line_end));
+        // Stop before the line's end, so the clip is one line.
+        let to = if to == line_end && to > end {
+            text[..to].trim_end_matches(['\n', '\r']).len().max(end)
+        } else {
+            to
+        };
+        (from, to, true)
+    }
+}
+
+/// The smallest character boundary of `text` at or after `offset`
+/// (clamped to the text).
+fn ceil_char_boundary(text: &str, offset: usize) -> usize {
+    let mut offset = offset.min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset += 1;
+    }
+    offset
 }
 
 impl SourceCode for ShownSource {
+    /// What miette's own `read_span` gives for the shown text, found from
+    /// the line index: miette's reads a window of the lines around the
+    /// span (the same answer, with offsets and lines moved back), not the
+    /// text from its start, so rendering costs the same for a problem at
+    /// the end of a large file as at its start.
     fn read_span<'a>(
         &'a self,
         span: &SourceSpan,
         context_lines_before: usize,
         context_lines_after: usize,
     ) -> Result<Box<dyn SpanContents<'a> + 'a>, MietteError> {
-        let contents = self
-            .named
-            .read_span(span, context_lines_before, context_lines_after)?;
+        let text = self.named.inner().as_str();
+        let (start, end) = (span.offset(), span.offset() + span.len());
+        if end > text.len() {
+            return Err(MietteError::OutOfBounds);
+        }
+        let (from, to, clipped) =
+            self.window(start, end, context_lines_before, context_lines_after);
+        let window = &text[from..to];
+        let local = SourceSpan::new((start - from).into(), span.len());
+        // A clip is one line, started and ended inside it: reading it with
+        // a line of context on each side makes miette show all of it.
+        let (before, after) = if clipped {
+            (1, 1)
+        } else {
+            (context_lines_before, context_lines_after)
+        };
+        let contents = window.read_span(&local, before, after)?;
+        let lines_before = self.lines.line(from);
         // Without lines before, the contents start at the span, and miette
         // takes the column it shows from them: count it in the original.
-        let Some(escaped) = self.escaped.as_ref().filter(|_| context_lines_before == 0) else {
-            return Ok(contents);
+        let column = if context_lines_before == 0 {
+            self.column(start)
+        } else {
+            contents.column()
         };
-        let at = escaped.original(span.offset());
-        let line_start = self.original[..at]
-            .rfind(['\n', '\r', '\u{85}'])
-            .map_or(0, |i| {
-                i + self.original[i..].chars().next().map_or(1, char::len_utf8)
-            });
         Ok(Box::new(MietteSpanContents::new_named(
-            contents.name().unwrap_or_default().to_string(),
+            self.named.name().to_string(),
             contents.data(),
-            *contents.span(),
-            contents.line(),
-            at - line_start,
-            contents.line_count(),
+            SourceSpan::new(
+                (contents.span().offset() + from).into(),
+                contents.span().len(),
+            ),
+            contents.line() + lines_before,
+            column,
+            contents.line_count() + lines_before,
         )))
     }
 }

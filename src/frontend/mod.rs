@@ -265,6 +265,7 @@ fn load_source<S: Sink>(
     start: Instant,
 ) -> Loaded<S::Scene> {
     let mut diagnostics: Vec<Fixable> = Vec::new();
+    let not_text = matches!(utf8_error, Some(syntax::SyntaxError::NotText { .. }));
     let unfixed = |d: Vec<BoxedDiagnostic>| d.into_iter().map(|d| (d, None));
     diagnostics.extend(unfixed(
         utf8_error
@@ -272,6 +273,15 @@ fn load_source<S: Sink>(
             .map(|e| Box::new(e) as BoxedDiagnostic)
             .collect(),
     ));
+    if not_text {
+        // One diagnostic for a file that is not text: nothing to parse.
+        return Loaded {
+            report: Report::with_fixes(source, diagnostics),
+            checked: None,
+            parse_seconds: start.elapsed().as_secs_f64(),
+            check_seconds: 0.0,
+        };
+    }
     let cut = split::cut(&source.text).filter(|_| language == Language::Text);
     load_text_cut_at::<S>(source, diagnostics, language, start, cut)
 }

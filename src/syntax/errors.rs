@@ -1,6 +1,7 @@
 //! Syntax errors: problems found while reading tokens, before any meaning is
 //! attached to them. One variant per problem; each has a stable code under
-//! `syntax::` and a label on the offending bytes.
+//! `syntax::` and a label on the offending bytes (but for a file that is not
+//! text at all).
 
 use miette::{Diagnostic, SourceSpan};
 use thiserror::Error;
@@ -20,6 +21,14 @@ pub enum SyntaxError {
         #[label("invalid byte sequence")]
         span: SourceSpan,
     },
+
+    /// Fires when the file is not text in UTF-8 (see [`crate::encoding`]):
+    /// UTF-16 or UTF-32 text, or a binary file. The file is not parsed, so
+    /// this is its only diagnostic; it is about the whole file and has no
+    /// label.
+    #[error("expected scene text in UTF-8, found {found}")]
+    #[diagnostic(code(syntax::not_text), help("{help}"))]
+    NotText { found: String, help: &'static str },
 
     /// Fires when a token starts like a number (a digit, a sign or a `.`) but
     /// is not one, such as `1.2.3`, `1,5` or `-x`.

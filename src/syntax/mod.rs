@@ -116,6 +116,15 @@ impl Iterator for Sections<'_> {
 
 type Res<'a, T> = IResult<&'a str, T>;
 
+/// The first word of scene text, after its leading `trivia` (whitespace,
+/// the byte-order mark and `#` comments), as the parser reads it: where a
+/// scene has its first section keyword. `None` when the text holds only
+/// trivia, or starts with a string.
+pub fn first_word(text: &str) -> Option<&str> {
+    let (rest, _) = trivia(text).ok()?;
+    word(rest).ok().map(|(_, word)| word)
+}
+
 /// `line_end = "\n" | "\r" | "\u{85}" | "\u{2028}" | "\u{2029}" ;`
 pub fn is_line_end(c: char) -> bool {
     matches!(c, '\n' | '\r' | '\u{85}' | '\u{2028}' | '\u{2029}')

@@ -1,0 +1,299 @@
+//! The files a class produces, and the pipes a shell gives, never crash a
+//! command: every command (`check`, `render`, `convert`, `fmt`, `lsp`,
+//! `stitch`, `accuracy`) runs over a set of hostile inputs (a line past
+//! 65535 columns, a file past 65535 lines, a binary, random bytes, UTF-16
+//! and UTF-32 with and without a byte-order mark, an empty file) and ends
+//! with its documented exit code, never 101 and never "panicked". A closed
+//! stdout ends a command quietly with exit 0 (as ripgrep does), a closed
+//! stderr does not change the exit code, and a file that is not text is
+//! one diagnostic that names what it is.
+
+use std::io::Write;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+use crate::support::{bin, write};
+
+/// A scene with one warning (the light inside the sphere is not the
+/// point; any diagnostic would do) at its end.
+const SCENE: &str =
+    "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\nlight\n  location 0 0 0\n  color 1 1 1\n";
+
+/// Bytes from a fixed linear congruential sequence.
+fn noise(len: usize) -> Vec<u8> {
+    let mut state = 0x2545_f491_u32;
+    (0..len)
+        .map(|_| {
+            state = state.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+            (state >> 16) as u8
+        })
+        .collect()
+}
+
+fn utf16(text: &str, little_endian: bool, bom: bool) -> Vec<u8> {
+    let units = bom.then_some(0xFEFF).into_iter().chain(text.encode_utf16());
+    units
+        .flat_map(|u| {
+            if little_endian {
+                u.to_le_bytes()
+            } else {
+                u.to_be_bytes()
+            }
+        })
+        .collect()
+}
+
+fn utf32(text: &str, little_endian: bool, bom: bool) -> Vec<u8> {
+    let chars = bom.then_some('\u{feff}').into_iter().chain(text.chars());
+    chars
+        .flat_map(|c| {
+            if little_endian {
+                u32::from(c).to_le_bytes()
+            } else {
+                u32::from(c).to_be_bytes()
+            }
+        })
+        .collect()
+}
+
+/// A scene on one line of more than 65535 columns, with an error at its
+/// end (a sphere of dimension 0), as a minified scene would have.
+fn long_line() -> Vec<u8> {
+    let mut text = "camera 4 ".to_string();
+    while text.len() < 100_000 {
+        text += "sphere dimension 1 center 0 0 -5 ";
+    }
+    text += "sphere dimension 0 center 0 0 -5";
+    text.into_bytes()
+}
+
+/// A JSON scene on one line of more than 65535 columns with an error at
+/// its end.
+fn long_json_line() -> Vec<u8> {
+    let sphere = r#"{"type": "sphere", "center": [0, 0, -5], "radius": 1}"#;
+    let mut objects = vec![sphere; 1500];
+    objects.push(r#"{"type": "sphere", "center": [0, 0, -5], "radius": 0}"#);
+    format!(
+        r#"{{"format": "raytracer-scene/1", "camera": {{"resolution": 4}}, "objects": [{}], "lights": []}}"#,
+        objects.join(", ")
+    )
+    .into_bytes()
+}
+
+/// A scene past line 65535, with an error on its last line.
+fn many_lines() -> Vec<u8> {
+    let mut text = "camera 4\n".to_string();
+    text += &"# a comment\n".repeat(70_000);
+    text += "sphere\n  dimension 0\n  center 0 0 -5\n";
+    text.into_bytes()
+}
+
+/// Every hostile input: a name, its file name and bytes, and whether it is
+/// text the parser reads (the others are one `syntax::not_text`).
+fn inputs() -> Vec<(&'static str, &'static str, Vec<u8>, bool)> {
+    let mut binary = b"\x7fELF\x02\x01\x01\0\0\0\0\0\0\0\0\0".to_vec();
+    binary.extend(noise(200_000));
+    vec![
+        ("long line", "long.txt", long_line(), true),
+        ("long JSON line", "long.json", long_json_line(), true),
+        ("many lines", "many.txt", many_lines(), true),
+        ("binary", "program.txt", binary, false),
+        ("random bytes", "noise.txt", noise(1 << 20), false),
+        (
+            "UTF-16LE with BOM",
+            "u16le_bom.txt",
+            utf16(SCENE, true, true),
+            false,
+        ),
+        (
+            "UTF-16BE with BOM",
+            "u16be_bom.txt",
+            utf16(SCENE, false, true),
+            false,
+        ),
+        ("UTF-16LE", "u16le.txt", utf16(SCENE, true, false), false),
+        ("UTF-16BE", "u16be.txt", utf16(SCENE, false, false), false),
+        (
+            "UTF-32LE with BOM",
+            "u32le_bom.txt",
+            utf32(SCENE, true, true),
+            false,
+        ),
+        (
+            "UTF-32BE with BOM",
+            "u32be_bom.txt",
+            utf32(SCENE, false, true),
+            false,
+        ),
+        ("UTF-32LE", "u32le.txt", utf32(SCENE, true, false), false),
+        ("UTF-32BE", "u32be.txt", utf32(SCENE, false, false), false),
+        ("empty", "empty.txt", Vec::new(), true),
+    ]
+}
+
+fn run_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(bin())
+        .args(args)
+        .current_dir(dir)
+        .env_remove("COLUMNS")
+        .env("NO_COLOR", "1")
+        .stdin(Stdio::null())
+        .output()
+        .expect("run raytracer")
+}
+
+fn assert_no_panic(what: &str, output: &Output) {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        output.status.code().is_some_and(|code| code != 101) && !stderr.contains("panicked"),
+        "{what}: {:?}\n{stderr}",
+        output.status
+    );
+}
+
+/// A minimal LSP session: open `text`, shut down, exit.
+fn lsp_session(text: &str) -> Vec<u8> {
+    let messages = [
+        serde_json::json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"capabilities": {}}}),
+        serde_json::json!({"jsonrpc": "2.0", "method": "initialized", "params": {}}),
+        serde_json::json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {
+            "uri": "file:///tmp/hostile.txt", "languageId": "raytracer", "version": 1, "text": text}}}),
+        serde_json::json!({"jsonrpc": "2.0", "id": 2, "method": "shutdown", "params": null}),
+        serde_json::json!({"jsonrpc": "2.0", "method": "exit", "params": null}),
+    ];
+    let mut bytes = Vec::new();
+    for message in messages {
+        let body = message.to_string();
+        write!(bytes, "Content-Length: {}\r\n\r\n{body}", body.len()).expect("in memory");
+    }
+    bytes
+}
+
+#[test]
+fn every_command_gives_its_exit_code_on_every_hostile_input() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for (what, name, bytes, is_text) in inputs() {
+        write(dir.path(), name, &bytes);
+        // Every input has errors (or, for the empty file, lacks a camera).
+        for args in [
+            vec!["check", name],
+            vec!["check", "--format", "short", name],
+            vec!["check", "--format", "json", name],
+            vec!["check", "--format", "sarif", name],
+            vec!["render", name, "out.png"],
+            vec!["convert", name, "--to", "scene"],
+            vec!["accuracy", name, "--reps", "1", "--reference-spp", "1"],
+        ] {
+            let output = run_in(dir.path(), &args);
+            assert_no_panic(&format!("{what}: {args:?}"), &output);
+            assert_eq!(output.status.code(), Some(1), "{what}: {args:?}");
+        }
+        let output = run_in(dir.path(), &["check", name]);
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        if is_text {
+            assert!(!stdout.contains("syntax::not_text"), "{what}:\n{stdout}");
+        } else {
+            // One diagnostic naming what the file is.
+            assert_eq!(stdout.matches("×").count(), 1, "{what}:\n{stdout}");
+            assert!(stdout.contains("syntax::not_text"), "{what}:\n{stdout}");
+            let expected = if name.starts_with("u16") {
+                "UTF-16"
+            } else if name.starts_with("u32") {
+                "UTF-32"
+            } else {
+                "binary"
+            };
+            assert!(stdout.contains(expected), "{what}:\n{stdout}");
+        }
+        // `fmt` formats the empty file (as nothing) and refuses the rest:
+        // syntax errors (1) or, for the JSON scene, its language (2).
+        let output = run_in(dir.path(), &["fmt", "--check", name]);
+        assert_no_panic(&format!("{what}: fmt"), &output);
+        let fmt_code = match name {
+            "empty.txt" => 0,
+            "long.json" => 2,
+            _ => 1,
+        };
+        assert_eq!(output.status.code(), Some(fmt_code), "{what}: fmt");
+        // Not a tile: exit 1, as for any part that is no tile.
+        let output = run_in(dir.path(), &["stitch", "out.png", name]);
+        assert_no_panic(&format!("{what}: stitch"), &output);
+        assert_eq!(output.status.code(), Some(1), "{what}: stitch");
+        // The language server takes the text (as the protocol carries it,
+        // UTF-8) and shuts down cleanly.
+        let mut lsp = Command::new(bin())
+            .arg("lsp")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start lsp");
+        let session = lsp_session(&String::from_utf8_lossy(&bytes));
+        let mut stdin = lsp.stdin.take().expect("stdin");
+        let writer = std::thread::spawn(move || stdin.write_all(&session));
+        let output = lsp.wait_with_output().expect("lsp ran");
+        writer.join().expect("writer").expect("session written");
+        assert_no_panic(&format!("{what}: lsp"), &output);
+        assert_eq!(output.status.code(), Some(0), "{what}: lsp");
+    }
+}
+
+/// Run `args` with stdout (or stderr) a pipe whose reader has gone.
+fn with_closed(dir: &Path, args: &[&str], stdout: bool) -> Output {
+    let mut command = Command::new(bin());
+    command.args(args).current_dir(dir).stdin(Stdio::null());
+    if stdout {
+        command.stdout(Stdio::piped()).stderr(Stdio::piped());
+    } else {
+        command.stdout(Stdio::null()).stderr(Stdio::piped());
+    }
+    let mut child = command.spawn().expect("spawn");
+    // Close our end of the pipe before the command writes to it.
+    if stdout {
+        drop(child.stdout.take());
+    } else {
+        drop(child.stderr.take());
+    }
+    child.wait_with_output().expect("ran")
+}
+
+#[test]
+fn a_closed_stdout_ends_quietly_and_a_closed_stderr_changes_nothing() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for i in 0..200 {
+        write(
+            dir.path(),
+            &format!("scenes/s{i:03}.txt"),
+            "camera 4\nsphere\n  dimension 0\n",
+        );
+    }
+    write(dir.path(), "long.txt", long_line());
+    for args in [
+        vec!["check", "scenes"],
+        vec!["check", "--format", "short", "scenes"],
+        vec!["check", "--format", "github", "scenes"],
+        vec!["check", "--format", "json", "scenes"],
+        vec!["convert", "long.txt", "--to", "json"],
+        vec!["fmt", "-"],
+    ] {
+        let output = with_closed(dir.path(), &args, true);
+        assert_no_panic(&format!("{args:?} | closed"), &output);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        if args[0] == "check" {
+            assert_eq!(output.status.code(), Some(0), "{args:?}: {stderr}");
+            assert!(stderr.is_empty(), "{args:?}: {stderr}");
+        }
+    }
+    // Diagnostics on stderr (render's and convert's) with stderr closed:
+    // the exit code says what it would have.
+    for args in [
+        vec!["render", "long.txt", "out.png"],
+        vec!["convert", "long.txt", "--to", "json"],
+        vec!["check", "missing.txt"],
+    ] {
+        let output = with_closed(dir.path(), &args, false);
+        assert_no_panic(&format!("{args:?} 2> closed"), &output);
+        let expected = if args[0] == "check" { 2 } else { 1 };
+        assert_eq!(output.status.code(), Some(expected), "{args:?}");
+    }
+}
