@@ -4,7 +4,8 @@
 CARGO ?= cargo
 BIN := target/release/raytracer
 
-.PHONY: all build test run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean
+.PHONY: all build test run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
+	preview-screenshot preview-latency
 
 all: raytracer
 
@@ -91,6 +92,18 @@ fuzz-cmin:
 	cd fuzz && for target in $(FUZZ_TARGETS); do \
 	  RUSTC_BOOTSTRAP=1 $(CARGO) fuzz cmin -O $(FUZZ_FLAGS) $$target corpus/$$target || exit 1; \
 	done
+
+# docs/preview.png: the page of `raytracer preview` with an error showing,
+# as headless Chromium draws it in the browser test (tests/preview_browser.rs).
+preview-screenshot:
+	RAYTRACER_PREVIEW_SCREENSHOT=$(CURDIR)/docs/preview.png \
+	  $(CARGO) test --locked --test integration preview_browser::chromium_shows
+
+# The save-to-image latency table of docs/preview.md: the same test's
+# measurement, on a release build, written between its markers.
+preview-latency:
+	RAYTRACER_PREVIEW_LATENCY=$(CURDIR)/docs/preview.md \
+	  $(CARGO) test --release --locked --test integration preview_latency -- --ignored --nocapture
 
 clean:
 	$(CARGO) clean

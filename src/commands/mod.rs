@@ -8,6 +8,7 @@ pub mod convert;
 pub mod discover;
 pub mod fmt;
 pub mod lsp;
+pub mod preview;
 pub mod render;
 pub mod stitch;
 
@@ -58,6 +59,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Lsp(args) => lsp::run(args),
         Command::Stitch(args) => stitch::run(args),
         Command::Accuracy(args) => accuracy::run(args),
+        Command::Preview(args) => preview::run(args),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
