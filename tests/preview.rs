@@ -38,7 +38,13 @@ pub struct Server {
 impl Server {
     /// Start `raytracer preview SCENE --port 0 ARGS` and read its URL.
     pub fn start(scene: &Path, args: &[&str]) -> Server {
+        Server::start_in(Path::new("."), scene, args)
+    }
+
+    /// [`Server::start`] in the working folder `dir` (SCENE relative to it).
+    pub fn start_in(dir: &Path, scene: &Path, args: &[&str]) -> Server {
         let mut child = Command::new(bin())
+            .current_dir(dir)
             .arg("preview")
             .arg(scene)
             .args(["--port", "0", "--threads", "1"])
@@ -131,9 +137,29 @@ pub fn http(address: SocketAddr, request_line: &str) -> Response {
         "{request_line}\r\nHost: {address}\r\nConnection: close\r\n\r\n"
     )
     .expect("send request");
+    // Read the head, then the body: `Content-Length` bytes when given (a
+    // server may keep the connection open regardless), else to the end.
+    let mut reader = BufReader::new(stream);
     let mut raw = Vec::new();
-    stream.read_to_end(&mut raw).expect("read response");
-    Response::parse(&raw)
+    while !raw.ends_with(b"\r\n\r\n") {
+        let read = reader.read_until(b'\n', &mut raw).expect("read the head");
+        assert!(read > 0, "the response ended in its head");
+    }
+    let mut response = Response::parse(&raw);
+    match response.header("content-length").map(str::parse::<usize>) {
+        Some(Ok(length)) => {
+            response.body = vec![0; length];
+            reader
+                .read_exact(&mut response.body)
+                .expect("read the body");
+        }
+        _ => {
+            reader
+                .read_to_end(&mut response.body)
+                .expect("read the body");
+        }
+    }
+    response
 }
 
 /// An HTTP response.

@@ -134,19 +134,31 @@ impl Browser {
 
     /// Call `method` and return its result (events on the way are skipped).
     fn call(&mut self, method: &str, params: Value) -> Value {
-        self.next_id += 1;
-        let id = self.next_id;
-        let message = json!({"id": id, "method": method, "params": params}).to_string();
-        self.socket
-            .send(Message::Text(message.into()))
-            .expect("send to DevTools");
+        let id = self.send(method, params);
         loop {
-            let reply = self.socket.read().expect("read from DevTools");
-            let Message::Text(text) = reply else { continue };
-            let reply: Value = serde_json::from_str(text.as_str()).expect("DevTools JSON");
+            let reply = self.receive();
             if reply["id"] == id {
                 assert!(reply["error"].is_null(), "{method}: {reply}");
                 return reply["result"].clone();
+            }
+        }
+    }
+
+    /// Send a call of `method`; its id.
+    fn send(&mut self, method: &str, params: Value) -> u64 {
+        self.next_id += 1;
+        let message = json!({"id": self.next_id, "method": method, "params": params});
+        self.socket
+            .send(Message::Text(message.to_string().into()))
+            .expect("send to DevTools");
+        self.next_id
+    }
+
+    /// The next message from DevTools: a reply or an event.
+    fn receive(&mut self) -> Value {
+        loop {
+            if let Message::Text(text) = self.socket.read().expect("read from DevTools") {
+                return serde_json::from_str(text.as_str()).expect("DevTools JSON");
             }
         }
     }
@@ -188,8 +200,18 @@ impl Browser {
         found["value"].clone()
     }
 
+    /// Load `url` and wait for its `load` event, so that scripts then run
+    /// in the new document.
     fn navigate(&mut self, url: &str) {
-        self.call("Page.navigate", json!({ "url": url }));
+        self.call("Page.enable", json!({}));
+        self.send("Page.navigate", json!({ "url": url }));
+        loop {
+            let message = self.receive();
+            assert!(message["error"].is_null(), "Page.navigate: {message}");
+            if message["method"] == "Page.loadEventFired" {
+                return;
+            }
+        }
     }
 
     /// A PNG of the page as it is shown.
@@ -242,6 +264,9 @@ const CENTRE_PIXEL: &str = "(() => {
 const SHOWS_LATEST: &str = "document.body.dataset.phase === 'ok' \
     && document.body.dataset.image === document.body.dataset.wanted";
 
+/// The side of the image in the browser test.
+const SIDE: u32 = 400;
+
 #[test]
 fn chromium_shows_edits_without_reloading_and_errors_beside_the_stale_image() {
     if !chromium_available(
@@ -249,20 +274,21 @@ fn chromium_shows_edits_without_reloading_and_errors_beside_the_stale_image() {
     ) {
         return;
     }
-    let (_dir, scene) = sample_scene(200);
-    let server = Server::start(&scene, &[]);
+    let (dir, scene) = sample_scene(SIDE);
+    // Started in the scene's folder, so the page names it `sample.txt`.
+    let server = Server::start_in(dir.path(), Path::new("sample.txt"), &[]);
     let mut browser = Browser::start(1100, 640);
     browser.navigate(&format!("http://{}/", server.address));
     let first = browser.wait_for(SHOWS_LATEST, "document.body.dataset.image");
     assert_eq!(
         browser.eval("document.getElementById('image').naturalWidth"),
-        200
+        SIDE
     );
     let grey = browser.eval(CENTRE_PIXEL);
     // A reload would drop this.
     browser.eval("window.notReloaded = true");
 
-    save(&scene, &sample_text(200, ".9 .1 .1"));
+    save(&scene, &sample_text(SIDE, ".9 .1 .1"));
     let edited = browser.wait_for(
         &format!(
             "{SHOWS_LATEST} && document.body.dataset.image !== '{}'",
@@ -282,7 +308,7 @@ fn chromium_shows_edits_without_reloading_and_errors_beside_the_stale_image() {
 
     save(
         &scene,
-        &sample_text(200, ".9 .1 .1").replace("reflectivity .7", "reflectivty .7"),
+        &sample_text(SIDE, ".9 .1 .1").replace("reflectivity .7", "reflectivty .7"),
     );
     let shown = browser.wait_for(
         "document.body.dataset.phase === 'errors' \
