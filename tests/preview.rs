@@ -130,11 +130,16 @@ impl Drop for Server {
 
 /// Send `request_line` to `address` and read the whole response.
 pub fn http(address: SocketAddr, request_line: &str) -> Response {
+    http_to_host(address, request_line, &address.to_string())
+}
+
+/// [`http`] with the `Host` header `host`.
+pub fn http_to_host(address: SocketAddr, request_line: &str, host: &str) -> Response {
     let mut stream = TcpStream::connect(address).expect("connect");
     stream.set_read_timeout(Some(PATIENCE)).expect("timeout");
     write!(
         stream,
-        "{request_line}\r\nHost: {address}\r\nConnection: close\r\n\r\n"
+        "{request_line}\r\nHost: {host}\r\nConnection: close\r\n\r\n"
     )
     .expect("send request");
     // Read the head, then the body: `Content-Length` bytes when given (a
@@ -407,6 +412,18 @@ fn nothing_but_the_four_paths_is_served() {
         );
     }
     assert_eq!(server.request("POST / HTTP/1.1").status, 405);
+    // A page elsewhere whose name was pointed at 127.0.0.1 (DNS rebinding)
+    // is refused; the names of loopback are not.
+    let port = server.address.port();
+    for (host, status) in [
+        (format!("attacker.example:{port}"), 403),
+        (format!("127.0.0.1.attacker.example:{port}"), 403),
+        (format!("localhost:{port}"), 200),
+        (format!("LOCALHOST:{port}"), 200),
+    ] {
+        let response = http_to_host(server.address, "GET /diagnostics HTTP/1.1", &host);
+        assert_eq!(response.status, status, "{host}");
+    }
     // A query string names no file: it is ignored.
     assert_eq!(server.get("/image.png?../secret.txt").status, 200);
 }

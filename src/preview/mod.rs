@@ -104,6 +104,7 @@ impl Preview {
     pub fn run(self) {
         let Preview {
             server,
+            address,
             scene,
             settings,
             mut watch,
@@ -120,9 +121,10 @@ impl Preview {
             }
             while changed.recv_timeout(QUIET).is_ok() {}
         });
+        let hosts = Arc::new(routes::Hosts::of(address));
         for request in server.incoming_requests() {
-            let state = state.clone();
-            std::thread::spawn(move || routes::answer(request, &state));
+            let (state, hosts) = (state.clone(), hosts.clone());
+            std::thread::spawn(move || routes::answer(request, &state, &hosts));
         }
     }
 }

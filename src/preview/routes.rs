@@ -3,6 +3,7 @@
 //! joined or looked up on disk, so no spelling of `..` (plain, `%2e%2e`,
 //! `%2f`) can reach a file: every other path is a 404.
 
+use std::net::SocketAddr;
 use std::sync::Arc;
 
 use tiny_http::{Header, Method, Request, Response, StatusCode};
@@ -38,9 +39,53 @@ impl Route {
     }
 }
 
+/// The `Host` headers a request may carry: on a loopback address only
+/// the names of loopback, so that a web page whose name an attacker points
+/// at 127.0.0.1 (DNS rebinding) cannot read the preview; any name when
+/// `--bind` chose another address.
+pub enum Hosts {
+    Loopback(Vec<String>),
+    Any,
+}
+
+impl Hosts {
+    /// The hosts allowed for a server bound to `address`.
+    pub fn of(address: SocketAddr) -> Hosts {
+        if !address.ip().is_loopback() {
+            return Hosts::Any;
+        }
+        let port = address.port();
+        Hosts::Loopback(vec![
+            address.to_string(),
+            format!("localhost:{port}"),
+            format!("127.0.0.1:{port}"),
+            format!("[::1]:{port}"),
+        ])
+    }
+
+    fn allow(&self, request: &Request) -> bool {
+        match self {
+            Hosts::Any => true,
+            Hosts::Loopback(names) => request
+                .headers()
+                .iter()
+                .find(|h| h.field.equiv("Host"))
+                .is_some_and(|h| {
+                    names
+                        .iter()
+                        .any(|n| h.value.as_str().eq_ignore_ascii_case(n))
+                }),
+        }
+    }
+}
+
 /// Answer `request` from `state`. Errors writing a response mean the
 /// client went away; there is no one left to tell.
-pub fn answer(request: Request, state: &State) {
+pub fn answer(request: Request, state: &State, hosts: &Hosts) {
+    if !hosts.allow(&request) {
+        let _ = request.respond(text(403, "expected a loopback `Host`, such as 127.0.0.1\n"));
+        return;
+    }
     if *request.method() != Method::Get {
         let _ = request.respond(text(405, "only GET is served\n"));
         return;
