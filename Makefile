@@ -7,7 +7,8 @@ CARGO ?= cargo
 CARGO_FLAGS ?=
 BIN := target/release/raytracer
 
-.PHONY: all build test cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean vsix
+.PHONY: all build test cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
+	vsix preview-screenshot preview-latency
 
 all: raytracer
 
@@ -108,6 +109,18 @@ vsix:
 	mkdir -p target/vscode
 	cd editors/vscode && npm ci --no-audit --no-fund && \
 	  npm run package -- --out ../../target/vscode/raytracer-scene.vsix
+
+# docs/preview.png: the page of `raytracer preview` with an error showing,
+# as headless Chromium draws it in the browser test (tests/preview_browser.rs).
+preview-screenshot:
+	RAYTRACER_PREVIEW_SCREENSHOT=$(CURDIR)/docs/preview.png \
+	  $(CARGO) test --locked --test integration preview_browser::chromium_shows
+
+# The save-to-image latency table of docs/preview.md: the same test's
+# measurement, on a release build, written between its markers.
+preview-latency:
+	RAYTRACER_PREVIEW_LATENCY=$(CURDIR)/docs/preview.md \
+	  $(CARGO) test --release --locked --test integration preview_latency -- --ignored --nocapture
 
 clean:
 	$(CARGO) clean

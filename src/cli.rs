@@ -42,6 +42,9 @@ pub enum Command {
     /// Measure what accuracy costs for a scene: error and time of each
     /// setting against a converged reference, as a table with findings.
     Accuracy(AccuracyArgs),
+    /// Serve a local page that re-renders the scene, and shows its
+    /// diagnostics, every time it or one of its textures is saved.
+    Preview(PreviewArgs),
 }
 
 /// `--accel`: the renderer's [`Accel`] as the command line spells it.
@@ -273,6 +276,43 @@ pub struct FmtArgs {
 }
 
 #[derive(Debug, Args)]
+pub struct PreviewArgs {
+    /// Scene file to watch (`.json` is read as JSON; not `-`).
+    pub scene: PathBuf,
+    /// TCP port to listen on (0 picks a free one; the printed URL says which).
+    #[arg(long, default_value_t = 8000)]
+    pub port: u16,
+    /// Address to listen on. Anything but a loopback address lets every
+    /// machine that can reach this one see the scene and its image: unsafe
+    /// on a shared machine or network.
+    #[arg(long, default_value = "127.0.0.1", value_name = "ADDRESS")]
+    pub bind: std::net::IpAddr,
+    /// Open the page in the default browser.
+    #[arg(long)]
+    pub open: bool,
+    /// Render at most N×N pixels: a larger camera resolution is rendered
+    /// at N (the same view, fewer pixels).
+    #[arg(long, default_value_t = 800, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub max_size: u32,
+    /// Floating-point precision of every ray computation.
+    #[arg(long, value_enum, default_value_t = Precision::F64)]
+    pub precision: Precision,
+    /// Samples per pixel, stratified on a √N×√N grid (1 = pixel centre).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub spp: u32,
+    /// Which pixels take all `--spp` samples (see `render --aa`).
+    #[arg(long, value_enum, default_value_t = Antialias::Uniform)]
+    pub aa: Antialias,
+    /// Worker threads for rendering (default: all cores).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Where diagnostic codes link: the URL of docs/diagnostics.md
+    /// [default: the file in the source tree the binary was built from].
+    #[arg(long, value_name = "URL")]
+    pub docs: Option<String>,
+}
+
+#[derive(Debug, Args)]
 pub struct LspArgs {
     /// Milliseconds a document must go unchanged before it is re-checked.
     #[arg(long, default_value_t = 150, value_name = "MS")]
@@ -293,8 +333,8 @@ fn contrast_steps(text: &str) -> Result<f64, String> {
 }
 
 /// The commands, as the first argument names them.
-const COMMANDS: [&str; 8] = [
-    "render", "check", "convert", "stitch", "accuracy", "fmt", "lsp", "help",
+const COMMANDS: [&str; 9] = [
+    "render", "check", "convert", "stitch", "accuracy", "fmt", "lsp", "preview", "help",
 ];
 
 /// Parse the process arguments, accepting `raytracer SCENE OUT` for

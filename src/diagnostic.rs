@@ -293,6 +293,28 @@ pub struct JsonDiagnostic {
     pub fix: Option<JsonFix>,
 }
 
+impl JsonDiagnostic {
+    /// A file that could not be read, as `check --format json` reports it:
+    /// the error's code, message and help, and no labels.
+    pub fn unreadable(path: &Path, error: &dyn Diagnostic) -> JsonDiagnostic {
+        JsonDiagnostic {
+            code: error.code().map(|c| c.to_string()).unwrap_or_default(),
+            severity: "error",
+            message: error.to_string(),
+            help: error.help().map(|h| h.to_string()),
+            file: path.display().to_string(),
+            labels: Vec::new(),
+            fix: None,
+        }
+    }
+}
+
+/// `value` as the pretty JSON of `check --format json` and a line break.
+pub fn write_json(out: &mut impl std::io::Write, value: &impl Serialize) -> std::io::Result<()> {
+    serde_json::to_writer_pretty(&mut *out, value).map_err(std::io::Error::from)?;
+    writeln!(out)
+}
+
 /// A [`Fix`] as `check --format json` prints it (ruff's shape, with byte
 /// offsets).
 #[derive(Clone, Debug, Serialize)]

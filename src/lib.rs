@@ -14,8 +14,9 @@
 //! and buys for a scene. [`ci`] lays diagnostics out for CI services
 //! (SARIF, GitHub workflow commands). [`frontend`] drives the stages from
 //! bytes to a checked scene for every caller; [`lsp`] serves them to
-//! editors; [`commands`] runs them for the command line defined in
-//! [`cli`], and nothing below that layer imports it.
+//! editors and [`preview`] to a browser page; [`commands`] runs them for
+//! the command line defined in [`cli`], and nothing below that layer
+//! imports it.
 
 pub mod accuracy;
 pub mod ast;
@@ -41,6 +42,7 @@ pub mod lsp;
 pub mod model;
 pub mod output;
 pub mod plot;
+pub mod preview;
 pub mod render;
 pub mod span;
 pub(crate) mod suggest;

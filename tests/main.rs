@@ -26,6 +26,8 @@ mod lsp;
 mod neovim;
 mod no_panic;
 mod pov;
+mod preview;
+mod preview_browser;
 mod reference_model;
 mod render_cli;
 mod round_trip;

@@ -187,7 +187,7 @@ fn anchor(code: &str) -> String {
 }
 
 /// A `file:` URI of `path` in the source tree, with a fragment.
-fn docs_uri(path: &str, fragment: Option<&str>) -> String {
+pub(crate) fn docs_uri(path: &str, fragment: Option<&str>) -> String {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/");
     let mut uri = format!("file://{}", percent_encode(&format!("{root}{path}")));
     if let Some(fragment) = fragment {

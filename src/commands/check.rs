@@ -25,7 +25,9 @@ use super::Outcome;
 use crate::check::Summary;
 use crate::ci::{self, github, sarif, Finding};
 use crate::cli::{CheckArgs, Format};
-use crate::diagnostic::{terminal_width, use_color, BoxedDiagnostic, JsonDiagnostic, Report};
+use crate::diagnostic::{
+    terminal_width, use_color, write_json, BoxedDiagnostic, JsonDiagnostic, Report,
+};
 use crate::discover::{discover, Found};
 use crate::escape::escape;
 use crate::fix::{self, Applicability};
@@ -265,15 +267,7 @@ impl Output {
     }
 
     fn unreadable(&mut self, path: &Path, error: &dyn Diagnostic) -> Result<(), BoxedDiagnostic> {
-        let entry = JsonDiagnostic {
-            code: error.code().map(|c| c.to_string()).unwrap_or_default(),
-            severity: "error",
-            message: error.to_string(),
-            help: error.help().map(|h| h.to_string()),
-            file: path.display().to_string(),
-            labels: Vec::new(),
-            fix: None,
-        };
+        let entry = JsonDiagnostic::unreadable(path, error);
         match self.format {
             Format::Human | Format::Short => {}
             Format::Json => self.json.push(entry),
@@ -298,12 +292,6 @@ impl Output {
             .and_then(|()| stdout.flush())
             .map_err(super::stdout_error)
     }
-}
-
-/// `value` as pretty JSON and a line break.
-fn write_json(out: &mut impl Write, value: &impl serde::Serialize) -> std::io::Result<()> {
-    serde_json::to_writer_pretty(&mut *out, value).map_err(std::io::Error::from)?;
-    writeln!(out)
 }
 
 /// `--fix` could not rewrite a scene file.

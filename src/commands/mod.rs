@@ -36,6 +36,7 @@ pub mod check;
 pub mod convert;
 pub mod fmt;
 pub mod lsp;
+pub mod preview;
 pub mod render;
 pub mod stitch;
 
@@ -119,6 +120,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Lsp(args) => lsp::run(args),
         Command::Stitch(args) => stitch::run(args),
         Command::Accuracy(args) => accuracy::run(args),
+        Command::Preview(args) => preview::run(args),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,

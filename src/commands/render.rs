@@ -249,25 +249,33 @@ fn preflight(args: &RenderArgs) -> Result<(Format, rayon::ThreadPool), BoxedDiag
         output::check_not_input(out, scene)?;
         output::check_writable(out)?;
     }
-    let grid = args.spp.isqrt();
-    if grid * grid != args.spp {
-        return Err(Box::new(RenderUsageError::SppNotSquare {
-            found: args.spp,
+    check_spp(args.spp)?;
+    Ok((format, thread_pool(args.threads)?))
+}
+
+/// Refuse a `--spp` that is not a square number (samples lie on a grid).
+pub(crate) fn check_spp(spp: u32) -> Result<(), RenderUsageError> {
+    let grid = spp.isqrt();
+    if grid * grid != spp {
+        return Err(RenderUsageError::SppNotSquare {
+            found: spp,
             below: grid * grid,
             above: (grid + 1) * (grid + 1),
-        }));
+        });
     }
-    let threads = args
-        .threads
-        .map_or_else(rayon::current_num_threads, |t| t as usize);
-    let pool = rayon::ThreadPoolBuilder::new()
+    Ok(())
+}
+
+/// The render pool of `--threads` (all cores without it).
+pub(crate) fn thread_pool(threads: Option<u32>) -> Result<rayon::ThreadPool, RenderUsageError> {
+    let threads = threads.map_or_else(rayon::current_num_threads, |t| t as usize);
+    rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| RenderUsageError::Threads {
             threads,
             reason: e.to_string(),
-        })?;
-    Ok((format, pool))
+        })
 }
 
 /// Write the rendered rows to `path`: a tile when rendering one, else the

@@ -1,0 +1,81 @@
+//! `raytracer preview`: check the arguments, bind the page's address, say
+//! where it is (and open it with `--open`), then serve until Ctrl-C, which
+//! the binary's handler turns into exit 130. The server is
+//! [`crate::preview`].
+
+use std::io::Write;
+use std::net::SocketAddr;
+use std::path::Path;
+
+use miette::Diagnostic;
+
+use super::render::{check_spp, thread_pool};
+use super::{Outcome, WriteStdoutError};
+use crate::accuracy::Precision as RenderPrecision;
+use crate::ci::sarif::docs_uri;
+use crate::cli::{Antialias, Precision, PreviewArgs};
+use crate::diagnostic::BoxedDiagnostic;
+use crate::frontend::read_scene;
+use crate::preview::{Preview, Settings};
+use crate::render::{self, adaptive::DEFAULT_THRESHOLD, Options};
+
+/// The scene cannot be previewed from stdin.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error("expected a scene file to watch, found `-` (stdin)")]
+#[diagnostic(
+    code(usage::preview_stdin),
+    help("save the scene to a file and pass its path: the preview re-reads it on every save")
+)]
+pub struct PreviewStdin;
+
+/// Run `raytracer preview`.
+pub fn run(args: PreviewArgs) -> Result<Outcome, BoxedDiagnostic> {
+    if args.scene == Path::new("-") {
+        return Err(Box::new(PreviewStdin));
+    }
+    check_spp(args.spp)?;
+    // A scene that cannot be read at all is refused now, before serving,
+    // as `render` refuses it; later reads that fail show on the page.
+    read_scene(&args.scene)?;
+    let settings = Settings {
+        options: Options {
+            spp: args.spp,
+            antialias: match args.aa {
+                Antialias::Uniform => render::Antialias::Uniform,
+                Antialias::Adaptive => render::Antialias::Adaptive {
+                    threshold: DEFAULT_THRESHOLD,
+                },
+            },
+            ..Options::default()
+        },
+        precision: match args.precision {
+            Precision::F32 => RenderPrecision::F32,
+            Precision::F64 => RenderPrecision::F64,
+        },
+        max_size: args.max_size,
+        pool: thread_pool(args.threads)?,
+    };
+    let preview = Preview::bind(
+        args.scene.clone(),
+        settings,
+        SocketAddr::new(args.bind, args.port),
+        args.docs
+            .unwrap_or_else(|| docs_uri("docs/diagnostics.md", None)),
+    )?;
+    let url = preview.url();
+    let mut stdout = std::io::stdout();
+    writeln!(
+        stdout,
+        "previewing {} at {url} (Ctrl-C stops)",
+        args.scene.display()
+    )
+    .and_then(|()| stdout.flush())
+    .map_err(WriteStdoutError::from)?;
+    if args.open {
+        if let Err(error) = webbrowser::open(&url) {
+            eprintln!("warning: cannot open a browser ({error}); open {url} yourself");
+        }
+    }
+    preview.run();
+    Ok(Outcome::Success)
+}

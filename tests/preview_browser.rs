@@ -1,0 +1,435 @@
+//! `raytracer preview` in a real browser: Debian's `chromium`, headless,
+//! driven over the DevTools protocol (JSON over a WebSocket). The page
+//! loads, an edit to the scene file swaps the `<img>` for the new render
+//! without reloading the page, and a broken edit shows the diagnostics
+//! beside the last good image marked stale; a screenshot of that is taken.
+//!
+//! Chromium is a Debian package that .ci/run installs; without it the test
+//! fails when `CI` is set and prints `SKIPPED` visibly otherwise (as
+//! tests/pov.rs does for POV-Ray).
+//!
+//! `preview_latency` (ignored by default; `make preview-latency`) measures
+//! the time from saving the scene to the page's `<img>` loading the new
+//! render, and writes the table of docs/preview.md.
+
+use std::io::{BufRead, BufReader};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+use serde_json::{json, Value};
+use tungstenite::{Message, WebSocket};
+
+use crate::preview::{http, save, Server, PATIENCE};
+
+const SAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sample.txt");
+const WOOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/wood_tex.ppm");
+
+/// Whether the tests run under CI: `CI` set, and not to a false value.
+fn under_ci() -> bool {
+    std::env::var("CI").is_ok_and(|ci| !matches!(ci.trim(), "" | "0" | "false" | "FALSE"))
+}
+
+/// True when `chromium` runs. Without it, `test` fails under CI and
+/// otherwise says it was skipped where `cargo test` shows it.
+fn chromium_available(test: &str) -> bool {
+    let found = Command::new("chromium")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !found {
+        assert!(
+            !under_ci(),
+            "`chromium` is not installed, and CI must run the browser test of \
+             `raytracer preview`: .ci/run installs it (`apt-get install -y chromium`)"
+        );
+        use std::io::Write;
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED {test}: `chromium` is not installed (`apt-get install chromium`)"
+        );
+    }
+    found
+}
+
+/// A headless Chromium with one page, driven over the DevTools protocol;
+/// killed when dropped.
+struct Browser {
+    child: Child,
+    socket: WebSocket<TcpStream>,
+    next_id: u64,
+    _profile: tempfile::TempDir,
+}
+
+impl Browser {
+    /// Start Chromium on a blank page `width`×`height` CSS pixels.
+    fn start(width: u32, height: u32) -> Browser {
+        let profile = tempfile::tempdir().expect("profile folder");
+        let mut child = Command::new("chromium")
+            .args([
+                "--headless",
+                // The tests run as root in CI, where the sandbox cannot start.
+                "--no-sandbox",
+                "--disable-gpu",
+                "--disable-dev-shm-usage",
+                "--no-first-run",
+                "--no-default-browser-check",
+                "--hide-scrollbars",
+                "--remote-debugging-address=127.0.0.1",
+                "--remote-debugging-port=0",
+                &format!("--window-size={width},{height}"),
+            ])
+            .arg(format!("--user-data-dir={}", profile.path().display()))
+            .arg("about:blank")
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start chromium");
+        // Chromium says where its DevTools endpoint is on stderr.
+        let stderr = child.stderr.take().expect("stderr");
+        let (found, endpoint) = mpsc::channel();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+                if let Some(url) = line.strip_prefix("DevTools listening on ") {
+                    let _ = found.send(url.to_string());
+                }
+            }
+        });
+        let browser_url = endpoint
+            .recv_timeout(PATIENCE)
+            .expect("chromium prints its DevTools URL");
+        let address = browser_url
+            .trim_start_matches("ws://")
+            .split('/')
+            .next()
+            .expect("host:port")
+            .parse()
+            .expect("a socket address");
+        let list = http(address, "GET /json/list HTTP/1.1");
+        let targets: Value = serde_json::from_slice(&list.body).expect("the target list");
+        let page_url = targets
+            .as_array()
+            .and_then(|targets| targets.iter().find(|t| t["type"] == "page"))
+            .and_then(|page| page["webSocketDebuggerUrl"].as_str())
+            .expect("a page target")
+            .to_string();
+        let stream = TcpStream::connect(address).expect("connect to DevTools");
+        stream.set_read_timeout(Some(PATIENCE)).expect("timeout");
+        let (socket, _) = tungstenite::client(page_url.as_str(), stream).expect("WebSocket");
+        let mut browser = Browser {
+            child,
+            socket,
+            next_id: 0,
+            _profile: profile,
+        };
+        browser.call(
+            "Emulation.setDeviceMetricsOverride",
+            json!({"width": width, "height": height, "deviceScaleFactor": 1, "mobile": false}),
+        );
+        browser
+    }
+
+    /// Call `method` and return its result (events on the way are skipped).
+    fn call(&mut self, method: &str, params: Value) -> Value {
+        let id = self.send(method, params);
+        loop {
+            let reply = self.receive();
+            if reply["id"] == id {
+                assert!(reply["error"].is_null(), "{method}: {reply}");
+                return reply["result"].clone();
+            }
+        }
+    }
+
+    /// Send a call of `method`; its id.
+    fn send(&mut self, method: &str, params: Value) -> u64 {
+        self.next_id += 1;
+        let message = json!({"id": self.next_id, "method": method, "params": params});
+        self.socket
+            .send(Message::Text(message.to_string().into()))
+            .expect("send to DevTools");
+        self.next_id
+    }
+
+    /// The next message from DevTools: a reply or an event.
+    fn receive(&mut self) -> Value {
+        loop {
+            if let Message::Text(text) = self.socket.read().expect("read from DevTools") {
+                return serde_json::from_str(text.as_str()).expect("DevTools JSON");
+            }
+        }
+    }
+
+    /// The value of the JavaScript expression `expression` (awaited when it
+    /// is a promise).
+    fn eval(&mut self, expression: &str) -> Value {
+        let result = self.call(
+            "Runtime.evaluate",
+            json!({"expression": expression, "returnByValue": true, "awaitPromise": true}),
+        );
+        assert!(
+            result["exceptionDetails"].is_null(),
+            "{expression}: {result}"
+        );
+        result["result"]["value"].clone()
+    }
+
+    /// Wait in the page until `condition` (JavaScript) holds, then return
+    /// the value of `value`; fails after [`PATIENCE`].
+    fn wait_for(&mut self, condition: &str, value: &str) -> Value {
+        let limit = PATIENCE.as_millis();
+        let found = self.eval(&format!(
+            "new Promise((resolve) => {{
+               const start = Date.now();
+               const check = () => {{
+                 if ({condition}) resolve({{ ok: true, value: ({value}) }});
+                 else if (Date.now() - start > {limit}) resolve({{ ok: false, value: document.body.outerHTML }});
+                 else setTimeout(check, 10);
+               }};
+               check();
+             }})"
+        ));
+        assert_eq!(
+            found["ok"], true,
+            "waited for {condition}: {}",
+            found["value"]
+        );
+        found["value"].clone()
+    }
+
+    /// Load `url` and wait for its `load` event, so that scripts then run
+    /// in the new document.
+    fn navigate(&mut self, url: &str) {
+        self.call("Page.enable", json!({}));
+        self.send("Page.navigate", json!({ "url": url }));
+        loop {
+            let message = self.receive();
+            assert!(message["error"].is_null(), "Page.navigate: {message}");
+            if message["method"] == "Page.loadEventFired" {
+                return;
+            }
+        }
+    }
+
+    /// A PNG of the page as it is shown.
+    fn screenshot(&mut self) -> Vec<u8> {
+        let shot = self.call("Page.captureScreenshot", json!({"format": "png"}));
+        let data = shot["data"].as_str().expect("base64 data");
+        data_encoding::BASE64
+            .decode(data.as_bytes())
+            .expect("base64")
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// scenes/sample.txt at `size`² with the sphere's colour `color`, and its
+/// texture, in a fresh folder.
+fn sample_scene(size: u32) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::copy(WOOD, dir.path().join("wood_tex.ppm")).expect("copy the texture");
+    let scene = dir.path().join("sample.txt");
+    std::fs::write(&scene, sample_text(size, ".3 .3 .3")).expect("write the scene");
+    (dir, scene)
+}
+
+fn sample_text(size: u32, color: &str) -> String {
+    std::fs::read_to_string(SAMPLE)
+        .expect("read scenes/sample.txt")
+        .replace("camera 400", &format!("camera {size}"))
+        .replace("color .3 .3 .3", &format!("color {color}"))
+}
+
+/// The colour of the image's centre pixel, as the page's `<img>` shows it.
+const CENTRE_PIXEL: &str = "(() => {
+    const image = document.getElementById('image');
+    const canvas = document.createElement('canvas');
+    canvas.width = image.naturalWidth;
+    canvas.height = image.naturalHeight;
+    const context = canvas.getContext('2d');
+    context.drawImage(image, 0, 0);
+    const half = Math.floor(image.naturalWidth / 2);
+    return Array.from(context.getImageData(half, Math.floor(half / 2), 1, 1).data.slice(0, 3));
+})()";
+
+/// The page shows the full render of the latest update.
+const SHOWS_LATEST: &str = "document.body.dataset.phase === 'ok' \
+    && document.body.dataset.image === document.body.dataset.wanted";
+
+/// The side of the image in the browser test.
+const SIDE: u32 = 400;
+
+#[test]
+fn chromium_shows_edits_without_reloading_and_errors_beside_the_stale_image() {
+    if !chromium_available(
+        "chromium_shows_edits_without_reloading_and_errors_beside_the_stale_image",
+    ) {
+        return;
+    }
+    let (dir, scene) = sample_scene(SIDE);
+    // Started in the scene's folder, so the page names it `sample.txt`.
+    let server = Server::start_in(dir.path(), Path::new("sample.txt"), &[]);
+    let mut browser = Browser::start(1100, 640);
+    browser.navigate(&format!("http://{}/", server.address));
+    let first = browser.wait_for(SHOWS_LATEST, "document.body.dataset.image");
+    assert_eq!(
+        browser.eval("document.getElementById('image').naturalWidth"),
+        SIDE
+    );
+    let grey = browser.eval(CENTRE_PIXEL);
+    // A reload would drop this.
+    browser.eval("window.notReloaded = true");
+
+    save(&scene, &sample_text(SIDE, ".9 .1 .1"));
+    let edited = browser.wait_for(
+        &format!(
+            "{SHOWS_LATEST} && document.body.dataset.image !== '{}'",
+            first.as_str().expect("a version")
+        ),
+        "document.body.dataset.image",
+    );
+    assert_ne!(edited, first);
+    assert_eq!(
+        browser.eval("window.notReloaded === true"),
+        true,
+        "the page reloaded"
+    );
+    let red = browser.eval(CENTRE_PIXEL);
+    assert_ne!(red, grey, "the <img> shows the new render");
+    assert!(red[0].as_u64() > red[1].as_u64(), "a red sphere: {red}");
+
+    save(
+        &scene,
+        &sample_text(SIDE, ".9 .1 .1").replace("reflectivity .7", "reflectivty .7"),
+    );
+    let shown = browser.wait_for(
+        "document.body.dataset.phase === 'errors' \
+         && document.getElementById('figure').classList.contains('stale')",
+        "Array.from(document.querySelectorAll('#diagnostics li')).map((li) => \
+           [li.className, li.querySelector('.code').textContent, \
+            li.querySelector('.code').getAttribute('href'), li.querySelector('.where').textContent])",
+    );
+    let entry = &shown[0];
+    assert_eq!(entry[0], "error");
+    assert_eq!(entry[1], "scene::unknown_attribute");
+    assert!(
+        entry[2]
+            .as_str()
+            .is_some_and(|href| href.ends_with("/docs/diagnostics.md#sceneunknown_attribute")),
+        "{entry}"
+    );
+    assert!(
+        entry[3]
+            .as_str()
+            .is_some_and(|w| w.ends_with("sample.txt:8:3")),
+        "{entry}"
+    );
+    assert_eq!(browser.eval(CENTRE_PIXEL), red, "the last good image stays");
+    assert_eq!(browser.eval("window.notReloaded === true"), true);
+
+    let screenshot = browser.screenshot();
+    let image = image::load_from_memory(&screenshot).expect("a PNG screenshot");
+    assert_eq!((image.width(), image.height()), (1100, 640));
+    std::fs::write(
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join("preview.png"),
+        &screenshot,
+    )
+    .expect("write the screenshot");
+    // `make preview-screenshot` keeps it for docs/preview.md.
+    if let Some(path) = std::env::var_os("RAYTRACER_PREVIEW_SCREENSHOT") {
+        std::fs::write(path, &screenshot).expect("write the screenshot");
+    }
+}
+
+/// Milliseconds since the epoch, as the page's `Date.now()` counts.
+fn now_ms() -> f64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .expect("after 1970")
+        .as_secs_f64()
+        * 1000.0
+}
+
+#[test]
+#[ignore = "a measurement: `make preview-latency`"]
+fn preview_latency() {
+    assert!(
+        chromium_available("preview_latency"),
+        "the measurement needs chromium"
+    );
+    const SAVES: usize = 7;
+    let mut table = String::from(
+        "| scene | side | saves | first image (coarse pass), median ms | full image, median ms | full image, min–max ms |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    for size in [400, 1000] {
+        let (_dir, scene) = sample_scene(size);
+        let server = Server::start(&scene, &["--max-size", "1000"]);
+        let mut browser = Browser::start(1100, 1100);
+        browser.navigate(&format!("http://{}/", server.address));
+        browser.wait_for(SHOWS_LATEST, "0");
+        let (mut first, mut full) = (Vec::new(), Vec::new());
+        for save_number in 0..SAVES {
+            let color = if save_number % 2 == 0 {
+                ".9 .1 .1"
+            } else {
+                ".1 .1 .9"
+            };
+            let loads_before = browser.eval("window.previewLoads.length");
+            let saved = now_ms();
+            save(&scene, &sample_text(size, color));
+            let loads = browser.wait_for(
+                &format!("{SHOWS_LATEST} && window.previewLoads.length > {loads_before}"),
+                &format!("window.previewLoads.slice({loads_before})"),
+            );
+            let loads = loads.as_array().expect("loads");
+            let at = |load: &Value| load["at"].as_f64().expect("a time") - saved;
+            first.push(at(&loads[0]));
+            full.push(at(loads.last().expect("a load")));
+            std::thread::sleep(Duration::from_millis(200));
+        }
+        let median = |times: &mut Vec<f64>| {
+            times.sort_by(f64::total_cmp);
+            times[times.len() / 2]
+        };
+        let (min, max) = (
+            full.iter().copied().fold(f64::INFINITY, f64::min),
+            full.iter().copied().fold(0.0, f64::max),
+        );
+        table += &format!(
+            "| scenes/sample.txt | {size}² | {SAVES} | {:.0} | {:.0} | {min:.0}–{max:.0} |\n",
+            median(&mut first),
+            median(&mut full),
+        );
+    }
+    println!("{table}");
+    if let Some(path) = std::env::var_os("RAYTRACER_PREVIEW_LATENCY") {
+        let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+        let section = format!(
+            "{LATENCY_BEGIN}\n\n\
+             Measured by `make preview-latency` (tests/preview_browser.rs, release build) on\n\
+             {} logical CPUs, load average {} when it ended: {SAVES} saves of each size,\n\
+             alternating the sphere's colour, `--max-size 1000`, all cores.\n\n{table}\n{LATENCY_END}",
+            std::thread::available_parallelism().map_or(0, usize::from),
+            load.split_whitespace().take(3).collect::<Vec<_>>().join(" "),
+        );
+        let doc = std::fs::read_to_string(&path).expect("read the document");
+        let (before, rest) = doc.split_once(LATENCY_BEGIN).expect("the begin marker");
+        let (_, after) = rest.split_once(LATENCY_END).expect("the end marker");
+        std::fs::write(&path, format!("{before}{section}{after}")).expect("write the table");
+    }
+}
+
+/// The markers of the section of docs/preview.md that `preview_latency`
+/// writes.
+const LATENCY_BEGIN: &str =
+    "<!-- preview-latency:begin: written by `make preview-latency`; edit the test, not this section -->";
+const LATENCY_END: &str = "<!-- preview-latency:end -->";
