@@ -73,7 +73,7 @@ pub fn run(args: PreviewArgs) -> Result<Outcome, BoxedDiagnostic> {
     .map_err(WriteStdoutError::from)?;
     if args.open {
         if let Err(error) = webbrowser::open(&url) {
-            eprintln!("warning: cannot open a browser ({error}); open {url} yourself");
+            sayln!("warning: cannot open a browser ({error}); open {url} yourself");
         }
     }
     preview.run();

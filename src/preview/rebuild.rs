@@ -3,6 +3,7 @@
 //! pass first on large images, so the page answers a save at once) and
 //! publish each image as PNG.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -75,7 +76,10 @@ pub fn rebuild(scene: &Path, settings: &Settings, state: &State) -> Vec<PathBuf>
         if let Err(error) = output::encode(&image, Format::Png, &mut png) {
             // Encoding into memory fails only on a bug; the page keeps the
             // last image and the terminal says why.
-            eprintln!("error: cannot encode the preview image: {error}");
+            let _ = writeln!(
+                std::io::stderr(),
+                "error: cannot encode the preview image: {error}"
+            );
             return textures;
         }
         let stats = RenderStats {
