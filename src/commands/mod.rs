@@ -4,9 +4,12 @@
 
 pub mod accuracy;
 pub mod check;
+pub mod compare;
 pub mod convert;
 pub mod discover;
 pub mod fmt;
+#[cfg(unix)]
+pub mod grade;
 pub mod lsp;
 pub mod render;
 pub mod stitch;
@@ -26,6 +29,9 @@ pub enum Outcome {
     /// Exit 1: a scene has errors (or warnings, with `--deny-warnings`), or
     /// the parts given to `stitch` do not make one frame.
     SceneErrors,
+    /// Exit 1: images differ (`compare`), or a graded scene did not match
+    /// (`grade`).
+    Differs,
     /// Exit 2: an input could not be read; the command already said why
     /// and still processed the other inputs.
     InputErrors,
@@ -58,10 +64,15 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Lsp(args) => lsp::run(args),
         Command::Stitch(args) => stitch::run(args),
         Command::Accuracy(args) => accuracy::run(args),
+        Command::Compare(args) => compare::run(args),
+        #[cfg(unix)]
+        Command::Grade(args) => grade::run(args),
+        #[cfg(not(unix))]
+        Command::Grade(_) => Err(Box::new(GradeUnsupported) as crate::diagnostic::BoxedDiagnostic),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
-        Ok(Outcome::SceneErrors) => ExitCode::from(1),
+        Ok(Outcome::SceneErrors | Outcome::Differs) => ExitCode::from(1),
         Ok(Outcome::InputErrors) => ExitCode::from(2),
         Err(failure) => {
             // Paths in the message are escaped like scene text.
@@ -71,6 +82,13 @@ pub fn run(cli: Cli) -> ExitCode {
         }
     }
 }
+
+/// `grade` on a system without the Unix process controls its sandbox needs.
+#[cfg(not(unix))]
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error("`grade` runs only on Unix: its sandbox needs process groups and resource limits")]
+#[diagnostic(code(usage::grade_unsupported))]
+pub struct GradeUnsupported;
 
 /// The process got Ctrl-C (SIGINT), SIGTERM or SIGHUP.
 #[derive(Debug, thiserror::Error, Diagnostic)]
@@ -86,9 +104,12 @@ pub struct Interrupted;
 pub const INTERRUPTED_EXIT_CODE: i32 = 130;
 
 /// What the binary's signal handler runs: remove every temporary output
-/// file being written (no rename can follow), say so, and exit.
+/// file being written (no rename can follow), kill the programs `grade`
+/// is running, say so, and exit.
 pub fn interrupt() -> ! {
     crate::output::abandon();
+    #[cfg(unix)]
+    crate::grade::sandbox::kill_running();
     eprintln!("\n{:?}", miette::Report::new(Interrupted));
     std::process::exit(INTERRUPTED_EXIT_CODE)
 }
