@@ -292,13 +292,14 @@ fn contrast_steps(text: &str) -> Result<f64, String> {
 /// `raytracer render SCENE OUT`.
 pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap::Error> {
     let mut args: Vec<OsString> = args.into_iter().collect();
+    // The subcommands' names come from clap's own definition, so a new
+    // command is never taken for a scene.
+    let command = <Cli as clap::CommandFactory>::command();
     let is_subcommand = |a: &OsString| {
         let a = a.to_string_lossy();
         a.starts_with('-') && a != "-"
-            || matches!(
-                &*a,
-                "render" | "check" | "convert" | "stitch" | "accuracy" | "fmt" | "lsp" | "help"
-            )
+            || a == "help"
+            || command.get_subcommands().any(|c| c.get_name() == a)
     };
     if args.len() > 1 && !is_subcommand(&args[1]) {
         args.insert(1, "render".into());
@@ -400,7 +401,12 @@ pub struct GradeArgs {
     /// Scene files or folders (default: the built-in suite).
     pub suite: Vec<PathBuf>,
     /// The report folder (index.html, summary.json, results.json).
-    #[arg(short = 'o', long = "output", value_name = "REPORT", required_unless_present = "export_suite")]
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "REPORT",
+        required_unless_present = "export_suite"
+    )]
     pub report: Option<PathBuf>,
     /// Write the built-in suite to DIR (scenes, textures, suite.json) and exit.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["tracer", "report", "suite"])]

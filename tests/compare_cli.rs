@@ -78,9 +78,21 @@ fn the_same_picture_in_three_encodings_matches_exactly() {
 #[test]
 fn a_shift_is_a_geometry_difference_and_a_darker_image_an_appearance_one() {
     let dir = tempfile::tempdir().unwrap();
-    let reference = save(&disc(64, 0, 1.0), &dir.path().join("r.png"), ImageFormat::Png);
-    let shifted = save(&disc(64, 4, 1.0), &dir.path().join("s.png"), ImageFormat::Png);
-    let darker = save(&disc(64, 0, 0.5), &dir.path().join("d.png"), ImageFormat::Png);
+    let reference = save(
+        &disc(64, 0, 1.0),
+        &dir.path().join("r.png"),
+        ImageFormat::Png,
+    );
+    let shifted = save(
+        &disc(64, 4, 1.0),
+        &dir.path().join("s.png"),
+        ImageFormat::Png,
+    );
+    let darker = save(
+        &disc(64, 0, 0.5),
+        &dir.path().join("d.png"),
+        ImageFormat::Png,
+    );
 
     let (code, value) = json(&[&reference, &shifted]);
     assert_eq!(code, 1);
@@ -107,8 +119,16 @@ fn a_shift_is_a_geometry_difference_and_a_darker_image_an_appearance_one() {
 #[test]
 fn the_heat_map_is_the_inputs_size_and_black_where_they_agree() {
     let dir = tempfile::tempdir().unwrap();
-    let reference = save(&disc(64, 0, 1.0), &dir.path().join("r.png"), ImageFormat::Png);
-    let shifted = save(&disc(64, 4, 1.0), &dir.path().join("s.png"), ImageFormat::Png);
+    let reference = save(
+        &disc(64, 0, 1.0),
+        &dir.path().join("r.png"),
+        ImageFormat::Png,
+    );
+    let shifted = save(
+        &disc(64, 4, 1.0),
+        &dir.path().join("s.png"),
+        ImageFormat::Png,
+    );
     let heat = dir.path().join("heat.png");
     let (code, value) = json(&["--heatmap", heat.to_str().unwrap(), &reference, &shifted]);
     assert_eq!(code, 1);
@@ -120,14 +140,25 @@ fn the_heat_map_is_the_inputs_size_and_black_where_they_agree() {
     assert!(corner.iter().all(|&c| c < 8), "{corner:?}");
     // The disc's leading edge differs: a bright colour.
     let edge = map.get_pixel(32 + 17, 32).0;
-    assert!(edge.iter().map(|&c| u32::from(c)).sum::<u32>() > 200, "{edge:?}");
+    assert!(
+        edge.iter().map(|&c| u32::from(c)).sum::<u32>() > 200,
+        "{edge:?}"
+    );
 }
 
 #[test]
 fn another_size_is_a_verdict_not_an_error() {
     let dir = tempfile::tempdir().unwrap();
-    let reference = save(&disc(64, 0, 1.0), &dir.path().join("r.png"), ImageFormat::Png);
-    let small = save(&disc(48, 0, 1.0), &dir.path().join("small.ppm"), ImageFormat::Pnm);
+    let reference = save(
+        &disc(64, 0, 1.0),
+        &dir.path().join("r.png"),
+        ImageFormat::Png,
+    );
+    let small = save(
+        &disc(48, 0, 1.0),
+        &dir.path().join("small.ppm"),
+        ImageFormat::Pnm,
+    );
     let heat = dir.path().join("heat.png");
     let (code, value) = json(&["--heatmap", heat.to_str().unwrap(), &reference, &small]);
     assert_eq!(code, 1);
@@ -136,14 +167,26 @@ fn another_size_is_a_verdict_not_an_error() {
     assert_eq!(value["candidate"]["width"], 48);
     assert!(!heat.exists());
     let text = String::from_utf8(run(&["compare", &reference, &small]).stdout).unwrap();
-    assert!(text.contains("expected 64 × 64 (reference), found 48 × 48"), "{text}");
+    assert!(
+        text.contains("expected 64 × 64 (reference), found 48 × 48"),
+        "{text}"
+    );
 }
 
 #[test]
 fn unreadable_files_exit_2_with_the_reason() {
     let dir = tempfile::tempdir().unwrap();
-    let reference = save(&disc(64, 0, 1.0), &dir.path().join("r.png"), ImageFormat::Png);
-    let full = std::fs::read(save(&disc(64, 0, 1.0), &dir.path().join("full.ppm"), ImageFormat::Pnm)).unwrap();
+    let reference = save(
+        &disc(64, 0, 1.0),
+        &dir.path().join("r.png"),
+        ImageFormat::Png,
+    );
+    let full = std::fs::read(save(
+        &disc(64, 0, 1.0),
+        &dir.path().join("full.ppm"),
+        ImageFormat::Pnm,
+    ))
+    .unwrap();
     let truncated = dir.path().join("cut.ppm");
     std::fs::write(&truncated, &full[..full.len() / 2]).unwrap();
     let text = dir.path().join("notes.png");

@@ -29,10 +29,10 @@ fn binary() -> &'static Path {
     static BINARY: OnceLock<PathBuf> = OnceLock::new();
     BINARY.get_or_init(|| {
         let built = PathBuf::from(bin());
-        let open = built
-            .ancestors()
-            .skip(1)
-            .all(|dir| dir.metadata().is_ok_and(|m| m.permissions().mode() & 0o001 != 0));
+        let open = built.ancestors().skip(1).all(|dir| {
+            dir.metadata()
+                .is_ok_and(|m| m.permissions().mode() & 0o001 != 0)
+        });
         if open {
             return built;
         }
@@ -88,28 +88,35 @@ impl Case {
             report.to_str().unwrap(),
             "--cache",
             cache.to_str().unwrap(),
-            "--timeout",
-            "3",
-            "--max-file-size",
-            "8",
-            "--max-output",
-            "4",
         ];
+        // Tight limits, unless the test sets its own.
+        for (option, value) in [
+            ("--timeout", "3"),
+            ("--max-file-size", "8"),
+            ("--max-output", "4"),
+        ] {
+            if !extra.contains(&option) {
+                args.extend([option, value]);
+            }
+        }
         args.extend_from_slice(extra);
         let suite = d.join("suite");
         args.push(suite.to_str().unwrap());
         let start = Instant::now();
         let output = run(&args);
         let seconds = start.elapsed().as_secs_f64();
-        let summary: Value = serde_json::from_slice(
-            &std::fs::read(report.join("summary.json")).unwrap_or_else(|_| {
-                panic!("no summary: {}", String::from_utf8_lossy(&output.stderr))
-            }),
-        )
-        .unwrap();
+        let summary: Value =
+            serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap_or_else(
+                |_| panic!("no summary: {}", String::from_utf8_lossy(&output.stderr)),
+            ))
+            .unwrap();
         assert_eq!(summary["scenes"].as_array().unwrap().len(), 1);
         assert_no_process_left(d);
-        (output.status.code().unwrap(), summary["scenes"][0].clone(), seconds)
+        (
+            output.status.code().unwrap(),
+            summary["scenes"][0].clone(),
+            seconds,
+        )
     }
 }
 
@@ -132,8 +139,8 @@ fn assert_no_process_left(dir: &Path) {
                 let cmdline = String::from_utf8_lossy(&cmdline).replace('\0', " ");
                 let cwd = std::fs::read_link(e.path().join("cwd")).unwrap_or_default();
                 let cwd = cwd.to_string_lossy();
-                let ours = cmdline.contains(&marker)
-                    || !workdir.is_empty() && cwd.starts_with(workdir);
+                let ours =
+                    cmdline.contains(&marker) || !workdir.is_empty() && cwd.starts_with(workdir);
                 (ours && state != 'Z').then(|| format!("{cmdline} ({state}) in {cwd}"))
             })
             .collect();
@@ -169,7 +176,11 @@ fn moved_darker_and_resized_images_differ_for_their_reasons() {
     for (edit, reason, score) in [
         ("s/center 0 0 -5/center .5 0 -5/", "geometry", 0.0),
         ("s/color .9 .6 .3/color .3 .2 .1/", "appearance", 0.5),
-        ("s/camera 32/camera 40/", "size: expected 32 × 32, found 40 × 40", 0.0),
+        (
+            "s/camera 32/camera 40/",
+            "size: expected 32 × 32, found 40 × 40",
+            0.0,
+        ),
     ] {
         let case = Case::new(&format!(
             "sed '{edit}' \"$1\" > edited.txt && exec \"$RAYTRACER\" render edited.txt \"$2\""
@@ -185,7 +196,11 @@ fn moved_darker_and_resized_images_differ_for_their_reasons() {
 fn a_crash_is_reported_with_its_signal_and_stderr() {
     let case = Case::new("echo 'about to fail' >&2; kill -SEGV $$");
     let (code, scene, _) = case.grade(&[]);
-    assert_eq!(status(&scene), ("crashed", "signal 11 (SIGSEGV)"), "{scene}");
+    assert_eq!(
+        status(&scene),
+        ("crashed", "signal 11 (SIGSEGV)"),
+        "{scene}"
+    );
     assert_eq!(code, 1);
     assert_eq!(scene["signal"], 11);
     assert!(scene["stderr"].as_str().unwrap().contains("about to fail"));
@@ -199,7 +214,11 @@ fn a_crash_is_reported_with_its_signal_and_stderr() {
 fn a_hang_is_killed_at_the_timeout_with_its_children() {
     let case = Case::new("sleep 1000 & sleep 1000");
     let (code, scene, seconds) = case.grade(&[]);
-    assert_eq!(status(&scene), ("timeout", "wall-clock time limit"), "{scene}");
+    assert_eq!(
+        status(&scene),
+        ("timeout", "wall-clock time limit"),
+        "{scene}"
+    );
     assert_eq!(code, 1);
     let ran = scene["seconds"].as_f64().unwrap();
     assert!((3.0..4.0).contains(&ran), "{ran}");
@@ -210,7 +229,11 @@ fn a_hang_is_killed_at_the_timeout_with_its_children() {
 fn a_cpu_spin_stops_at_the_cpu_limit() {
     let case = Case::new("while :; do :; done");
     let (_, scene, _) = case.grade(&["--cpu", "1", "--timeout", "20"]);
-    assert_eq!(status(&scene), ("timeout", "CPU time limit (SIGXCPU)"), "{scene}");
+    assert_eq!(
+        status(&scene),
+        ("timeout", "CPU time limit (SIGXCPU)"),
+        "{scene}"
+    );
     assert!(scene["seconds"].as_f64().unwrap() < 15.0);
 }
 
@@ -224,7 +247,10 @@ fn no_image_and_garbage_have_their_statuses() {
     let case = Case::new("printf 'P6\\n32 32\\n255\\nshort' > \"$2\"");
     let (_, scene, _) = case.grade(&[]);
     assert_eq!(status(&scene).0, "bad_image", "{scene}");
-    assert!(status(&scene).1.contains("ends before its last texel"), "{scene}");
+    assert!(
+        status(&scene).1.contains("ends before its last texel"),
+        "{scene}"
+    );
 
     let case = Case::new("head -c 5000 /dev/urandom > \"$2\"");
     let (_, scene, _) = case.grade(&[]);
@@ -243,7 +269,11 @@ fn a_fork_bomb_is_held_by_the_process_limit_and_killed_whole() {
 fn a_huge_write_stops_at_the_file_size_limit() {
     let case = Case::new("exec head -c 4000000000 /dev/zero > \"$2\"");
     let (_, scene, seconds) = case.grade(&[]);
-    assert_eq!(status(&scene), ("crashed", "signal 25 (SIGXFSZ: file size limit)"), "{scene}");
+    assert_eq!(
+        status(&scene),
+        ("crashed", "signal 25 (SIGXFSZ: file size limit)"),
+        "{scene}"
+    );
     assert!(seconds < 10.0, "{seconds}");
 }
 
@@ -254,7 +284,11 @@ fn a_stdout_flood_is_cut_at_the_bound() {
     assert_eq!(status(&scene).0, "match", "{scene}");
     let stdout = scene["stdout"].as_str().unwrap();
     assert!(stdout.starts_with("flood\nflood\n"));
-    assert!(stdout.ends_with("[… 49995904 more bytes not kept]"), "{}", &stdout[stdout.len() - 60..]);
+    assert!(
+        stdout.ends_with("[… 49995904 more bytes not kept]"),
+        "{}",
+        &stdout[stdout.len() - 60..]
+    );
 }
 
 #[test]
@@ -276,9 +310,15 @@ fn the_network_is_out_of_reach() {
         eprintln!("no network namespace here: the connection is not expected to fail");
         return;
     }
-    assert!(isolated, "CI runs as root, where a network namespace can always be had");
+    assert!(
+        isolated,
+        "CI runs as root, where a network namespace can always be had"
+    );
     assert_eq!(status(&scene).0, "match", "{scene}");
-    assert!(listener.accept().is_err(), "the program reached the test's port");
+    assert!(
+        listener.accept().is_err(),
+        "the program reached the test's port"
+    );
 }
 
 #[test]
@@ -336,7 +376,11 @@ fn our_tracer_matches_the_built_in_suite() {
     assert!(stderr.contains("rendered 23 reference images"), "{stderr}");
     let second = grade();
     assert_eq!(second.status.code(), Some(0));
-    assert!(second.stderr.is_empty(), "{}", String::from_utf8_lossy(&second.stderr));
+    assert!(
+        second.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&second.stderr)
+    );
 
     let summary: Value =
         serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap()).unwrap();
@@ -346,9 +390,13 @@ fn our_tracer_matches_the_built_in_suite() {
     assert_eq!(summary["score"], summary["max_score"]);
 
     let schema_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/grade-summary.schema.json");
-    let schema: Value = serde_json::from_str(&std::fs::read_to_string(schema_path).unwrap()).unwrap();
+    let schema: Value =
+        serde_json::from_str(&std::fs::read_to_string(schema_path).unwrap()).unwrap();
     let validator = jsonschema::validator_for(&schema).unwrap();
-    let errors: Vec<String> = validator.iter_errors(&summary).map(|e| e.to_string()).collect();
+    let errors: Vec<String> = validator
+        .iter_errors(&summary)
+        .map(|e| e.to_string())
+        .collect();
     assert!(errors.is_empty(), "{errors:?}");
 
     let results: Value =

@@ -57,8 +57,10 @@ struct Side<'a> {
 /// Run `raytracer compare`.
 pub fn run(args: CompareArgs) -> Result<Outcome, BoxedDiagnostic> {
     let thresholds = args.thresholds.thresholds();
-    let (reference, reference_format) = compare::read(&args.reference).map_err(CompareError::from)?;
-    let (candidate, candidate_format) = compare::read(&args.candidate).map_err(CompareError::from)?;
+    let (reference, reference_format) =
+        compare::read(&args.reference).map_err(CompareError::from)?;
+    let (candidate, candidate_format) =
+        compare::read(&args.candidate).map_err(CompareError::from)?;
     let comparison = compare::compare(&reference, &candidate, &thresholds);
     let heatmap = match (&args.heatmap, comparison.metrics.is_some()) {
         (Some(path), true) => {
@@ -133,7 +135,9 @@ fn human(report: &Report, heatmap_asked: bool) -> String {
                 "ꟻLIP: mean {:.4} (at most {}), median {:.4}, p90 {:.4}, p99 {:.4}, max {:.4}",
                 m.flip.mean, t.max_flip, m.flip.median, m.flip.p90, m.flip.p99, m.flip.max
             ));
-            let psnr = m.psnr.map_or("∞ (identical)".into(), |p| format!("{p:.2} dB"));
+            let psnr = m
+                .psnr
+                .map_or("∞ (identical)".into(), |p| format!("{p:.2} dB"));
             lines.push(format!("RMSE: {:.5}, PSNR: {psnr}", m.rmse));
             if let Some(path) = &report.heatmap {
                 lines.push(format!("heat map: {path}"));

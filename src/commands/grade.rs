@@ -97,7 +97,10 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         .map_err(io_error(&cache_folder))?;
     let rendered = references.iter().filter(|(_, fresh)| *fresh).count();
     if rendered > 0 {
-        eprintln!("rendered {rendered} reference images into `{}`", cache_folder.display());
+        eprintln!(
+            "rendered {rendered} reference images into `{}`",
+            cache_folder.display()
+        );
     }
 
     let confinement = Confinement::new(limits(&args.sandbox));

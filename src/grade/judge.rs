@@ -51,11 +51,16 @@ pub fn judge(ended: &Ended, out: &Path, reference: &Picture, thresholds: &Thresh
         Ended::Exited(code) if *code != 0 => {
             return plain(Status::Crashed, format!("exit code {code}"))
         }
-        Ended::NotStarted(reason) => return plain(Status::Crashed, format!("cannot start: {reason}")),
+        Ended::NotStarted(reason) => {
+            return plain(Status::Crashed, format!("cannot start: {reason}"))
+        }
         Ended::Exited(_) => {}
     }
     if !out.exists() {
-        return plain(Status::NoImage, format!("no `{}` was written", super::workdir::OUT));
+        return plain(
+            Status::NoImage,
+            format!("no `{}` was written", super::workdir::OUT),
+        );
     }
     let picture = match compare::read(out) {
         Ok((picture, _)) => picture,

@@ -43,7 +43,9 @@ static RUNNING: Mutex<Vec<libc::pid_t>> = Mutex::new(Vec::new());
 /// Kill every program running now, with its group: what an interrupted
 /// `grade` does before it exits.
 pub fn kill_running() {
-    let running = RUNNING.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let running = RUNNING
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
     for &group in running.iter() {
         // SAFETY: `killpg` has no memory preconditions.
         unsafe { libc::killpg(group, libc::SIGKILL) };
@@ -116,9 +118,15 @@ pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
         .args(&argv[1..])
         .current_dir(dir)
         .env_clear()
-        .env("PATH", std::env::var_os("PATH").unwrap_or_else(|| "/usr/bin:/bin".into()))
+        .env(
+            "PATH",
+            std::env::var_os("PATH").unwrap_or_else(|| "/usr/bin:/bin".into()),
+        )
         .env("HOME", dir)
-        .env("LANG", std::env::var_os("LANG").unwrap_or_else(|| "C.UTF-8".into()))
+        .env(
+            "LANG",
+            std::env::var_os("LANG").unwrap_or_else(|| "C.UTF-8".into()),
+        )
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
@@ -138,7 +146,11 @@ pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
         }
     };
     let group = child.id() as libc::pid_t;
-    let running = || RUNNING.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let running = || {
+        RUNNING
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+    };
     running().push(group);
     let stdout = capture::spawn(child.stdout.take(), limits.output);
     let stderr = capture::spawn(child.stderr.take(), limits.output);
@@ -155,7 +167,8 @@ pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
                 std::thread::sleep(Duration::from_millis(5))
             }
             _ => {
-                kill_group(group);
+                // SAFETY: `killpg` has no memory preconditions.
+                unsafe { libc::killpg(group, libc::SIGKILL) };
                 let _ = child.wait();
                 break Ended::TimedOut;
             }
@@ -164,7 +177,6 @@ pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
     let seconds = start.elapsed().as_secs_f64();
     kill_group(group);
     running().retain(|&g| g != group);
-    reap_orphans(Some(group));
     Run {
         ended,
         seconds,
@@ -253,14 +265,16 @@ fn network_isolation(root: bool) -> bool {
     probe.status().is_ok_and(|s| s.success())
 }
 
-/// Kill every process of `group`, again until none is left (a fork bomb
-/// may add members while the first signal is delivered).
+/// Kill every process of `group` (its leader already reaped), again until
+/// none is left: a fork bomb may add members while the first signal is
+/// delivered, and a killed member stays in the group until it is reaped.
 fn kill_group(group: libc::pid_t) {
     for _ in 0..1000 {
         // SAFETY: `killpg` has no memory preconditions.
         if unsafe { libc::killpg(group, libc::SIGKILL) } == -1 {
             return;
         }
+        reap_orphans(Some(group));
         std::thread::sleep(Duration::from_millis(1));
     }
 }
@@ -275,7 +289,11 @@ pub fn reap_orphans(group: Option<libc::pid_t>) {
         return;
     };
     for entry in entries.flatten() {
-        let Some(pid) = entry.file_name().to_str().and_then(|n| n.parse::<i32>().ok()) else {
+        let Some(pid) = entry
+            .file_name()
+            .to_str()
+            .and_then(|n| n.parse::<i32>().ok())
+        else {
             continue;
         };
         let Some((parent, process_group)) = parent_and_group(pid) else {

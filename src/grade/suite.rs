@@ -19,26 +19,86 @@ use crate::ir;
 /// The files of the built-in suite, by their path inside it.
 const BUILT_IN: &[(&str, &[u8])] = &[
     ("ambient.txt", include_bytes!("../../suite/ambient.txt")),
-    ("field/2_lights_color.txt", include_bytes!("../../suite/field/2_lights_color.txt")),
-    ("field/christmas_ornaments.txt", include_bytes!("../../suite/field/christmas_ornaments.txt")),
-    ("field/plane.txt", include_bytes!("../../suite/field/plane.txt")),
-    ("field/reflection.txt", include_bytes!("../../suite/field/reflection.txt")),
-    ("field/sphereBox.txt", include_bytes!("../../suite/field/sphereBox.txt")),
-    ("field/sphere_reflection.txt", include_bytes!("../../suite/field/sphere_reflection.txt")),
-    ("field/texture.scene", include_bytes!("../../suite/field/texture.scene")),
-    ("field/two_spheres_shadow.txt", include_bytes!("../../suite/field/two_spheres_shadow.txt")),
-    ("field/wood_tex.ppm", include_bytes!("../../suite/field/wood_tex.ppm")),
-    ("hard/eye_in_plane.txt", include_bytes!("../../suite/hard/eye_in_plane.txt")),
-    ("hard/grazing_plane.txt", include_bytes!("../../suite/hard/grazing_plane.txt")),
-    ("hard/inside_sphere.txt", include_bytes!("../../suite/hard/inside_sphere.txt")),
-    ("hard/light_on_surface.txt", include_bytes!("../../suite/hard/light_on_surface.txt")),
-    ("hard/parallel_mirrors.txt", include_bytes!("../../suite/hard/parallel_mirrors.txt")),
-    ("hard/planet.txt", include_bytes!("../../suite/hard/planet.txt")),
-    ("hard/scaled_1e-3.txt", include_bytes!("../../suite/hard/scaled_1e-3.txt")),
-    ("hard/scaled_1e6.txt", include_bytes!("../../suite/hard/scaled_1e6.txt")),
-    ("hard/shadow_acne.txt", include_bytes!("../../suite/hard/shadow_acne.txt")),
-    ("hard/tangent_sphere.txt", include_bytes!("../../suite/hard/tangent_sphere.txt")),
-    ("reflection.txt", include_bytes!("../../suite/reflection.txt")),
+    (
+        "field/2_lights_color.txt",
+        include_bytes!("../../suite/field/2_lights_color.txt"),
+    ),
+    (
+        "field/christmas_ornaments.txt",
+        include_bytes!("../../suite/field/christmas_ornaments.txt"),
+    ),
+    (
+        "field/plane.txt",
+        include_bytes!("../../suite/field/plane.txt"),
+    ),
+    (
+        "field/reflection.txt",
+        include_bytes!("../../suite/field/reflection.txt"),
+    ),
+    (
+        "field/sphereBox.txt",
+        include_bytes!("../../suite/field/sphereBox.txt"),
+    ),
+    (
+        "field/sphere_reflection.txt",
+        include_bytes!("../../suite/field/sphere_reflection.txt"),
+    ),
+    (
+        "field/texture.scene",
+        include_bytes!("../../suite/field/texture.scene"),
+    ),
+    (
+        "field/two_spheres_shadow.txt",
+        include_bytes!("../../suite/field/two_spheres_shadow.txt"),
+    ),
+    (
+        "field/wood_tex.ppm",
+        include_bytes!("../../suite/field/wood_tex.ppm"),
+    ),
+    (
+        "hard/eye_in_plane.txt",
+        include_bytes!("../../suite/hard/eye_in_plane.txt"),
+    ),
+    (
+        "hard/grazing_plane.txt",
+        include_bytes!("../../suite/hard/grazing_plane.txt"),
+    ),
+    (
+        "hard/inside_sphere.txt",
+        include_bytes!("../../suite/hard/inside_sphere.txt"),
+    ),
+    (
+        "hard/light_on_surface.txt",
+        include_bytes!("../../suite/hard/light_on_surface.txt"),
+    ),
+    (
+        "hard/parallel_mirrors.txt",
+        include_bytes!("../../suite/hard/parallel_mirrors.txt"),
+    ),
+    (
+        "hard/planet.txt",
+        include_bytes!("../../suite/hard/planet.txt"),
+    ),
+    (
+        "hard/scaled_1e-3.txt",
+        include_bytes!("../../suite/hard/scaled_1e-3.txt"),
+    ),
+    (
+        "hard/scaled_1e6.txt",
+        include_bytes!("../../suite/hard/scaled_1e6.txt"),
+    ),
+    (
+        "hard/shadow_acne.txt",
+        include_bytes!("../../suite/hard/shadow_acne.txt"),
+    ),
+    (
+        "hard/tangent_sphere.txt",
+        include_bytes!("../../suite/hard/tangent_sphere.txt"),
+    ),
+    (
+        "reflection.txt",
+        include_bytes!("../../suite/reflection.txt"),
+    ),
     ("sample.txt", include_bytes!("../../suite/sample.txt")),
     ("shadows.txt", include_bytes!("../../suite/shadows.txt")),
     ("suite.json", include_bytes!("../../suite/suite.json")),
@@ -121,8 +181,15 @@ pub fn load(paths: &[PathBuf]) -> Result<Vec<SuiteScene>, SuiteError> {
         if path.is_dir() {
             scenes.extend(load_folder(path)?);
         } else {
-            let root = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-            let name = path.file_name().unwrap_or_default().to_string_lossy().into_owned();
+            let root = path
+                .parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
+            let name = path
+                .file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned();
             scenes.push(load_scene(root, &name, 1.0, String::new())?);
         }
     }
@@ -133,7 +200,8 @@ pub fn load(paths: &[PathBuf]) -> Result<Vec<SuiteScene>, SuiteError> {
 fn load_folder(root: &Path) -> Result<Vec<SuiteScene>, SuiteError> {
     let manifest_path = root.join("suite.json");
     let entries = if manifest_path.is_file() {
-        let text = std::fs::read_to_string(&manifest_path).map_err(|e| io_error(&manifest_path, &e))?;
+        let text =
+            std::fs::read_to_string(&manifest_path).map_err(|e| io_error(&manifest_path, &e))?;
         let manifest: Manifest = serde_json::from_str(&text).map_err(|e| SuiteError::Manifest {
             path: manifest_path.display().to_string(),
             reason: e.to_string(),
@@ -183,27 +251,35 @@ fn find_scenes(root: &Path, folder: &Path, names: &mut Vec<String>) -> Result<()
 }
 
 /// Check the scene `name` of the suite in `root` and list its files.
-fn load_scene(root: &Path, name: &str, points: f64, description: String) -> Result<SuiteScene, SuiteError> {
+fn load_scene(
+    root: &Path,
+    name: &str,
+    points: f64,
+    description: String,
+) -> Result<SuiteScene, SuiteError> {
     let path = root.join(name);
     let shown = path.display().to_string();
     let Loaded { checked, .. } = frontend::load(&path).map_err(|e| SuiteError::Io {
         path: shown.clone(),
         reason: e.to_string(),
     })?;
-    let checked = checked.ok_or(SuiteError::Scene { path: shown.clone() })?;
+    let checked = checked.ok_or(SuiteError::Scene {
+        path: shown.clone(),
+    })?;
     let canonical_root = root.canonicalize().map_err(|e| io_error(root, &e))?;
     let mut files = vec![PathBuf::from(name)];
     for texture in checked.textures.values() {
         let resolved = Path::new(&texture.path)
             .canonicalize()
             .map_err(|e| io_error(Path::new(&texture.path), &e))?;
-        let relative = resolved
-            .strip_prefix(&canonical_root)
-            .map_err(|_| SuiteError::TextureOutside {
-                path: shown.clone(),
-                texture: texture.path.clone(),
-                root: root.display().to_string(),
-            })?;
+        let relative =
+            resolved
+                .strip_prefix(&canonical_root)
+                .map_err(|_| SuiteError::TextureOutside {
+                    path: shown.clone(),
+                    texture: texture.path.clone(),
+                    root: root.display().to_string(),
+                })?;
         files.push(relative.to_path_buf());
     }
     files.sort();
@@ -233,7 +309,12 @@ mod tests {
                 if path.is_dir() {
                     stack.push(path);
                 } else {
-                    on_disk.push(path.strip_prefix(&folder).unwrap().to_string_lossy().into_owned());
+                    on_disk.push(
+                        path.strip_prefix(&folder)
+                            .unwrap()
+                            .to_string_lossy()
+                            .into_owned(),
+                    );
                 }
             }
         }
@@ -248,11 +329,19 @@ mod tests {
         export(dir.path()).unwrap();
         let scenes = load(&[dir.path().to_path_buf()]).unwrap();
         assert_eq!(scenes.len(), 23);
-        assert!(scenes.iter().all(|s| s.points > 0.0 && !s.description.is_empty()));
-        let inside = scenes.iter().find(|s| s.name == "hard/inside_sphere.txt").unwrap();
+        assert!(scenes
+            .iter()
+            .all(|s| s.points > 0.0 && !s.description.is_empty()));
+        let inside = scenes
+            .iter()
+            .find(|s| s.name == "hard/inside_sphere.txt")
+            .unwrap();
         assert_eq!(
             inside.files,
-            [PathBuf::from("hard/inside_sphere.txt"), PathBuf::from("wood_tex.ppm")]
+            [
+                PathBuf::from("hard/inside_sphere.txt"),
+                PathBuf::from("wood_tex.ppm")
+            ]
         );
     }
 }

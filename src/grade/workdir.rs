@@ -37,7 +37,9 @@ impl Workdir {
 /// Copy `scene`'s files into a fresh temporary folder, owned by `user`
 /// when given.
 pub fn prepare(scene: &SuiteScene, user: Option<u32>) -> std::io::Result<Workdir> {
-    let temp = tempfile::Builder::new().prefix("raytracer-grade-").tempdir()?;
+    let temp = tempfile::Builder::new()
+        .prefix("raytracer-grade-")
+        .tempdir()?;
     for file in &scene.files {
         let to = temp.path().join(file);
         if let Some(parent) = to.parent() {
@@ -46,7 +48,9 @@ pub fn prepare(scene: &SuiteScene, user: Option<u32>) -> std::io::Result<Workdir
         std::fs::copy(scene.root.join(file), &to)?;
     }
     let scene_path = Path::new(&scene.name);
-    let start = temp.path().join(scene_path.parent().unwrap_or(Path::new("")));
+    let start = temp
+        .path()
+        .join(scene_path.parent().unwrap_or(Path::new("")));
     std::fs::create_dir_all(&start)?;
     if let Some(id) = user {
         give(temp.path(), id)?;
@@ -131,6 +135,9 @@ mod tests {
         let argv = template.argv("s.txt", "out.ppm", Path::new("/home/g"));
         assert_eq!(argv[0], "/home/g/./bin/tracer");
         assert!(matches!(Template::parse("  "), Err(TemplateError::Empty)));
-        assert!(matches!(Template::parse("a 'b"), Err(TemplateError::Split(_))));
+        assert!(matches!(
+            Template::parse("a 'b"),
+            Err(TemplateError::Split(_))
+        ));
     }
 }

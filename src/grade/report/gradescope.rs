@@ -31,7 +31,11 @@ pub fn results(summary: &Summary) -> Results {
         score: summary.score,
         output: format!(
             "{} of {} scenes match; {} of {} points (raytracer grade)",
-            summary.scenes.iter().filter(|s| s.status == crate::grade::Status::Match).count(),
+            summary
+                .scenes
+                .iter()
+                .filter(|s| s.status == crate::grade::Status::Match)
+                .count(),
             summary.scenes.len(),
             summary.score,
             summary.max_score

@@ -23,7 +23,11 @@ pre{max-width:40em;max-height:12em;overflow:auto;background:#f4f4f4;padding:.4em
 /// The page for `summary`.
 pub fn page(summary: &Summary) -> String {
     let mut html = String::new();
-    let matched = summary.scenes.iter().filter(|s| s.status == Status::Match).count();
+    let matched = summary
+        .scenes
+        .iter()
+        .filter(|s| s.status == Status::Match)
+        .count();
     let _ = write!(
         html,
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
@@ -35,11 +39,21 @@ pub fn page(summary: &Summary) -> String {
         tracer = escape(&summary.tracer),
     );
     let _ = write!(html, "<p>");
-    for status in [Status::Match, Status::Differs, Status::Crashed, Status::Timeout, Status::NoImage, Status::BadImage] {
+    for status in [
+        Status::Match,
+        Status::Differs,
+        Status::Crashed,
+        Status::Timeout,
+        Status::NoImage,
+        Status::BadImage,
+    ] {
         let n = summary.scenes.iter().filter(|s| s.status == status).count();
         if n > 0 {
             let name = status_name(status);
-            let _ = write!(html, "<span class=\"status {name}\">{name}</span> {n} &nbsp; ");
+            let _ = write!(
+                html,
+                "<span class=\"status {name}\">{name}</span> {n} &nbsp; "
+            );
         }
     }
     let s = &summary.sandbox;
@@ -52,7 +66,11 @@ pub fn page(summary: &Summary) -> String {
         s.address_space_mib,
         s.max_file_size_mib,
         s.max_processes,
-        if s.network_isolated { "isolated" } else { "not isolated" },
+        if s.network_isolated {
+            "isolated"
+        } else {
+            "not isolated"
+        },
         summary.thresholds.min_coverage,
         summary.thresholds.max_flip,
     );

@@ -51,7 +51,11 @@ impl Summary {
         self.scenes.sort_by(|a, b| {
             a.status
                 .cmp(&b.status)
-                .then(b.flip_mean.unwrap_or(0.0).total_cmp(&a.flip_mean.unwrap_or(0.0)))
+                .then(
+                    b.flip_mean
+                        .unwrap_or(0.0)
+                        .total_cmp(&a.flip_mean.unwrap_or(0.0)),
+                )
                 .then(a.scene.cmp(&b.scene))
         });
     }
