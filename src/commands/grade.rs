@@ -97,8 +97,9 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         .map_err(io_error(&cache_folder))?;
     let rendered = references.iter().filter(|(_, fresh)| *fresh).count();
     if rendered > 0 {
+        let images = if rendered == 1 { "image" } else { "images" };
         eprintln!(
-            "rendered {rendered} reference images into `{}`",
+            "rendered {rendered} reference {images} into `{}`",
             cache_folder.display()
         );
     }
