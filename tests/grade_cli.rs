@@ -221,7 +221,7 @@ fn a_hang_is_killed_at_the_timeout_with_its_children() {
     );
     assert_eq!(code, 1);
     let ran = scene["seconds"].as_f64().unwrap();
-    assert!((3.0..4.0).contains(&ran), "{ran}");
+    assert!((3.0..6.0).contains(&ran), "{ran}");
     assert!(seconds < 10.0, "{seconds}");
 }
 
