@@ -45,6 +45,12 @@ pub enum Command {
     /// Serve a local page that re-renders the scene, and shows its
     /// diagnostics, every time it or one of its textures is saved.
     Preview(PreviewArgs),
+    /// Compare a candidate image with a reference: ꟻLIP, RMSE and PSNR,
+    /// and the coverage of their non-black pixels.
+    Compare(CompareArgs),
+    /// Grade a ray tracer: run it on a suite of scenes in a sandbox and
+    /// compare each image with ours, into an HTML report.
+    Grade(GradeArgs),
 }
 
 /// `--accel`: the renderer's [`Accel`] as the command line spells it.
@@ -332,10 +338,15 @@ fn contrast_steps(text: &str) -> Result<f64, String> {
     }
 }
 
-/// The commands, as the first argument names them.
-const COMMANDS: [&str; 9] = [
-    "render", "check", "convert", "stitch", "accuracy", "fmt", "lsp", "preview", "help",
-];
+/// The commands, as the first argument names them: clap's subcommands (so
+/// a new command is never taken for a scene) and `help`.
+fn command_names() -> Vec<String> {
+    <Cli as clap::CommandFactory>::command()
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .chain(["help".to_string()])
+        .collect()
+}
 
 /// Parse the process arguments, accepting `raytracer SCENE OUT` for
 /// `raytracer render SCENE OUT`. A first argument that is no command and
@@ -343,12 +354,13 @@ const COMMANDS: [&str; 9] = [
 /// is a mistyped command (exit 2), with the nearest command suggested.
 pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap::Error> {
     let mut args: Vec<OsString> = args.into_iter().collect();
+    let names = command_names();
     let is_subcommand = |a: &OsString| {
         let a = a.to_string_lossy();
-        a.starts_with('-') && a != "-" || COMMANDS.contains(&&*a)
+        a.starts_with('-') && a != "-" || names.iter().any(|name| *name == a)
     };
     if args.len() > 1 && !is_subcommand(&args[1]) {
-        if let Some(error) = unknown_command(&args[1]) {
+        if let Some(error) = unknown_command(&args[1], &names) {
             return Err(error);
         }
         args.insert(1, "render".into());
@@ -358,10 +370,11 @@ pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap:
 
 /// The usage error for a first argument that is a mistyped command rather
 /// than a scene path, or `None` when it may be a scene.
-fn unknown_command(first: &OsString) -> Option<clap::Error> {
+fn unknown_command(first: &OsString, names: &[String]) -> Option<clap::Error> {
     use clap::CommandFactory;
     let word = first.to_string_lossy();
-    let nearest = crate::suggest::nearest(&word, &COMMANDS).map(|(command, _)| command);
+    let candidates: Vec<&str> = names.iter().map(String::as_str).collect();
+    let nearest = crate::suggest::nearest(&word, &candidates).map(|(command, _)| command);
     let looks_like_path = word.contains(['.', '/', '\\']);
     if word == "-" || PathBuf::from(first).exists() || (looks_like_path && nearest.is_none()) {
         return None;
@@ -371,10 +384,131 @@ fn unknown_command(first: &OsString) -> Option<clap::Error> {
         Some(command) => format!("unknown command `{shown}`: did you mean `{command}`?"),
         None => format!(
             "unknown command `{shown}`: expected one of {}, or a scene file",
-            COMMANDS.map(|c| format!("`{c}`")).join(", ")
+            candidates
+                .iter()
+                .map(|c| format!("`{c}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
         ),
     };
     Some(Cli::command().error(clap::error::ErrorKind::InvalidSubcommand, message))
+}
+
+/// How `compare` prints its findings.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum CompareFormat {
+    /// Lines for a person.
+    #[default]
+    Human,
+    /// One JSON object.
+    Json,
+}
+
+/// The bounds within which two images match (`compare` and `grade`).
+#[derive(Debug, Args)]
+pub struct ThresholdArgs {
+    /// The least intersection over union of the two images' non-black
+    /// pixels; below it the geometry differs.
+    #[arg(long, value_name = "IOU", default_value_t = crate::compare::DEFAULT_MIN_COVERAGE, value_parser = unit_interval)]
+    pub min_coverage: f64,
+    /// The largest mean ꟻLIP error; above it the appearance differs.
+    #[arg(long, value_name = "FLIP", default_value_t = crate::compare::DEFAULT_MAX_FLIP, value_parser = unit_interval)]
+    pub max_flip: f64,
+    /// A pixel is black (not covered) when no channel exceeds this (0–255).
+    #[arg(long, value_name = "VALUE", default_value_t = crate::compare::DEFAULT_BLACK_LEVEL)]
+    pub black_level: u8,
+}
+
+impl ThresholdArgs {
+    /// The thresholds as the library takes them.
+    pub fn thresholds(&self) -> crate::compare::Thresholds {
+        crate::compare::Thresholds {
+            min_coverage: self.min_coverage,
+            max_flip: self.max_flip,
+            black_level: self.black_level,
+        }
+    }
+}
+
+/// A number in [0, 1].
+fn unit_interval(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(value) if (0.0..=1.0).contains(&value) => Ok(value),
+        _ => Err(format!("expected a number from 0 to 1, found `{text}`")),
+    }
+}
+
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// The reference image (PPM, PNG or JPEG, recognised by content).
+    pub reference: PathBuf,
+    /// The image to judge against it.
+    pub candidate: PathBuf,
+    /// Write the ꟻLIP error map, in ꟻLIP's colour map, to this PNG.
+    #[arg(long, value_name = "OUT.png")]
+    pub heatmap: Option<PathBuf>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = CompareFormat::Human)]
+    pub format: CompareFormat,
+    #[command(flatten)]
+    pub thresholds: ThresholdArgs,
+}
+
+/// The limits `grade` runs each tracer process under.
+#[derive(Debug, Args)]
+pub struct SandboxArgs {
+    /// Wall-clock seconds per scene; then the whole process group is killed.
+    #[arg(long, value_name = "SECONDS", default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..=86_400))]
+    pub timeout: u32,
+    /// CPU seconds per process (`RLIMIT_CPU`).
+    #[arg(long, value_name = "SECONDS", default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..=86_400))]
+    pub cpu: u32,
+    /// Address space per process in MiB (`RLIMIT_AS`).
+    #[arg(long, value_name = "MIB", default_value_t = 4096, value_parser = clap::value_parser!(u32).range(16..))]
+    pub memory: u32,
+    /// The largest file a process may write, in MiB (`RLIMIT_FSIZE`).
+    #[arg(long, value_name = "MIB", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..))]
+    pub max_file_size: u32,
+    /// Processes and threads the tracer's user may have at once
+    /// (`RLIMIT_NPROC`; the count takes in every process of that user).
+    #[arg(long, value_name = "N", default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..))]
+    pub max_processes: u32,
+    /// Bytes of stdout and of stderr kept per scene, in KiB.
+    #[arg(long, value_name = "KIB", default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..))]
+    pub max_output: u32,
+}
+
+#[derive(Debug, Args)]
+pub struct GradeArgs {
+    /// The tracer's command line: `{scene}` and `{out}` are replaced by the
+    /// scene's file name and the image to write; split into words like a
+    /// shell would, never run through one.
+    #[arg(long, value_name = "COMMAND", required_unless_present = "export_suite")]
+    pub tracer: Option<String>,
+    /// Scene files or folders (default: the built-in suite).
+    pub suite: Vec<PathBuf>,
+    /// The report folder (index.html, summary.json, results.json).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "REPORT",
+        required_unless_present = "export_suite"
+    )]
+    pub report: Option<PathBuf>,
+    /// Write the built-in suite to DIR (scenes, textures, suite.json) and exit.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["tracer", "report", "suite"])]
+    pub export_suite: Option<PathBuf>,
+    /// Where our reference images are cached, by content hash (default:
+    /// `$XDG_CACHE_HOME/raytracer/references`, else `~/.cache/…`).
+    #[arg(long, value_name = "DIR")]
+    pub cache: Option<PathBuf>,
+    /// Scenes graded at once.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
+    pub jobs: u32,
+    #[command(flatten)]
+    pub thresholds: ThresholdArgs,
+    #[command(flatten)]
+    pub sandbox: SandboxArgs,
 }
 
 #[cfg(test)]

@@ -10,6 +10,8 @@
 //! [`convert`] prints a checked model as JSON, canonical scene text or
 //! POV-Ray; [`format`] lays out scene text with its comments. [`tile`]
 //! cuts a frame into parts rendered apart and stitches them back.
+//! [`compare`] measures how an image differs from a reference, and
+//! [`grade`] runs a student's tracer on a suite of scenes against ours.
 //! [`accuracy`] measures what each accuracy setting of the renderer costs
 //! and buys for a scene. [`ci`] lays diagnostics out for CI services
 //! (SARIF, GitHub workflow commands). [`frontend`] drives the stages from
@@ -24,6 +26,7 @@ pub mod check;
 pub(crate) mod ci;
 pub mod cli;
 pub mod commands;
+pub mod compare;
 pub mod convert;
 pub mod diagnostic;
 pub mod discover;
@@ -33,6 +36,8 @@ pub mod fix;
 pub mod format;
 pub mod frontend;
 pub mod geometry;
+#[cfg(unix)]
+pub mod grade;
 pub mod ir;
 pub mod json;
 pub mod language;

@@ -33,8 +33,11 @@ macro_rules! sayln {
 
 pub mod accuracy;
 pub mod check;
+pub mod compare;
 pub mod convert;
 pub mod fmt;
+#[cfg(unix)]
+pub mod grade;
 pub mod lsp;
 pub mod preview;
 pub mod render;
@@ -56,6 +59,9 @@ pub enum Outcome {
     /// Exit 1: a scene has errors (or warnings, with `--deny-warnings`), or
     /// the parts given to `stitch` do not make one frame.
     SceneErrors,
+    /// Exit 1: images differ (`compare`), or a graded scene did not match
+    /// (`grade`).
+    Differs,
     /// Exit 2: an input could not be read; the command already said why
     /// and still processed the other inputs.
     InputErrors,
@@ -121,10 +127,15 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Stitch(args) => stitch::run(args),
         Command::Accuracy(args) => accuracy::run(args),
         Command::Preview(args) => preview::run(args),
+        Command::Compare(args) => compare::run(args),
+        #[cfg(unix)]
+        Command::Grade(args) => grade::run(args),
+        #[cfg(not(unix))]
+        Command::Grade(_) => Err(Box::new(GradeUnsupported) as crate::diagnostic::BoxedDiagnostic),
     };
     match result {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
-        Ok(Outcome::SceneErrors) => ExitCode::from(1),
+        Ok(Outcome::SceneErrors | Outcome::Differs) => ExitCode::from(1),
         Ok(Outcome::InputErrors) => ExitCode::from(2),
         Err(failure) if is_closed_stdout(failure.as_ref()) => ExitCode::SUCCESS,
         Err(failure) => {
@@ -135,6 +146,13 @@ pub fn run(cli: Cli) -> ExitCode {
         }
     }
 }
+
+/// `grade` on a system without the Unix process controls its sandbox needs.
+#[cfg(not(unix))]
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error("`grade` runs only on Unix: its sandbox needs process groups and resource limits")]
+#[diagnostic(code(usage::grade_unsupported))]
+pub struct GradeUnsupported;
 
 /// The process got Ctrl-C (SIGINT), SIGTERM or SIGHUP.
 #[derive(Debug, thiserror::Error, Diagnostic)]
@@ -150,9 +168,12 @@ pub struct Interrupted;
 pub const INTERRUPTED_EXIT_CODE: i32 = 130;
 
 /// What the binary's signal handler runs: remove every temporary output
-/// file being written (no rename can follow), say so, and exit.
+/// file being written (no rename can follow), kill the programs `grade`
+/// is running, say so, and exit.
 pub fn interrupt() -> ! {
     crate::output::abandon();
+    #[cfg(unix)]
+    crate::grade::sandbox::kill_running();
     sayln!("\n{:?}", miette::Report::new(Interrupted));
     std::process::exit(INTERRUPTED_EXIT_CODE)
 }

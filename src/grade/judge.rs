@@ -1,0 +1,104 @@
+//! A scene's status from how the program ended and what it wrote: the
+//! process first (a timeout, a crash, a start that failed), then the
+//! image (missing, undecodable), then the comparison with our reference.
+
+use std::path::Path;
+
+use schemars::JsonSchema;
+use serde::Serialize;
+
+use super::sandbox::Ended;
+use crate::compare::{self, Comparison, Picture, Thresholds, Verdict};
+
+/// Where a scene ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    /// Killed at the wall-clock timeout, or stopped at the CPU limit.
+    Timeout,
+    /// Ended by a signal or with a non-zero exit code, or could not start.
+    Crashed,
+    /// Wrote something that is not a PPM, PNG or JPEG image.
+    BadImage,
+    /// Exited 0 without writing the image.
+    NoImage,
+    /// Wrote an image that differs from ours (the reason says how).
+    Differs,
+    Match,
+}
+
+/// A judged scene: its status, the reason, and the comparison when one was made.
+pub struct Judgement {
+    pub status: Status,
+    pub reason: Option<String>,
+    /// The student's image and its comparison, when it was read.
+    pub compared: Option<(Picture, Comparison)>,
+}
+
+/// Judge a run that `ended` so, with its image at `out`.
+pub fn judge(ended: &Ended, out: &Path, reference: &Picture, thresholds: &Thresholds) -> Judgement {
+    let plain = |status, reason: String| Judgement {
+        status,
+        reason: Some(reason),
+        compared: None,
+    };
+    match ended {
+        Ended::TimedOut => return plain(Status::Timeout, "wall-clock time limit".into()),
+        Ended::Signalled(signal) if *signal == libc::SIGXCPU => {
+            return plain(Status::Timeout, "CPU time limit (SIGXCPU)".into())
+        }
+        Ended::Signalled(signal) => return plain(Status::Crashed, signal_reason(*signal)),
+        Ended::Exited(code) if *code != 0 => {
+            return plain(Status::Crashed, format!("exit code {code}"))
+        }
+        Ended::NotStarted(reason) => {
+            return plain(Status::Crashed, format!("cannot start: {reason}"))
+        }
+        Ended::Exited(_) => {}
+    }
+    if !out.exists() {
+        return plain(
+            Status::NoImage,
+            format!("no `{}` was written", super::workdir::OUT),
+        );
+    }
+    let picture = match compare::read(out) {
+        Ok((picture, _)) => picture,
+        Err(error) => return plain(Status::BadImage, error.to_string()),
+    };
+    let comparison = compare::compare(reference, &picture, thresholds);
+    let (status, reason) = match comparison.verdict {
+        Verdict::Match => (Status::Match, None),
+        Verdict::Size => (
+            Status::Differs,
+            Some(format!(
+                "size: expected {} × {}, found {} × {}",
+                reference.width, reference.height, picture.width, picture.height
+            )),
+        ),
+        Verdict::Geometry => (Status::Differs, Some("geometry".into())),
+        Verdict::Appearance => (Status::Differs, Some("appearance".into())),
+    };
+    Judgement {
+        status,
+        reason,
+        compared: Some((picture, comparison)),
+    }
+}
+
+/// "signal N (NAME)", with what the sandbox's signals mean.
+fn signal_reason(signal: i32) -> String {
+    let name = match signal {
+        libc::SIGSEGV => "SIGSEGV",
+        libc::SIGABRT => "SIGABRT",
+        libc::SIGKILL => "SIGKILL",
+        libc::SIGBUS => "SIGBUS",
+        libc::SIGFPE => "SIGFPE",
+        libc::SIGILL => "SIGILL",
+        libc::SIGXFSZ => "SIGXFSZ: file size limit",
+        libc::SIGPIPE => "SIGPIPE",
+        libc::SIGTERM => "SIGTERM",
+        _ => return format!("signal {signal}"),
+    };
+    format!("signal {signal} ({name})")
+}

@@ -1,0 +1,155 @@
+//! `index.html`: one page that works offline from `file://` (styles inline,
+//! no script, images from the report's own `images/`): the summary on top,
+//! then one row per scene, worst first, with our image, the student's and
+//! the ꟻLIP heat map side by side, the status, the metrics and the
+//! program's stderr.
+
+use std::fmt::Write;
+
+use super::{status_name, Summary};
+use crate::grade::{SceneResult, Status};
+
+const STYLE: &str = "body{font:15px/1.4 system-ui,sans-serif;margin:2em;color:#222}\
+h1{margin:0 0 .3em}table{border-collapse:collapse}\
+td,th{border-top:1px solid #ccc;padding:.5em;vertical-align:top;text-align:left}\
+img{width:192px;height:auto;image-rendering:pixelated;background:#000;display:block}\
+figure{margin:0 .5em 0 0;display:inline-block}figcaption{font-size:12px;color:#555}\
+.status{font-weight:bold;padding:.1em .4em;border-radius:.3em;color:#fff;white-space:nowrap}\
+.match{background:#2a7d2a}.differs{background:#b36b00}\
+.crashed,.timeout,.no_image,.bad_image{background:#b00020}\
+pre{max-width:40em;max-height:12em;overflow:auto;background:#f4f4f4;padding:.4em;font-size:12px}\
+.none{width:192px;height:192px;display:flex;align-items:center;justify-content:center;background:#eee;color:#777}";
+
+/// The page for `summary`.
+pub fn page(summary: &Summary) -> String {
+    let mut html = String::new();
+    let matched = summary
+        .scenes
+        .iter()
+        .filter(|s| s.status == Status::Match)
+        .count();
+    let _ = write!(
+        html,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
+<title>raytracer grade: {score} / {max}</title><style>{STYLE}</style></head><body>\n\
+<h1>{score} / {max} points</h1>\n<p>{matched} of {count} scenes match. Tracer: <code>{tracer}</code></p>\n",
+        score = summary.score,
+        max = summary.max_score,
+        count = summary.scenes.len(),
+        tracer = escape(&summary.tracer),
+    );
+    let _ = write!(html, "<p>");
+    for status in [
+        Status::Match,
+        Status::Differs,
+        Status::Crashed,
+        Status::Timeout,
+        Status::NoImage,
+        Status::BadImage,
+    ] {
+        let n = summary.scenes.iter().filter(|s| s.status == status).count();
+        if n > 0 {
+            let name = status_name(status);
+            let _ = write!(
+                html,
+                "<span class=\"status {name}\">{name}</span> {n} &nbsp; "
+            );
+        }
+    }
+    let s = &summary.sandbox;
+    let _ = writeln!(
+        html,
+        "</p>\n<p>Limits: {} s wall clock, {} s CPU, {} MiB address space, {} MiB per file, \
+{} processes; network {}. A match needs coverage IoU ≥ {} and ꟻLIP mean ≤ {}.</p>",
+        s.timeout_seconds,
+        s.cpu_seconds,
+        s.address_space_mib,
+        s.max_file_size_mib,
+        s.max_processes,
+        if s.network_isolated {
+            "isolated"
+        } else {
+            "not isolated"
+        },
+        summary.thresholds.min_coverage,
+        summary.thresholds.max_flip,
+    );
+    html.push_str("<table>\n<tr><th>scene</th><th>status</th><th>images: ours, the student's, ꟻLIP error</th><th>metrics</th></tr>\n");
+    for scene in &summary.scenes {
+        row(&mut html, scene);
+    }
+    html.push_str("</table>\n</body></html>\n");
+    html
+}
+
+/// One scene's row.
+fn row(html: &mut String, scene: &SceneResult) {
+    let name = status_name(scene.status);
+    let _ = write!(
+        html,
+        "<tr class=\"scene\"><td><b>{}</b><br>{}<br>{} / {} points</td>\
+<td><span class=\"status {name}\">{name}</span><br>{}</td><td>",
+        escape(&scene.scene),
+        escape(&scene.description),
+        scene.score,
+        scene.points,
+        escape(scene.reason.as_deref().unwrap_or("")),
+    );
+    figure(html, Some(&scene.images.reference), "ours");
+    figure(html, scene.images.student.as_deref(), "student");
+    figure(html, scene.images.heatmap.as_deref(), "ꟻLIP");
+    html.push_str("</td><td>");
+    if let (Some(iou), Some(flip), Some(rmse)) = (scene.coverage_iou, scene.flip, scene.rmse) {
+        let psnr = scene.psnr.map_or("∞".into(), |p| format!("{p:.1} dB"));
+        let _ = write!(
+            html,
+            "coverage IoU {iou:.4}<br>ꟻLIP mean {:.4}<br>ꟻLIP p99 {:.4}<br>RMSE {rmse:.5}<br>PSNR {psnr}<br>",
+            flip.mean, flip.p99
+        );
+    }
+    let _ = write!(html, "{:.2} s", scene.seconds);
+    match (scene.exit_code, scene.signal) {
+        (Some(code), _) => {
+            let _ = write!(html, ", exit {code}");
+        }
+        (None, Some(signal)) => {
+            let _ = write!(html, ", signal {signal}");
+        }
+        (None, None) => {}
+    }
+    if !scene.stderr.trim().is_empty() {
+        let _ = write!(html, "<pre>{}</pre>", escape(scene.stderr.trim_end()));
+    }
+    html.push_str("</td></tr>\n");
+}
+
+/// An image with its caption, or a grey box when there is none.
+fn figure(html: &mut String, src: Option<&str>, caption: &str) {
+    let _ = match src {
+        Some(src) => write!(
+            html,
+            "<figure><img src=\"{}\" alt=\"{caption}\"><figcaption>{caption}</figcaption></figure>",
+            escape(src)
+        ),
+        None => write!(
+            html,
+            "<figure><div class=\"none\">no image</div><figcaption>{caption}</figcaption></figure>"
+        ),
+    };
+}
+
+/// Text made safe inside HTML elements and attribute values.
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            _ => out.push(c),
+        }
+    }
+    out
+}

@@ -1,0 +1,143 @@
+//! The folder a student's program runs in, and its argument vector.
+//!
+//! Each scene gets a fresh temporary folder holding a copy of the scene
+//! and its textures at their paths inside the suite, so `../wood_tex.ppm`
+//! still resolves; the program starts in the scene's own folder there.
+//! When the program runs as another user, the folder is given to it.
+//! The command template is split into words like a shell would split it
+//! (quotes, backslashes) and `{scene}` and `{out}` are replaced inside
+//! each word, so no file name can add a word or run a command.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+
+use tempfile::TempDir;
+
+use super::suite::SuiteScene;
+
+/// The name of the image the program is asked to write.
+pub const OUT: &str = "out.ppm";
+
+/// A prepared folder: removed when dropped.
+pub struct Workdir {
+    pub temp: TempDir,
+    /// Where the program starts: the scene's folder inside `temp`.
+    pub start: PathBuf,
+    /// The scene's file name, for `{scene}`.
+    pub scene_file: String,
+}
+
+impl Workdir {
+    /// The image the program was asked to write.
+    pub fn out(&self) -> PathBuf {
+        self.start.join(OUT)
+    }
+}
+
+/// Copy `scene`'s files into a fresh temporary folder, owned by `user`
+/// when given.
+pub fn prepare(scene: &SuiteScene, user: Option<u32>) -> std::io::Result<Workdir> {
+    let temp = tempfile::Builder::new()
+        .prefix("raytracer-grade-")
+        .tempdir()?;
+    for file in &scene.files {
+        let to = temp.path().join(file);
+        if let Some(parent) = to.parent() {
+            std::fs::create_dir_all(parent)?;
+        }
+        std::fs::copy(scene.root.join(file), &to)?;
+    }
+    let scene_path = Path::new(&scene.name);
+    let start = temp
+        .path()
+        .join(scene_path.parent().unwrap_or(Path::new("")));
+    std::fs::create_dir_all(&start)?;
+    if let Some(id) = user {
+        give(temp.path(), id)?;
+    }
+    Ok(Workdir {
+        start,
+        scene_file: scene_path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned(),
+        temp,
+    })
+}
+
+/// Give `path` and everything under it to user and group `id`.
+fn give(path: &Path, id: u32) -> std::io::Result<()> {
+    std::os::unix::fs::chown(path, Some(id), Some(id))?;
+    if path.is_dir() {
+        for entry in std::fs::read_dir(path)? {
+            give(&entry?.path(), id)?;
+        }
+    }
+    Ok(())
+}
+
+/// Why a command template cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum TemplateError {
+    #[error("cannot split the `--tracer` command into words: {0}")]
+    Split(String),
+    #[error("the `--tracer` command is empty")]
+    Empty,
+}
+
+/// The words of a `--tracer` template, checked once.
+#[derive(Clone, Debug)]
+pub struct Template(Vec<String>);
+
+impl Template {
+    /// Split `text` into words.
+    pub fn parse(text: &str) -> Result<Template, TemplateError> {
+        let words = shell_words::split(text).map_err(|e| TemplateError::Split(e.to_string()))?;
+        if words.is_empty() {
+            return Err(TemplateError::Empty);
+        }
+        Ok(Template(words))
+    }
+
+    /// The argument vector for one scene. A program given as a relative
+    /// path with a `/` is taken from `cwd`, the folder `grade` runs in.
+    pub fn argv(&self, scene: &str, out: &str, cwd: &Path) -> Vec<OsString> {
+        self.0
+            .iter()
+            .enumerate()
+            .map(|(i, word)| {
+                let word = word.replace("{scene}", scene).replace("{out}", out);
+                if i == 0 && word.contains('/') && Path::new(&word).is_relative() {
+                    cwd.join(word).into_os_string()
+                } else {
+                    word.into()
+                }
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_scene_name_never_adds_a_word() {
+        let template = Template::parse("tracer --in '{scene}' {out}").unwrap();
+        let argv = template.argv("a b; rm -rf ~.txt", "out.ppm", Path::new("/g"));
+        assert_eq!(argv, ["tracer", "--in", "a b; rm -rf ~.txt", "out.ppm"]);
+    }
+
+    #[test]
+    fn a_relative_program_is_taken_from_the_grader_folder() {
+        let template = Template::parse("./bin/tracer {scene} {out}").unwrap();
+        let argv = template.argv("s.txt", "out.ppm", Path::new("/home/g"));
+        assert_eq!(argv[0], "/home/g/./bin/tracer");
+        assert!(matches!(Template::parse("  "), Err(TemplateError::Empty)));
+        assert!(matches!(
+            Template::parse("a 'b"),
+            Err(TemplateError::Split(_))
+        ));
+    }
+}

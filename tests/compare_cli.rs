@@ -1,0 +1,208 @@
+//! `raytracer compare` on images made here: the same picture in several
+//! encodings, one shifted, one darker, another size, a truncated file and
+//! a file that is no image; the verdicts, metrics, heat map and exit codes.
+
+use std::path::Path;
+
+use image::{ImageFormat, RgbImage};
+use serde_json::Value;
+
+use crate::support::run;
+
+/// A lit disc on black, 64 × 64 (or `size`), moved right by `shift`
+/// pixels, its colours times `gain`.
+fn disc(size: u32, shift: i32, gain: f64) -> RgbImage {
+    RgbImage::from_fn(size, size, |x, y| {
+        let (dx, dy) = (x as f64 - 32.0 - f64::from(shift), y as f64 - 32.0);
+        if dx * dx + dy * dy < 16.0 * 16.0 {
+            let v = |c: f64| (c * gain).round() as u8;
+            image::Rgb([v(200.0 + dx * 3.0), v(120.0 + dy * 3.0), v(90.0)])
+        } else {
+            image::Rgb([0, 0, 0])
+        }
+    })
+}
+
+fn save(image: &RgbImage, path: &Path, format: ImageFormat) -> String {
+    image.save_with_format(path, format).expect("save image");
+    path.display().to_string()
+}
+
+/// A P3 file with maxval 65535 of `image`.
+fn p3_16bit(image: &RgbImage, path: &Path) -> String {
+    let mut text = format!("P3\n{} {}\n65535\n", image.width(), image.height());
+    for p in image.pixels() {
+        for c in p.0 {
+            text.push_str(&format!("{} ", u32::from(c) * 257));
+        }
+        text.push('\n');
+    }
+    std::fs::write(path, text).unwrap();
+    path.display().to_string()
+}
+
+fn json(args: &[&str]) -> (i32, Value) {
+    let mut all = vec!["compare", "--format", "json"];
+    all.extend_from_slice(args);
+    let output = run(&all);
+    let code = output.status.code().unwrap();
+    let value = serde_json::from_slice(&output.stdout).unwrap_or(Value::Null);
+    (code, value)
+}
+
+#[test]
+fn the_same_picture_in_three_encodings_matches_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = disc(64, 0, 1.0);
+    // Named .png but P6 inside: read by content.
+    let p6 = save(&image, &dir.path().join("p6.png"), ImageFormat::Pnm);
+    let png = save(&image, &dir.path().join("ref.ppm"), ImageFormat::Png);
+    let p3 = p3_16bit(&image, &dir.path().join("wide.ppm"));
+    for candidate in [&p6, &p3] {
+        let (code, value) = json(&[&png, candidate]);
+        assert_eq!(code, 0, "{value}");
+        assert_eq!(value["verdict"], "match");
+        assert_eq!(value["metrics"]["flip"]["max"], 0.0);
+        assert_eq!(value["metrics"]["rmse"], 0.0);
+        assert_eq!(value["metrics"]["psnr"], Value::Null);
+        assert_eq!(value["metrics"]["coverage_iou"], 1.0);
+    }
+    let (_, value) = json(&[&png, &p6]);
+    assert_eq!(value["reference"]["format"], "png");
+    assert_eq!(value["candidate"]["format"], "ppm");
+    let human = run(&["compare", &png, &p3]);
+    let text = String::from_utf8(human.stdout).unwrap();
+    assert!(text.starts_with("verdict: match\n"), "{text}");
+}
+
+#[test]
+fn a_shift_is_a_geometry_difference_and_a_darker_image_an_appearance_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = save(
+        &disc(64, 0, 1.0),
+        &dir.path().join("r.png"),
+        ImageFormat::Png,
+    );
+    let shifted = save(
+        &disc(64, 4, 1.0),
+        &dir.path().join("s.png"),
+        ImageFormat::Png,
+    );
+    let darker = save(
+        &disc(64, 0, 0.5),
+        &dir.path().join("d.png"),
+        ImageFormat::Png,
+    );
+
+    let (code, value) = json(&[&reference, &shifted]);
+    assert_eq!(code, 1);
+    assert_eq!(value["verdict"], "geometry");
+    let iou = value["metrics"]["coverage_iou"].as_f64().unwrap();
+    assert!(iou > 0.6 && iou < 0.9, "{iou}");
+
+    let (code, value) = json(&[&reference, &darker]);
+    assert_eq!(code, 1);
+    assert_eq!(value["verdict"], "appearance");
+    assert_eq!(value["metrics"]["coverage_iou"], 1.0);
+    let flip = value["metrics"]["flip"]["mean"].as_f64().unwrap();
+    assert!(flip > 0.05, "{flip}");
+    let psnr = value["metrics"]["psnr"].as_f64().unwrap();
+    assert!(psnr > 5.0 && psnr < 40.0, "{psnr}");
+
+    // The thresholds are options: a looser bound on ꟻLIP lets it match.
+    let (code, value) = json(&["--max-flip", "0.9", &reference, &darker]);
+    assert_eq!((code, &value["verdict"]), (0, &Value::from("match")));
+    let (code, _) = json(&["--min-coverage", "0.5", &reference, &shifted]);
+    assert_eq!(code, 1, "the shift still fails on ꟻLIP");
+}
+
+#[test]
+fn the_heat_map_is_the_inputs_size_and_black_where_they_agree() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = save(
+        &disc(64, 0, 1.0),
+        &dir.path().join("r.png"),
+        ImageFormat::Png,
+    );
+    let shifted = save(
+        &disc(64, 4, 1.0),
+        &dir.path().join("s.png"),
+        ImageFormat::Png,
+    );
+    let heat = dir.path().join("heat.png");
+    let (code, value) = json(&["--heatmap", heat.to_str().unwrap(), &reference, &shifted]);
+    assert_eq!(code, 1);
+    assert_eq!(value["heatmap"], heat.to_str().unwrap());
+    let map = image::open(&heat).unwrap().into_rgb8();
+    assert_eq!(map.dimensions(), (64, 64));
+    // A corner far from both discs has no error: magma's first colour.
+    let corner = map.get_pixel(0, 0).0;
+    assert!(corner.iter().all(|&c| c < 8), "{corner:?}");
+    // The disc's leading edge differs: a bright colour.
+    let edge = map.get_pixel(32 + 17, 32).0;
+    assert!(
+        edge.iter().map(|&c| u32::from(c)).sum::<u32>() > 200,
+        "{edge:?}"
+    );
+}
+
+#[test]
+fn another_size_is_a_verdict_not_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = save(
+        &disc(64, 0, 1.0),
+        &dir.path().join("r.png"),
+        ImageFormat::Png,
+    );
+    let small = save(
+        &disc(48, 0, 1.0),
+        &dir.path().join("small.ppm"),
+        ImageFormat::Pnm,
+    );
+    let heat = dir.path().join("heat.png");
+    let (code, value) = json(&["--heatmap", heat.to_str().unwrap(), &reference, &small]);
+    assert_eq!(code, 1);
+    assert_eq!(value["verdict"], "size");
+    assert_eq!(value["metrics"], Value::Null);
+    assert_eq!(value["candidate"]["width"], 48);
+    assert!(!heat.exists());
+    let text = String::from_utf8(run(&["compare", &reference, &small]).stdout).unwrap();
+    assert!(
+        text.contains("expected 64 × 64 (reference), found 48 × 48"),
+        "{text}"
+    );
+}
+
+#[test]
+fn unreadable_files_exit_2_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = save(
+        &disc(64, 0, 1.0),
+        &dir.path().join("r.png"),
+        ImageFormat::Png,
+    );
+    let full = std::fs::read(save(
+        &disc(64, 0, 1.0),
+        &dir.path().join("full.ppm"),
+        ImageFormat::Pnm,
+    ))
+    .unwrap();
+    let truncated = dir.path().join("cut.ppm");
+    std::fs::write(&truncated, &full[..full.len() / 2]).unwrap();
+    let text = dir.path().join("notes.png");
+    std::fs::write(&text, "these are not pixels\n").unwrap();
+    let missing = dir.path().join("missing.ppm");
+    for (path, says) in [
+        (&truncated, "ends before its last texel"),
+        (&text, "does not decode as an image"),
+        (&missing, "cannot read"),
+    ] {
+        let output = run(&["compare", &reference, path.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains(says), "{stderr}");
+        assert!(output.stdout.is_empty());
+    }
+    let bad_threshold = run(&["compare", "--max-flip", "2", &reference, &reference]);
+    assert_eq!(bad_threshold.status.code(), Some(2));
+}

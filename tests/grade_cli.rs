@@ -1,0 +1,454 @@
+//! `raytracer grade` with student programs written here: one right, one
+//! whose sphere moved, one darker, one of another size, and the hostile
+//! ones (a crash, a hang, a CPU spin, no image, garbage, a fork bomb, a
+//! huge write, a stdout flood, a network connection). Each reaches its
+//! status within its limits and leaves no process behind. Our own tracer
+//! on the built-in suite matches every scene, and the report is complete:
+//! summary.json valid against docs/grade-summary.schema.json, results.json
+//! in Gradescope's format, index.html with one row per scene.
+
+use std::net::TcpListener;
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+
+use crate::support::{bin, run};
+
+/// A small scene: a sphere on a lit floor, 32 pixels.
+const SCENE: &str = "camera 32\n\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n\n\
+plane\n  dimension 20 40\n  center 0 -1 -10\n  normal 0 1 0\n  headup 0 0 -1\n  color .8 .8 .8\n\n\
+light\n  location 6 4 -3\n  color 1 1 1\n";
+
+/// The binary, where the graded programs (run as `nobody` when the tests
+/// run as root) can execute it: in place when every folder above it lets
+/// others in, else a copy in the system's temporary folder.
+fn binary() -> &'static Path {
+    static BINARY: OnceLock<PathBuf> = OnceLock::new();
+    BINARY.get_or_init(|| {
+        let built = PathBuf::from(bin());
+        let open = built.ancestors().skip(1).all(|dir| {
+            dir.metadata()
+                .is_ok_and(|m| m.permissions().mode() & 0o001 != 0)
+        });
+        if open {
+            return built;
+        }
+        let copy = std::env::temp_dir().join("raytracer-grade-tests-binary");
+        let _ = std::fs::remove_file(&copy);
+        std::fs::copy(&built, &copy).unwrap();
+        copy
+    })
+}
+
+/// A folder anyone may use (the graded program writes its working folder's
+/// name into it).
+fn open_folder(prefix: &str) -> tempfile::TempDir {
+    let dir = tempfile::Builder::new().prefix(prefix).tempdir().unwrap();
+    std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o777)).unwrap();
+    dir
+}
+
+/// A test's folder: the suite (one scene), the student script, the report
+/// and the cache. The script first records the folder it runs in.
+struct Case {
+    dir: tempfile::TempDir,
+}
+
+impl Case {
+    fn new(script: &str) -> Case {
+        let dir = open_folder("grade-case-");
+        std::fs::create_dir(dir.path().join("suite")).unwrap();
+        std::fs::write(dir.path().join("suite/ball.txt"), SCENE).unwrap();
+        let student = dir.path().join("student.sh");
+        let text = format!(
+            "#!/bin/bash\npwd > {}/workdir\nRAYTRACER={}\n{script}\n",
+            dir.path().display(),
+            binary().display()
+        );
+        std::fs::write(&student, text).unwrap();
+        std::fs::set_permissions(&student, std::fs::Permissions::from_mode(0o755)).unwrap();
+        Case { dir }
+    }
+
+    /// Grade the student with `extra` options; the exit code, the one
+    /// scene's summary entry and the seconds `grade` took.
+    fn grade(&self, extra: &[&str]) -> (i32, Value, f64) {
+        let d = self.dir.path();
+        let tracer = format!("{} {{scene}} {{out}}", d.join("student.sh").display());
+        let report = d.join("report");
+        let cache = d.join("cache");
+        let mut args = vec![
+            "grade",
+            "--tracer",
+            &tracer,
+            "-o",
+            report.to_str().unwrap(),
+            "--cache",
+            cache.to_str().unwrap(),
+        ];
+        // Tight limits, unless the test sets its own.
+        for (option, value) in [
+            ("--timeout", "3"),
+            ("--max-file-size", "8"),
+            ("--max-output", "4"),
+        ] {
+            if !extra.contains(&option) {
+                args.extend([option, value]);
+            }
+        }
+        args.extend_from_slice(extra);
+        let suite = d.join("suite");
+        args.push(suite.to_str().unwrap());
+        let start = Instant::now();
+        let output = run(&args);
+        let seconds = start.elapsed().as_secs_f64();
+        let summary: Value =
+            serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap_or_else(
+                |_| panic!("no summary: {}", String::from_utf8_lossy(&output.stderr)),
+            ))
+            .unwrap();
+        assert_eq!(summary["scenes"].as_array().unwrap().len(), 1);
+        assert_no_process_left(d);
+        (
+            output.status.code().unwrap(),
+            summary["scenes"][0].clone(),
+            seconds,
+        )
+    }
+}
+
+/// No process runs the case's script or in the folder it ran in.
+fn assert_no_process_left(dir: &Path) {
+    let marker = dir.to_string_lossy().into_owned();
+    let workdir = std::fs::read_to_string(dir.join("workdir")).unwrap_or_default();
+    let workdir = workdir.trim();
+    // The kill is synchronous, but a killed process may take a moment to go.
+    let deadline = Instant::now() + Duration::from_secs(2);
+    loop {
+        let left: Vec<String> = std::fs::read_dir("/proc")
+            .unwrap()
+            .flatten()
+            .filter(|e| e.file_name().to_string_lossy().parse::<u32>().is_ok())
+            .filter_map(|e| {
+                let stat = std::fs::read_to_string(e.path().join("stat")).ok()?;
+                let state = stat[stat.rfind(')')? + 2..].chars().next()?;
+                let cmdline = std::fs::read(e.path().join("cmdline")).ok()?;
+                let cmdline = String::from_utf8_lossy(&cmdline).replace('\0', " ");
+                let cwd = std::fs::read_link(e.path().join("cwd")).unwrap_or_default();
+                let cwd = cwd.to_string_lossy();
+                let ours =
+                    cmdline.contains(&marker) || !workdir.is_empty() && cwd.starts_with(workdir);
+                (ours && state != 'Z').then(|| format!("{cmdline} ({state}) in {cwd}"))
+            })
+            .collect();
+        if left.is_empty() {
+            return;
+        }
+        assert!(Instant::now() < deadline, "processes left behind: {left:?}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+fn status(scene: &Value) -> (&str, &str) {
+    (
+        scene["status"].as_str().unwrap(),
+        scene["reason"].as_str().unwrap_or(""),
+    )
+}
+
+#[test]
+fn a_right_tracer_matches() {
+    let case = Case::new("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let (code, scene, _) = case.grade(&[]);
+    assert_eq!(status(&scene), ("match", ""), "{scene}");
+    assert_eq!(code, 0);
+    assert_eq!(scene["coverage_iou"], 1.0);
+    assert_eq!(scene["flip_mean"], 0.0);
+    assert_eq!(scene["exit_code"], 0);
+    assert_eq!(scene["score"], scene["points"]);
+}
+
+#[test]
+fn moved_darker_and_resized_images_differ_for_their_reasons() {
+    for (edit, reason, score) in [
+        ("s/center 0 0 -5/center .5 0 -5/", "geometry", 0.0),
+        ("s/color .9 .6 .3/color .3 .2 .1/", "appearance", 0.5),
+        (
+            "s/camera 32/camera 40/",
+            "size: expected 32 × 32, found 40 × 40",
+            0.0,
+        ),
+    ] {
+        let case = Case::new(&format!(
+            "sed '{edit}' \"$1\" > edited.txt && exec \"$RAYTRACER\" render edited.txt \"$2\""
+        ));
+        let (code, scene, _) = case.grade(&[]);
+        assert_eq!(status(&scene), ("differs", reason), "{scene}");
+        assert_eq!(code, 1);
+        assert_eq!(scene["score"], score);
+    }
+}
+
+#[test]
+fn a_crash_is_reported_with_its_signal_and_stderr() {
+    let case = Case::new("echo 'about to fail' >&2; kill -SEGV $$");
+    let (code, scene, _) = case.grade(&[]);
+    assert_eq!(
+        status(&scene),
+        ("crashed", "signal 11 (SIGSEGV)"),
+        "{scene}"
+    );
+    assert_eq!(code, 1);
+    assert_eq!(scene["signal"], 11);
+    assert!(scene["stderr"].as_str().unwrap().contains("about to fail"));
+
+    let case = Case::new("exit 3");
+    let (_, scene, _) = case.grade(&[]);
+    assert_eq!(status(&scene), ("crashed", "exit code 3"), "{scene}");
+}
+
+#[test]
+fn a_hang_is_killed_at_the_timeout_with_its_children() {
+    let case = Case::new("sleep 1000 & sleep 1000");
+    let (code, scene, seconds) = case.grade(&[]);
+    assert_eq!(
+        status(&scene),
+        ("timeout", "wall-clock time limit"),
+        "{scene}"
+    );
+    assert_eq!(code, 1);
+    let ran = scene["seconds"].as_f64().unwrap();
+    assert!((3.0..6.0).contains(&ran), "{ran}");
+    assert!(seconds < 10.0, "{seconds}");
+}
+
+#[test]
+fn a_cpu_spin_stops_at_the_cpu_limit() {
+    let case = Case::new("while :; do :; done");
+    let (_, scene, _) = case.grade(&["--cpu", "1", "--timeout", "20"]);
+    assert_eq!(
+        status(&scene),
+        ("timeout", "CPU time limit (SIGXCPU)"),
+        "{scene}"
+    );
+    assert!(scene["seconds"].as_f64().unwrap() < 15.0);
+}
+
+#[test]
+fn no_image_and_garbage_have_their_statuses() {
+    let case = Case::new("echo 'rendered nothing'");
+    let (_, scene, _) = case.grade(&[]);
+    assert_eq!(status(&scene).0, "no_image", "{scene}");
+    assert_eq!(scene["stdout"], "rendered nothing\n");
+
+    let case = Case::new("printf 'P6\\n32 32\\n255\\nshort' > \"$2\"");
+    let (_, scene, _) = case.grade(&[]);
+    assert_eq!(status(&scene).0, "bad_image", "{scene}");
+    assert!(
+        status(&scene).1.contains("ends before its last texel"),
+        "{scene}"
+    );
+
+    let case = Case::new("head -c 5000 /dev/urandom > \"$2\"");
+    let (_, scene, _) = case.grade(&[]);
+    assert_eq!(status(&scene).0, "bad_image", "{scene}");
+}
+
+#[test]
+fn a_fork_bomb_is_held_by_the_process_limit_and_killed_whole() {
+    let case = Case::new("bomb() { bomb | bomb & }; bomb; sleep 1000");
+    let (_, scene, seconds) = case.grade(&["--max-processes", "32"]);
+    assert_eq!(status(&scene).0, "timeout", "{scene}");
+    assert!(seconds < 15.0, "{seconds}");
+}
+
+#[test]
+fn a_huge_write_stops_at_the_file_size_limit() {
+    let case = Case::new("exec head -c 4000000000 /dev/zero > \"$2\"");
+    let (_, scene, seconds) = case.grade(&[]);
+    assert_eq!(
+        status(&scene),
+        ("crashed", "signal 25 (SIGXFSZ: file size limit)"),
+        "{scene}"
+    );
+    assert!(seconds < 10.0, "{seconds}");
+}
+
+#[test]
+fn a_stdout_flood_is_cut_at_the_bound() {
+    let case = Case::new("yes flood | head -c 50000000; exec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let (_, scene, _) = case.grade(&[]);
+    assert_eq!(status(&scene).0, "match", "{scene}");
+    let stdout = scene["stdout"].as_str().unwrap();
+    assert!(stdout.starts_with("flood\nflood\n"));
+    assert!(
+        stdout.ends_with("[… 49995904 more bytes not kept]"),
+        "{}",
+        &stdout[stdout.len() - 60..]
+    );
+}
+
+#[test]
+fn the_network_is_out_of_reach() {
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    listener.set_nonblocking(true).unwrap();
+    let port = listener.local_addr().unwrap().port();
+    let case = Case::new(&format!(
+        "if (exec 3<>/dev/tcp/127.0.0.1/{port}) 2>/dev/null; then echo connected > \"$2\"; exit 0; fi\n\
+         exec \"$RAYTRACER\" render \"$1\" \"$2\""
+    ));
+    let (_, scene, _) = case.grade(&[]);
+    let report: Value = serde_json::from_slice(
+        &std::fs::read(case.dir.path().join("report/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let isolated = report["sandbox"]["network_isolated"].as_bool().unwrap();
+    if !isolated && std::env::var_os("CI").is_none() {
+        eprintln!("no network namespace here: the connection is not expected to fail");
+        return;
+    }
+    assert!(
+        isolated,
+        "CI runs as root, where a network namespace can always be had"
+    );
+    assert_eq!(status(&scene).0, "match", "{scene}");
+    assert!(
+        listener.accept().is_err(),
+        "the program reached the test's port"
+    );
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    let output = run(&["grade", "-o", "r"]);
+    assert_eq!(output.status.code(), Some(2));
+    let dir = tempfile::tempdir().unwrap();
+    let unused = dir.path().join("unused");
+    let output = run(&["grade", "--tracer", "a 'b", "-o", unused.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("cannot split"));
+    assert!(!unused.exists());
+    let bad = dir.path().join("bad.txt");
+    std::fs::write(&bad, "camera\n").unwrap();
+    let report = dir.path().join("r");
+    let output = run(&[
+        "grade",
+        "--tracer",
+        "true",
+        "-o",
+        report.to_str().unwrap(),
+        "--cache",
+        dir.path().join("c").to_str().unwrap(),
+        bad.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("has errors"), "{stderr}");
+}
+
+/// Our tracer on the built-in suite: every scene matches, the second run
+/// renders no reference, and the report is whole.
+#[test]
+fn our_tracer_matches_the_built_in_suite() {
+    let dir = open_folder("grade-suite-");
+    let report = dir.path().join("report");
+    let cache = dir.path().join("cache");
+    let tracer = format!("{} render {{scene}} {{out}}", binary().display());
+    let grade = || {
+        run(&[
+            "grade",
+            "--tracer",
+            &tracer,
+            "-o",
+            report.to_str().unwrap(),
+            "--cache",
+            cache.to_str().unwrap(),
+            "--jobs",
+            "2",
+        ])
+    };
+    let first = grade();
+    let stderr = String::from_utf8_lossy(&first.stderr);
+    assert_eq!(first.status.code(), Some(0), "{stderr}");
+    assert!(stderr.contains("rendered 23 reference images"), "{stderr}");
+    let second = grade();
+    assert_eq!(second.status.code(), Some(0));
+    assert!(
+        second.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&second.stderr)
+    );
+
+    let summary: Value =
+        serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap()).unwrap();
+    let scenes = summary["scenes"].as_array().unwrap();
+    assert_eq!(scenes.len(), 23);
+    assert!(scenes.iter().all(|s| s["status"] == "match"), "{summary}");
+    assert_eq!(summary["score"], summary["max_score"]);
+
+    let schema_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/grade-summary.schema.json");
+    let schema: Value =
+        serde_json::from_str(&std::fs::read_to_string(schema_path).unwrap()).unwrap();
+    let validator = jsonschema::validator_for(&schema).unwrap();
+    let errors: Vec<String> = validator
+        .iter_errors(&summary)
+        .map(|e| e.to_string())
+        .collect();
+    assert!(errors.is_empty(), "{errors:?}");
+
+    let results: Value =
+        serde_json::from_slice(&std::fs::read(report.join("results.json")).unwrap()).unwrap();
+    assert_eq!(results["score"], summary["score"]);
+    let tests = results["tests"].as_array().unwrap();
+    assert_eq!(tests.len(), 23);
+    for test in tests {
+        assert_eq!(test["score"], test["max_score"]);
+        assert_eq!(test["visibility"], "visible");
+        assert!(test["name"].is_string() && test["output"].is_string());
+    }
+
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert_eq!(html.matches("<tr class=\"scene\">").count(), 23);
+    assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("<script"));
+    for scene in scenes {
+        for kind in ["reference", "student", "heatmap"] {
+            let image = scene["images"][kind].as_str().unwrap();
+            assert!(html.contains(&format!("src=\"{image}\"")));
+            assert!(image::open(report.join(image)).is_ok(), "{image}");
+        }
+    }
+}
+
+#[test]
+fn the_committed_schema_is_the_generated_one() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/grade-summary.schema.json");
+    let generated = raytracer::grade::report::schema();
+    if std::env::var_os("UPDATE_SCHEMA").is_some() {
+        std::fs::write(&path, &generated).unwrap();
+    }
+    let committed = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        committed == generated,
+        "docs/grade-summary.schema.json is stale; regenerate it with \
+         `UPDATE_SCHEMA=1 cargo test --test integration the_committed_schema_is_the_generated`"
+    );
+}
+
+#[test]
+fn the_suite_exports_and_grades_from_its_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("suite");
+    let output = run(&["grade", "--export-suite", out.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(0));
+    let manifest: Value =
+        serde_json::from_slice(&std::fs::read(out.join("suite.json")).unwrap()).unwrap();
+    for entry in manifest["scenes"].as_array().unwrap() {
+        let scene = out.join(entry["scene"].as_str().unwrap());
+        let check = run(&["check", scene.to_str().unwrap()]);
+        assert_eq!(check.status.code(), Some(0), "{}", scene.display());
+    }
+    assert!(out.join("hard/shadow_acne.txt").is_file() && out.join("wood_tex.ppm").is_file());
+}
