@@ -14,11 +14,13 @@ raytracer: build
 build:
 	$(CARGO) build --release --locked
 
-# Everything CI checks: formatting, lints, unit, integration and snapshot tests.
+# Everything CI checks: formatting, lints, unit, integration and snapshot
+# tests, and the library built without the command line.
 test: raytracer
 	$(CARGO) fmt --check
 	$(CARGO) clippy --locked --all-targets -- -D warnings
 	$(CARGO) test --locked
+	CARGO="$(CARGO)" scripts/library_user.sh
 
 run: raytracer
 	./raytracer render scenes/sample.txt out.png

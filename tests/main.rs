@@ -29,6 +29,7 @@ mod reference_model;
 mod render_cli;
 mod round_trip;
 mod stability;
+mod texture_headers;
 mod textures;
 mod tile_cli;
 mod ui;

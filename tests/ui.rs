@@ -139,9 +139,7 @@ fn docs_show_every_code_as_rendered() {
                 "`{code}` in docs/diagnostics.md lacks {part}"
             );
         }
-        let rendered = load(&fixture)
-            .report
-            .render_human(80, false);
+        let rendered = load(&fixture).report.render_human(80, false);
         assert!(
             normalized(section).contains(&normalized(&rendered)),
             "the example for `{code}` in docs/diagnostics.md is out of date; it should show:\n{rendered}"

@@ -18,19 +18,15 @@
 //!    mean of all `spp` samples in the order uniform sampling averages
 //!    them: bit for bit the uniform render's pixel.
 //!
-//! Against the first design (refine when a pixel's centre sample differs
-//! from one of its eight neighbours'), measured with docs/accuracy.md's
-//! scenes and reference: the corners see an edge or a texture step that
-//! crosses the pixel itself, so an edge refines the one or two pixels it
-//! crosses, not a band three wide; the bend test keeps smooth shading
-//! (a lit plane at 64 px changes by several 1/255 a pixel) from being
-//! refined at all; and the middle level stops where an edge only clips a
-//! corner. On the 64-px scaled scenes the samples per pixel at 16 spp fell
-//! from 8.9 to 3.3. What no level sees is detail between samples whose
-//! contrast is under the threshold: textures.txt's grain, dimmed to a
-//! tenth by ambient-only light, changes by less than 2/255 a texel, which
-//! is why the default threshold is a fraction of a step
-//! ([`DEFAULT_THRESHOLD`]).
+//! The corners see an edge or a texture step that crosses the pixel
+//! itself, so an edge refines the one or two pixels it crosses; the bend
+//! test keeps smooth shading (a lit plane changes by several 1/255 a
+//! pixel) from being refined at all; and the middle level stops where an
+//! edge only clips a corner. What no level sees is detail between samples
+//! whose contrast is under the threshold (a faint texture grain under
+//! ambient-only light), which is why the default threshold is a fraction
+//! of a step ([`DEFAULT_THRESHOLD`]). docs/accuracy.md measures what each
+//! setting costs and buys.
 //!
 //! With threshold 0 every pixel takes all its samples and the image is
 //! uniform `spp`'s (the corners are then spent for nothing). A pixel takes
