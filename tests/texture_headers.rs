@@ -16,6 +16,7 @@ const CHECK_PEAK_KB: i64 = 64 * 1024;
 /// Run `command` to completion; whether it succeeded and its peak
 /// resident memory in KiB.
 #[cfg(unix)]
+#[allow(clippy::zombie_processes)] // reaped by `wait4`, which clippy does not see
 fn peak_kb(command: &mut Command) -> (bool, i64) {
     let child = command
         .stdout(std::process::Stdio::null())
