@@ -20,12 +20,14 @@ build:
 
 # Everything CI checks: formatting, lints, unit, integration and snapshot
 # tests. The suite runs in the release profile, reusing what `make` built;
-# the examples are not built again here (clippy --all-targets checks them).
+# the examples are not built again here (clippy --all-targets checks them);
+# and the library built without the command line.
 test: raytracer
 	$(CARGO) fmt --check
 	$(CARGO) clippy --locked --all-targets -- -D warnings
 	$(CARGO) test --release --locked --lib --tests $(CARGO_FLAGS)
 	$(CARGO) test --release --locked --doc
+	CARGO="$(CARGO)" scripts/library_user.sh
 
 # The cold times in README.md, measured from bare clones of HEAD
 # (scripts/cold-times.sh; 15 to 20 minutes on 2 cores).

@@ -11,9 +11,8 @@ use smallvec::SmallVec;
 use crate::span::{Span, Spanned};
 
 /// The values after a keyword or attribute name, in order. Inline up to
-/// the three of a vector, on the heap only past that: a scene has millions
-/// of attribute lines, and a heap block for each was a tenth of the time
-/// it took to check it.
+/// the three of a vector, on the heap only past that, so a valid attribute
+/// line allocates nothing of its own.
 pub type Values = SmallVec<[Spanned<Value>; 3]>;
 
 /// A whole scene file: its sections in source order.

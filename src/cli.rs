@@ -6,6 +6,7 @@
 use std::ffi::OsString;
 use std::path::PathBuf;
 
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::render::adaptive::DEFAULT_THRESHOLD;
@@ -75,13 +76,9 @@ impl From<AccelArg> for Accel {
     }
 }
 
-/// Floating-point precision of the tracer.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
-pub enum Precision {
-    F32,
-    #[default]
-    F64,
-}
+/// Floating-point precision of the tracer: the renderer's own type, read
+/// from its name.
+pub use crate::render::Precision;
 
 /// Where the samples of `--spp` go.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -101,7 +98,8 @@ pub struct RenderArgs {
     /// Output image; the extension picks the format.
     pub out: PathBuf,
     /// Floating-point precision of every ray computation.
-    #[arg(long, value_enum, default_value_t = Precision::F64)]
+    #[arg(long, default_value = "f64",
+          value_parser = PossibleValuesParser::new(["f32", "f64"]).try_map(|s| s.parse::<Precision>()))]
     pub precision: Precision,
     /// Samples per pixel, stratified on a √N×√N grid (1 = pixel centre).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]

@@ -1,5 +1,9 @@
-//! Texture images: the decoded [`Texture`] (what the check pass loads and
-//! the IR carries) and loading one from a file.
+//! Texture images: a file's [`Header`] (what the check pass validates), the
+//! decoded [`Texture`] (what the IR carries), and the two
+//! [`TextureLoader`]s through which files reach the check pass:
+//! [`HeaderReader`] reads only headers (`raytracer check`, the language
+//! server), [`Decoder`] decodes each image in full and keeps it (`render`,
+//! `convert`).
 //!
 //! Only a regular file is opened: the path's type is checked before opening
 //! (a folder, a FIFO or a device is refused without touching it, so a FIFO
@@ -23,6 +27,69 @@ use serde::{Deserialize, Serialize};
 
 use crate::limits::{MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
 
+/// What a texture file's header says: enough to validate it without
+/// reading a texel.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Header {
+    /// The resolved path it was read from, for messages.
+    pub path: String,
+    /// What the file is (whatever its name says).
+    pub format: TextureFormat,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// How texture files reach the check pass, which does no I/O of its own:
+/// the caller passes one ([`crate::check::SceneCheck::with_sink`]).
+pub trait TextureLoader {
+    /// The header of the image at `path`, refusing one of more than
+    /// `max_texels` texels (or beyond [`MAX_TEXTURE_TEXELS`]); a loader
+    /// that decodes does so only after the header passed.
+    fn load(&mut self, path: &Path, max_texels: u64) -> Result<Header, TextureError>;
+}
+
+/// Reads headers only: validating a scene costs a few bytes per texture,
+/// whatever its size.
+#[derive(Debug, Default)]
+pub struct HeaderReader;
+
+impl TextureLoader for HeaderReader {
+    fn load(&mut self, path: &Path, max_texels: u64) -> Result<Header, TextureError> {
+        let header = read_header(path)?;
+        if !fits(header.width, header.height, max_texels) {
+            return Err(TextureError::TooLarge {
+                path: header.path,
+                width: header.width,
+                height: header.height,
+            });
+        }
+        Ok(header)
+    }
+}
+
+/// Decodes each image in full ([`load`]) and keeps it, keyed by the path
+/// it was loaded from, for [`Decoder::take`] once the check is done.
+#[derive(Debug, Default)]
+pub struct Decoder {
+    decoded: std::collections::HashMap<String, Texture>,
+}
+
+impl TextureLoader for Decoder {
+    fn load(&mut self, path: &Path, max_texels: u64) -> Result<Header, TextureError> {
+        let texture = load(path, max_texels)?;
+        let header = texture.header();
+        self.decoded.insert(header.path.clone(), texture);
+        Ok(header)
+    }
+}
+
+impl Decoder {
+    /// The texture decoded from the file `header` describes.
+    pub fn take(&mut self, header: &Header) -> Option<Texture> {
+        self.decoded.remove(&header.path)
+    }
+}
+
 /// A decoded image, row 0 at the top, channels scaled to [0, 1].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Texture {
@@ -34,6 +101,18 @@ pub struct Texture {
     pub height: u32,
     /// `width × height` texels, row-major.
     pub texels: Vec<[f32; 3]>,
+}
+
+impl Texture {
+    /// Its header, without the texels.
+    pub fn header(&self) -> Header {
+        Header {
+            path: self.path.clone(),
+            format: self.format,
+            width: self.width,
+            height: self.height,
+        }
+    }
 }
 
 /// The file formats a texture decodes from.
@@ -96,6 +175,35 @@ pub enum DecodeError {
 /// Load and decode the image at `path`, refusing more than `max_texels`
 /// (at most [`MAX_TEXTURE_TEXELS`]) before decoding its pixels.
 pub fn load(path: &Path, max_texels: u64) -> Result<Texture, TextureError> {
+    let (shown, file) = open(path)?;
+    let decoded = decode_image(BufReader::new(file), max_texels)
+        .map_err(|error| texture_error(&shown, error))?;
+    Ok(Texture {
+        path: shown,
+        format: decoded.format,
+        width: decoded.width,
+        height: decoded.height,
+        texels: decoded.texels,
+    })
+}
+
+/// Read the header of the image at `path`: its format and size, and no
+/// texel.
+pub fn read_header(path: &Path) -> Result<Header, TextureError> {
+    let (shown, file) = open(path)?;
+    let (format, width, height) =
+        read_dimensions(BufReader::new(file)).map_err(|error| texture_error(&shown, error))?;
+    Ok(Header {
+        path: shown,
+        format,
+        width,
+        height,
+    })
+}
+
+/// The path as messages show it, and the file opened for reading if it is
+/// a regular file.
+fn open(path: &Path) -> Result<(String, File), TextureError> {
     let shown = path.display().to_string();
     let io = |source| TextureError::Io {
         path: shown.clone(),
@@ -108,37 +216,37 @@ pub fn load(path: &Path, max_texels: u64) -> Result<Texture, TextureError> {
     if !file.metadata().map_err(io)?.is_file() {
         return Err(TextureError::NotAFile { path: shown });
     }
-    let decoded = decode_image(BufReader::new(file), max_texels).map_err(|error| match error {
+    Ok((shown, file))
+}
+
+/// A decoding error of the file shown as `shown`, as a [`TextureError`].
+fn texture_error(shown: &str, error: DecodeError) -> TextureError {
+    let shown = shown.to_string();
+    match error {
         DecodeError::Image(image::ImageError::IoError(source))
             if source.kind() == std::io::ErrorKind::UnexpectedEof =>
         {
-            TextureError::Truncated {
-                path: shown.clone(),
-            }
+            TextureError::Truncated { path: shown }
         }
-        DecodeError::Image(image::ImageError::IoError(source)) => io(source),
+        DecodeError::Image(image::ImageError::IoError(source)) => TextureError::Io {
+            path: shown,
+            source,
+        },
         DecodeError::Image(source) => TextureError::Decode {
-            path: shown.clone(),
+            path: shown,
             source,
         },
         DecodeError::TooLarge { width, height } => TextureError::TooLarge {
-            path: shown.clone(),
+            path: shown,
             width,
             height,
         },
         DecodeError::Empty { width, height } => TextureError::Empty {
-            path: shown.clone(),
+            path: shown,
             width,
             height,
         },
-    })?;
-    Ok(Texture {
-        path: shown,
-        format: decoded.format,
-        width: decoded.width,
-        height: decoded.height,
-        texels: decoded.texels,
-    })
+    }
 }
 
 /// An image decoded by [`decode_image`].
@@ -162,9 +270,20 @@ pub fn decode(
     decode_image(reader, max_texels).map(|d| (d.width, d.height, d.texels))
 }
 
-/// [`decode`], with the format the bytes were recognised as.
-fn decode_image(reader: impl BufRead + Seek, max_texels: u64) -> Result<Decoded, DecodeError> {
-    let mut reader = ImageReader::new(reader)
+/// The format and size an image's header gives, read without decoding
+/// any texel.
+fn read_dimensions(reader: impl BufRead + Seek) -> Result<(TextureFormat, u32, u32), DecodeError> {
+    let (format, reader) = recognise(reader)?;
+    let (width, height) = reader.into_dimensions()?;
+    if width == 0 || height == 0 {
+        return Err(DecodeError::Empty { width, height });
+    }
+    Ok((format, width, height))
+}
+
+/// A reader for the image format the bytes begin with.
+fn recognise<R: BufRead + Seek>(reader: R) -> Result<(TextureFormat, ImageReader<R>), DecodeError> {
+    let reader = ImageReader::new(reader)
         .with_guessed_format()
         .map_err(image::ImageError::IoError)?;
     let format = match reader.format() {
@@ -172,6 +291,12 @@ fn decode_image(reader: impl BufRead + Seek, max_texels: u64) -> Result<Decoded,
         Some(ImageFormat::Jpeg) => TextureFormat::Jpeg,
         _ => TextureFormat::Ppm,
     };
+    Ok((format, reader))
+}
+
+/// [`decode`], with the format the bytes were recognised as.
+fn decode_image(reader: impl BufRead + Seek, max_texels: u64) -> Result<Decoded, DecodeError> {
+    let (format, mut reader) = recognise(reader)?;
     let mut limits = Limits::default();
     limits.max_alloc = Some(MAX_DECODER_BYTES);
     reader.limits(limits);

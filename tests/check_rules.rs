@@ -4,14 +4,16 @@
 use std::path::Path;
 
 use raytracer::ast::File;
-use raytracer::check::{CheckError, Checked, SceneCheck};
+use raytracer::check::{CheckError, SceneCheck, Valid};
 use raytracer::diagnostic::SourceFile;
 use raytracer::model::Shape;
 use raytracer::syntax::parse;
+use raytracer::texture::Decoder;
 
 /// The check pass over every section of a parsed file.
-fn check_file(file: &File, source: &SourceFile) -> (Option<Checked>, Vec<CheckError>) {
-    let mut check = SceneCheck::new(source);
+fn check_file(file: &File, source: &SourceFile) -> (Option<Valid>, Vec<CheckError>) {
+    let mut decoder = Decoder::default();
+    let mut check = SceneCheck::new(source, &mut decoder);
     for section in &file.sections {
         check.section(section);
     }
@@ -19,7 +21,7 @@ fn check_file(file: &File, source: &SourceFile) -> (Option<Checked>, Vec<CheckEr
 }
 
 /// Parse and check `text` as if it were a file in `dir`.
-fn check_in(dir: &Path, text: &str) -> (Option<Checked>, Vec<String>) {
+fn check_in(dir: &Path, text: &str) -> (Option<Valid>, Vec<String>) {
     let (source, _) = SourceFile::from_bytes("scene.txt", dir, text.as_bytes());
     let parsed = parse(&source.text);
     assert!(parsed.errors.is_empty(), "{:?}", parsed.errors);
@@ -31,7 +33,7 @@ fn check_in(dir: &Path, text: &str) -> (Option<Checked>, Vec<String>) {
     (checked, codes)
 }
 
-fn check(text: &str) -> (Option<Checked>, Vec<String>) {
+fn check(text: &str) -> (Option<Valid>, Vec<String>) {
     check_in(Path::new("."), text)
 }
 
@@ -269,7 +271,7 @@ fn textures_load_relative_to_the_scene_folder() {
         checked.scene.objects[0].material.texture.as_deref(),
         Some("t.ppm")
     );
-    assert!(checked.effects().textures);
+    assert!(raytracer::ir::Effects::of(&checked.scene).textures);
     assert_eq!(scene("\"missing one.ppm\"").1, ["scene::texture_not_found"]);
     assert_eq!(scene("bad.ppm").1, ["scene::texture_not_an_image"]);
     assert_eq!(scene(".").1, ["scene::texture_not_a_file"]);
@@ -289,7 +291,8 @@ fn checking_section_by_section_as_parsed_equals_checking_the_tree() {
         let parsed = parse(text);
         let (tree_scene, tree_problems) = check_file(&parsed.file, &source);
         let mut sections = raytracer::syntax::sections(text);
-        let mut check = SceneCheck::new(&source);
+        let mut decoder = Decoder::default();
+        let mut check = SceneCheck::new(&source, &mut decoder);
         for section in sections.by_ref() {
             check.section(&section);
         }

@@ -35,6 +35,7 @@ mod render_cli;
 mod round_trip;
 mod semantic_tokens;
 mod stability;
+mod texture_headers;
 mod textures;
 mod tile_cli;
 mod ui;

@@ -24,7 +24,7 @@ pub mod summary;
 pub mod timing;
 
 use crate::ir;
-use crate::render::{self, Antialias, Counters, Options, Radiance};
+use crate::render::{self, Antialias, Counters, Options, Precision, Radiance};
 use error::{average, compare, Error};
 use timing::{seconds_per_run, shuffled, Spread};
 
@@ -75,13 +75,6 @@ pub struct Plan {
     /// The scene's own side, which the report names beside the side
     /// measured.
     pub own_size: u32,
-}
-
-/// The precision of a render.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Precision {
-    F32,
-    F64,
 }
 
 /// What a setting changes from the default (f64, 1 spp, depth 8, skip).

@@ -6,7 +6,9 @@
 //! parser yields it and never holds a large scene's whole syntax tree. The shared attribute
 //! checks live in [`attributes`] (driven by the table in [`crate::language`]), each
 //! section kind's own rules in [`sections`] (with the vector geometry of
-//! [`crate::geometry`]), texture loading in [`textures`], the
+//! [`crate::geometry`]), texture files (through the caller's
+//! [`TextureLoader`]: the pass does no I/O of its own) in [`textures`], the
+//! light-inside-sphere warning in [`inside`], the
 //! warning for text-direction controls in [`text_direction`], and the
 //! diagnostics themselves in [`errors`], some carrying a structured
 //! [`crate::fix::Fix`].
@@ -31,12 +33,21 @@ use crate::limits::{MAX_LIGHTS, MAX_OBJECTS};
 use crate::model;
 use crate::span::Span;
 use crate::suggest;
-use crate::texture::Texture;
+use crate::texture::{Header, Texture, TextureLoader};
 
 pub use errors::CheckError;
 pub use sink::{Collect, Sink, Summarise, Summary};
 
-/// A scene that passed the check pass: its model and its decoded textures,
+/// A scene that passed the check pass: its model and the header of each
+/// texture, keyed by the path as written in the scene.
+#[derive(Clone, Debug)]
+pub struct Valid {
+    pub scene: model::Scene,
+    pub textures: BTreeMap<String, Header>,
+}
+
+/// A valid scene with its textures decoded, ready to lower
+/// ([`crate::frontend::load`] makes one): the model and each texture,
 /// keyed by the path as written in the scene.
 #[derive(Clone, Debug)]
 pub struct Checked {
@@ -72,16 +83,23 @@ struct Count {
 }
 
 impl<'a> SceneCheck<'a> {
-    /// A check of the scene whose text is `source` that builds its model.
-    pub fn new(source: &'a SourceFile) -> SceneCheck<'a> {
-        SceneCheck::with_sink(source, Collect::default())
+    /// A check of the scene whose text is `source` that builds its model,
+    /// reading texture files through `textures`.
+    pub fn new(source: &'a SourceFile, textures: &'a mut dyn TextureLoader) -> SceneCheck<'a> {
+        SceneCheck::with_sink(source, Collect::default(), textures)
     }
 }
 
 impl<'a, S: Sink> SceneCheck<'a, S> {
     /// A check of the scene whose text is `source` that hands each valid
-    /// object to `objects`.
-    pub fn with_sink(source: &'a SourceFile, objects: S) -> SceneCheck<'a, S> {
+    /// object to `objects` and reads texture files through `textures`
+    /// ([`crate::texture::HeaderReader`] to validate only,
+    /// [`crate::texture::Decoder`] to decode them too).
+    pub fn with_sink(
+        source: &'a SourceFile,
+        objects: S,
+        textures: &'a mut dyn TextureLoader,
+    ) -> SceneCheck<'a, S> {
         let count = |what, kinds, limit| Count {
             what,
             kinds,
@@ -90,7 +108,7 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
             first_beyond: None,
         };
         SceneCheck {
-            cx: Checker::new(source),
+            cx: Checker::new(source, textures),
             camera: None,
             objects,
             objects_valid: true,
@@ -104,16 +122,6 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
                 count("lights", &[SectionKind::Light], MAX_LIGHTS),
             ],
         }
-    }
-
-    /// This check is fed, in order, the sections [`crate::syntax::sections`]
-    /// reads from the source text (not JSON): it may then keep the spheres
-    /// for the light-inside-sphere warning as a box per run of them, and
-    /// read a run again from the text when a light falls in its box
-    /// (`inside.rs`), instead of a record per sphere.
-    pub fn fed_from_scene_text(mut self) -> Self {
-        self.cx.inside = inside::LightsInSpheres::chunked();
-        self
     }
 
     /// Check the next section of the file.
@@ -156,37 +164,6 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
         }
     }
 
-    /// This check of the sections before some section start, joined by
-    /// `later`, the check of the sections from there on: the check one run
-    /// over both would have been (the same diagnostics, in order, and the
-    /// same objects), or `None` when `later` met something whose check
-    /// depends on what came before and the caller must check the whole
-    /// file in one run: a camera after a camera, the object or light limit
-    /// passed in `later`, or textures whose shared texel budget makes
-    /// their order matter.
-    pub fn then(mut self, later: SceneCheck<'a, S>) -> Option<SceneCheck<'a, S>> {
-        if self.camera.is_some() && later.camera.is_some() {
-            return None;
-        }
-        for (count, more) in self.counts.iter_mut().zip(&later.counts) {
-            if count.first_beyond.is_none() && count.found + more.found > count.limit {
-                return None;
-            }
-            count.found += more.found;
-        }
-        if !self.cx.textures.then(later.cx.textures) {
-            return None;
-        }
-        self.camera = self.camera.or(later.camera);
-        self.objects.append(later.objects);
-        self.objects_valid &= later.objects_valid;
-        self.lights.extend(later.lights);
-        self.cx.problems.list.extend(later.cx.problems.list);
-        self.cx.problems.incomplete |= later.cx.problems.incomplete;
-        self.cx.inside.append(later.cx.inside);
-        Some(self)
-    }
-
     /// The checks that need the whole file, then what the sink makes of
     /// the scene when there were no errors, and every diagnostic in the
     /// order found.
@@ -204,8 +181,8 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
                 span: Span::point(0).into(),
             });
         }
-        let inside = std::mem::replace(&mut cx.inside, inside::LightsInSpheres::kept());
-        cx.problems.list.extend(inside.warnings(cx.source));
+        let inside = std::mem::take(&mut cx.inside);
+        cx.problems.list.extend(inside.warnings());
         cx.problems
             .list
             .extend(text_direction::warnings(&cx.source.text));
@@ -304,18 +281,18 @@ impl Problems {
 struct Checker<'a> {
     source: &'a SourceFile,
     problems: Problems,
-    textures: textures::Textures,
+    textures: textures::Textures<'a>,
     /// What the light-inside-sphere warning weighs.
     inside: inside::LightsInSpheres,
 }
 
 impl<'a> Checker<'a> {
-    fn new(source: &'a SourceFile) -> Checker<'a> {
+    fn new(source: &'a SourceFile, textures: &'a mut dyn TextureLoader) -> Checker<'a> {
         Checker {
             source,
             problems: Problems::default(),
-            textures: textures::Textures::new(&source.dir),
-            inside: inside::LightsInSpheres::kept(),
+            textures: textures::Textures::new(&source.dir, textures),
+            inside: inside::LightsInSpheres::default(),
         }
     }
 }

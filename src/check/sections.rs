@@ -86,7 +86,7 @@ pub fn sphere(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> 
         radius,
         span: section.kind.span,
     };
-    cx.inside.sphere(at, section.span.end());
+    cx.inside.sphere(at);
     Some(model::Object {
         shape: model::Shape::Sphere {
             center: *center,
@@ -97,8 +97,7 @@ pub fn sphere(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> 
 }
 
 /// A sphere's centre and radius, each when valid: all of a sphere that the
-/// light-inside-sphere warning weighs, so `inside.rs` reads them again
-/// from a sphere's text by this same function.
+/// light-inside-sphere warning weighs.
 pub fn sphere_geometry(
     attrs: &Attributes<'_>,
     cx: &mut Checker<'_>,

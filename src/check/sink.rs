@@ -1,7 +1,7 @@
 //! What the check pass keeps of a valid scene, chosen by the caller.
 //!
 //! Rendering and converting need the whole model, so [`Collect`] gathers
-//! every valid object into a [`Checked`] scene. `raytracer check` needs only
+//! every valid object into a [`Valid`] scene. `raytracer check` needs only
 //! the diagnostics and the effects the scene calls for, so [`Summarise`]
 //! folds each valid object into a [`Summary`] and drops it: a scene of a
 //! million spheres is checked without its model ever existing. The check
@@ -10,28 +10,25 @@
 
 use std::collections::BTreeMap;
 
-use super::Checked;
+use super::Valid;
 use crate::model;
-use crate::texture::Texture;
+use crate::texture::Header;
 
 /// Where the check pass puts each valid object, and what it makes of a
 /// valid scene at the end.
-pub trait Sink: Default + Send {
+pub trait Sink: Default {
     /// What a valid scene becomes.
     type Scene;
 
     /// Take the next valid object, in file order.
     fn object(&mut self, object: model::Object);
 
-    /// Take, in order, what another sink took of the objects after these.
-    fn append(&mut self, later: Self);
-
     /// The scene, once the whole file checked without errors.
     fn scene(
         self,
         camera: model::Camera,
         lights: Vec<model::Light>,
-        textures: BTreeMap<String, Texture>,
+        textures: BTreeMap<String, Header>,
     ) -> Self::Scene;
 }
 
@@ -41,42 +38,22 @@ pub struct Collect {
     objects: Vec<model::Object>,
 }
 
-/// Objects [`Collect::append`] moves at a time.
-const MOVE_BLOCK: usize = 1 << 16;
-
 impl Sink for Collect {
-    type Scene = Checked;
+    type Scene = Valid;
 
     fn object(&mut self, object: model::Object) {
         self.objects.push(object);
-    }
-
-    /// The later list is moved over a block of [`MOVE_BLOCK`] objects at a
-    /// time and shrunk after each, so the two lists never hold the later
-    /// objects twice: for a million spheres checked in two halves, a
-    /// second copy of half the model would be the run's peak. A list only
-    /// shrinks from its end, so the later one is reversed first and its
-    /// end is then its first objects.
-    fn append(&mut self, later: Self) {
-        let mut later = later.objects;
-        self.objects.reserve_exact(later.len());
-        later.reverse();
-        while !later.is_empty() {
-            let first = later.split_off(later.len().saturating_sub(MOVE_BLOCK));
-            later.shrink_to_fit();
-            self.objects.extend(first.into_iter().rev());
-        }
     }
 
     fn scene(
         self,
         camera: model::Camera,
         lights: Vec<model::Light>,
-        textures: BTreeMap<String, Texture>,
-    ) -> Checked {
+        textures: BTreeMap<String, Header>,
+    ) -> Valid {
         let mut objects = self.objects;
         objects.shrink_to_fit();
-        Checked {
+        Valid {
             scene: model::Scene {
                 format: model::FORMAT.to_string(),
                 camera,
@@ -134,56 +111,15 @@ impl Sink for Summarise {
         self.summary.add(&object);
     }
 
-    fn append(&mut self, later: Self) {
-        let (summary, more) = (&mut self.summary, later.summary);
-        summary.objects += more.objects;
-        summary.reflective |= more.reflective;
-        summary.textured |= more.textured;
-    }
-
     fn scene(
         self,
         _camera: model::Camera,
         lights: Vec<model::Light>,
-        _textures: BTreeMap<String, Texture>,
+        _textures: BTreeMap<String, Header>,
     ) -> Summary {
         Summary {
             lights: lights.len(),
             ..self.summary
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn sphere(k: usize) -> model::Object {
-        model::Object {
-            shape: model::Shape::Sphere {
-                center: [k as f64, 0.0, 0.0],
-                radius: 1.0,
-            },
-            material: model::Material::default(),
-        }
-    }
-
-    fn collect(range: std::ops::Range<usize>) -> Collect {
-        let mut sink = Collect::default();
-        for k in range {
-            sink.object(sphere(k));
-        }
-        sink
-    }
-
-    #[test]
-    fn appending_keeps_file_order_across_several_blocks() {
-        let (first, total) = (1000, 1000 + 2 * MOVE_BLOCK + 123);
-        let mut sink = collect(0..first);
-        sink.append(collect(first..total));
-        let checked = sink.scene(model::Camera { resolution: 4 }, Vec::new(), BTreeMap::new());
-        let objects = checked.scene.objects;
-        assert_eq!(objects.len(), total);
-        assert!(objects.iter().enumerate().all(|(k, o)| *o == sphere(k)));
     }
 }

@@ -1,8 +1,9 @@
 //! Texture files: each distinct path is resolved against the scene file's
-//! folder and loaded once with [`crate::texture::load`]; a failure becomes a
+//! folder and loaded once through the caller's
+//! [`TextureLoader`] (the check itself does no I/O); a failure becomes a
 //! diagnostic at every line that names the file. The textures of a scene
 //! share one budget of texels ([`MAX_SCENE_TEXELS`]), judged from each
-//! file's header before its pixels are decoded.
+//! file's header before a loader may decode its pixels.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -10,7 +11,7 @@ use std::path::{Path, PathBuf};
 use crate::diagnostic::{io_reason, lowercase_first};
 use crate::limits::{MAX_SCENE_TEXELS, MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
 use crate::span::Spanned;
-use crate::texture::{self, Texture, TextureError};
+use crate::texture::{self, Header, TextureError, TextureLoader};
 
 use super::errors::CheckError;
 
@@ -31,60 +32,26 @@ enum Failure {
 }
 
 /// The textures loaded so far, and the paths that failed.
-#[derive(Debug)]
-pub struct Textures {
+pub struct Textures<'a> {
     dir: PathBuf,
-    loaded: BTreeMap<String, Texture>,
+    loader: &'a mut dyn TextureLoader,
+    loaded: BTreeMap<String, Header>,
     failed: BTreeMap<String, Failure>,
     /// Texels of every texture in `loaded`.
     texels: u64,
 }
 
-impl Textures {
-    /// An empty set resolving paths against `dir`.
-    pub fn new(dir: &Path) -> Textures {
+impl<'a> Textures<'a> {
+    /// An empty set resolving paths against `dir`, reading files through
+    /// `loader`.
+    pub fn new(dir: &Path, loader: &'a mut dyn TextureLoader) -> Textures<'a> {
         Textures {
             dir: dir.to_path_buf(),
+            loader,
             loaded: BTreeMap::new(),
             failed: BTreeMap::new(),
             texels: 0,
         }
-    }
-
-    /// These textures, then those `later` loaded on its own from the
-    /// lines after these: true when that is what loading them all in
-    /// order would have given, so the two are joined; false (and the
-    /// caller loads in one run) when the shared texel budget makes the
-    /// order matter: a texture too large in either, or more texels in all
-    /// than the budget holds. A path that failed or loaded in both did the
-    /// same in each, so either result stands.
-    pub fn then(&mut self, later: Textures) -> bool {
-        let too_large = |textures: &Textures| {
-            textures
-                .failed
-                .values()
-                .any(|f| matches!(f, Failure::TooLarge { .. }))
-        };
-        if too_large(self) || too_large(&later) {
-            return false;
-        }
-        let added: u64 = later
-            .loaded
-            .iter()
-            .filter(|(path, _)| !self.loaded.contains_key(*path))
-            .map(|(_, t)| u64::from(t.width) * u64::from(t.height))
-            .sum();
-        if self.texels + added > MAX_SCENE_TEXELS {
-            return false;
-        }
-        self.texels += added;
-        for (path, texture) in later.loaded {
-            self.loaded.entry(path).or_insert(texture);
-        }
-        for (path, failure) in later.failed {
-            self.failed.entry(path).or_insert(failure);
-        }
-        true
     }
 
     /// Load `path` (as written) unless already done; the diagnostic when it
@@ -97,10 +64,10 @@ impl Textures {
         let resolved = self.dir.join(written);
         let failure = match self.failed.get(written) {
             Some(failure) => failure.clone(),
-            None => match texture::load(&resolved, MAX_SCENE_TEXELS - self.texels) {
-                Ok(texture) => {
-                    self.texels += u64::from(texture.width) * u64::from(texture.height);
-                    self.loaded.insert(written.to_string(), texture);
+            None => match self.loader.load(&resolved, MAX_SCENE_TEXELS - self.texels) {
+                Ok(header) => {
+                    self.texels += u64::from(header.width) * u64::from(header.height);
+                    self.loaded.insert(written.to_string(), header);
                     return Ok(());
                 }
                 Err(error) => {
@@ -178,8 +145,9 @@ impl Textures {
         })
     }
 
-    /// Every texture that loaded, keyed by its path as written.
-    pub fn into_loaded(self) -> BTreeMap<String, Texture> {
+    /// The header of every texture that loaded, keyed by its path as
+    /// written.
+    pub fn into_loaded(self) -> BTreeMap<String, Header> {
         self.loaded
     }
 }

@@ -28,18 +28,11 @@ use crate::ir;
 use crate::output::{self, Format};
 use crate::plot::{self, Chart, Corner};
 use crate::render::adaptive::DEFAULT_THRESHOLD;
+use crate::render::Options;
 
 /// A usage or I/O error of `accuracy`.
 #[derive(Debug, thiserror::Error, Diagnostic)]
 pub enum AccuracyError {
-    /// `--reference-spp` is not a square number.
-    #[error("expected a square number of samples for `--reference-spp`, found {found}")]
-    #[diagnostic(
-        code(usage::spp_not_square),
-        help("samples lie on a √N×√N grid: try {below} or {above}")
-    )]
-    SppNotSquare { found: u32, below: u32, above: u32 },
-
     /// The worker threads could not be started.
     #[error("cannot start {threads} threads: {reason}")]
     #[diagnostic(code(io::threads))]
@@ -66,14 +59,7 @@ pub enum AccuracyError {
 
 /// Run `raytracer accuracy`.
 pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
-    let grid = args.reference_spp.isqrt();
-    if grid * grid != args.reference_spp {
-        return Err(Box::new(AccuracyError::SppNotSquare {
-            found: args.reference_spp,
-            below: grid * grid,
-            above: (grid + 1) * (grid + 1),
-        }));
-    }
+    Options::square_spp(args.reference_spp, "--reference-spp")?;
     let paths: Vec<&PathBuf> = args.scenes.iter().chain(&args.held_out).collect();
     let stems = stems(&paths);
     let assets = match &args.assets {

@@ -9,7 +9,7 @@ use std::path::Path;
 
 use miette::Diagnostic;
 
-use super::render::{check_spp, thread_pool};
+use super::render::thread_pool;
 use super::{Outcome, WriteStdoutError};
 use crate::accuracy::Precision as RenderPrecision;
 use crate::ci::sarif::docs_uri;
@@ -33,7 +33,7 @@ pub fn run(args: PreviewArgs) -> Result<Outcome, BoxedDiagnostic> {
     if args.scene == Path::new("-") {
         return Err(Box::new(PreviewStdin));
     }
-    check_spp(args.spp)?;
+    Options::square_spp(args.spp, "--spp")?;
     // A scene that cannot be read at all is refused now, before serving,
     // as `render` refuses it; later reads that fail show on the page.
     read_scene(&args.scene)?;

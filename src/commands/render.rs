@@ -21,30 +21,22 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use miette::Diagnostic;
-use serde::{Deserialize, Serialize};
 
 use super::Outcome;
 use crate::check::Checked;
-use crate::cli::{Antialias, Precision, RenderArgs};
+use crate::cli::{Antialias, RenderArgs};
 use crate::diagnostic::BoxedDiagnostic;
 use crate::diagnostic::{terminal_width, use_color};
 use crate::frontend::{load, Loaded};
-use crate::ir::{self, Effects};
+use crate::ir;
 use crate::output::{self, Format};
-use crate::render::{self, Counters, Image, Options};
+use crate::render::stats::{Seconds, Stats};
+use crate::render::{self, Counters, Image, Options, Precision};
 use crate::tile::{self, Band, PixelOptions, TileInfo};
 
 /// A usage error found after clap: a value clap's parsers cannot judge.
 #[derive(Debug, thiserror::Error, Diagnostic)]
 pub enum RenderUsageError {
-    /// `--spp` is not a square number.
-    #[error("expected a square number of samples for `--spp`, found {found}")]
-    #[diagnostic(
-        code(usage::spp_not_square),
-        help("samples lie on a √N×√N grid: try {below} or {above}")
-    )]
-    SppNotSquare { found: u32, below: u32, above: u32 },
-
     /// The worker threads could not be started.
     #[error("cannot start {threads} render threads: {reason}")]
     #[diagnostic(code(io::threads))]
@@ -74,51 +66,6 @@ pub enum RenderUsageError {
         #[source]
         source: std::io::Error,
     },
-}
-
-/// Seconds per stage.
-#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
-pub struct Seconds {
-    pub parse: f64,
-    pub check: f64,
-    pub lower: f64,
-    pub render: f64,
-    pub write: f64,
-    pub total: f64,
-}
-
-impl std::ops::AddAssign for Seconds {
-    fn add_assign(&mut self, other: Seconds) {
-        self.parse += other.parse;
-        self.check += other.check;
-        self.lower += other.lower;
-        self.render += other.render;
-        self.write += other.write;
-        self.total += other.total;
-    }
-}
-
-/// What `--stats` prints and `--stats-json` writes.
-#[derive(Clone, Debug, Serialize)]
-pub struct Stats {
-    #[serde(flatten)]
-    pub counters: Counters,
-    pub seconds: Seconds,
-    pub threads: usize,
-    pub precision: &'static str,
-    pub spp: u32,
-    pub antialias: &'static str,
-    pub max_depth: u32,
-    pub skip: bool,
-    /// What was asked for (`auto` chooses by the scene's size).
-    pub accel: render::Accel,
-    /// What ran: `bvh` (with `bvh_nodes` nodes) or `brute`.
-    pub accel_used: &'static str,
-    pub resolution: u32,
-    pub effects: Effects,
-    /// With `--tile`: where the tile belongs.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub tile: Option<TileInfo>,
 }
 
 /// Run `raytracer render`.
@@ -167,10 +114,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
         accel: args.accel.into(),
         seed: 0,
     };
-    let precision = match args.precision {
-        Precision::F32 => "f32",
-        Precision::F64 => "f64",
-    };
+    let precision = args.precision;
     let tile = match args.tile {
         Some(band) => Some(tile_info(band, &checked, &options, precision)?),
         None => None,
@@ -249,21 +193,8 @@ fn preflight(args: &RenderArgs) -> Result<(Format, rayon::ThreadPool), BoxedDiag
         output::check_not_input(out, scene)?;
         output::check_writable(out)?;
     }
-    check_spp(args.spp)?;
+    Options::square_spp(args.spp, "--spp")?;
     Ok((format, thread_pool(args.threads)?))
-}
-
-/// Refuse a `--spp` that is not a square number (samples lie on a grid).
-pub(crate) fn check_spp(spp: u32) -> Result<(), RenderUsageError> {
-    let grid = spp.isqrt();
-    if grid * grid != spp {
-        return Err(RenderUsageError::SppNotSquare {
-            found: spp,
-            below: grid * grid,
-            above: (grid + 1) * (grid + 1),
-        });
-    }
-    Ok(())
 }
 
 /// The render pool of `--threads` (all cores without it).
@@ -312,7 +243,7 @@ fn tile_info(
     band: Band,
     checked: &Checked,
     options: &Options,
-    precision: &'static str,
+    precision: Precision,
 ) -> Result<TileInfo, RenderUsageError> {
     let rows = checked.scene.camera.resolution;
     if band.n > rows {
@@ -357,68 +288,4 @@ fn trace(
     };
     bar.finish_and_clear();
     result
-}
-
-impl Stats {
-    /// Which pixels took how many samples.
-    fn sampling(&self) -> String {
-        if self.antialias == "adaptive" {
-            let pixels = u64::from(self.resolution).pow(2);
-            format!(
-                "adaptive: of {pixels} pixels {} took {} samples, {} took 4, the rest only their corners",
-                self.counters.pixels_refined, self.spp, self.counters.pixels_partly_refined
-            )
-        } else {
-            format!("uniform: every pixel took {}", self.spp)
-        }
-    }
-
-    /// The `--stats` block for stderr.
-    fn human(&self) -> String {
-        let c = &self.counters;
-        let s = &self.seconds;
-        format!(
-            "effects            {}\n\
-             primary rays       {} (samples; {})\n\
-             shadow rays        {} ({} skipped)\n\
-             reflection rays    {} ({} paths saturated)\n\
-             texture lookups    {}\n\
-             acceleration       {} (--accel {})\n\
-             seconds            parse {:.4}, check {:.4}, lower {:.4}, render {:.4}, write {:.4}, total {:.4}\n\
-             threads            {} ({}, {} spp, max depth {})\n",
-            self.effects.summary(),
-            c.primary_rays,
-            self.sampling(),
-            c.shadow_rays,
-            c.shadow_rays_skipped,
-            c.reflection_rays,
-            c.paths_saturated,
-            c.texture_lookups,
-            match c.bvh_nodes {
-                0 => "brute force".to_string(),
-                1 => "bvh, 1 node".to_string(),
-                nodes => format!("bvh, {nodes} nodes"),
-            },
-            format!("{:?}", self.accel).to_lowercase(),
-            s.parse,
-            s.check,
-            s.lower,
-            s.render,
-            s.write,
-            s.total,
-            self.threads,
-            self.precision,
-            self.spp,
-            self.max_depth,
-        ) + &self.tile.as_ref().map_or(String::new(), |tile| {
-            let rows = tile.rows();
-            format!(
-                "tile               {} (rows {}..{} of {})\n",
-                tile.band(),
-                rows.start,
-                rows.end,
-                tile.height
-            )
-        })
-    }
 }

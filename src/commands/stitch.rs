@@ -21,16 +21,15 @@ use miette::Diagnostic;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
-use super::render::Seconds;
 use super::Outcome;
 use crate::cli::StitchArgs;
 use crate::diagnostic::io_reason;
 use crate::diagnostic::BoxedDiagnostic;
 use crate::output::{self, Format};
+use crate::render::stats::{Seconds, TileStats};
 use crate::render::Counters;
 use crate::tile::file::{self, ReadTileError};
 use crate::tile::stitch::{self, Part};
-use crate::tile::TileInfo;
 
 /// Why the tiles' statistics cannot be merged.
 #[derive(Debug, thiserror::Error, Diagnostic)]
@@ -86,15 +85,6 @@ impl StatsError {
     fn is_io(&self) -> bool {
         matches!(self, StatsError::Io { .. } | StatsError::Write { .. })
     }
-}
-
-/// What a tile's `--stats-json` holds that the merge reads.
-#[derive(Deserialize)]
-struct TileStats {
-    #[serde(flatten)]
-    counters: Counters,
-    seconds: Seconds,
-    tile: TileInfo,
 }
 
 /// What `stitch --stats-json` writes.

@@ -14,6 +14,17 @@ use crate::language;
 use crate::model;
 
 /// `scene` as pretty JSON, ending in a newline.
+///
+/// ```
+/// use std::path::Path;
+/// use std::time::Instant;
+///
+/// let text = "camera 4\nlight\n  location 0 5 0\n  color 1 1 1\n";
+/// let loaded = raytracer::frontend::load_bytes("a.txt", Path::new("."), text.as_bytes(), Instant::now());
+/// let json = raytracer::convert::json::to_json(&loaded.checked.unwrap().scene);
+/// assert!(json.contains("\"resolution\": 4"));
+/// assert!(json.contains("\"location\""));
+/// ```
 pub fn to_json(scene: &model::Scene) -> String {
     // The model has only strings, numbers, arrays and maps with string
     // keys, so serialising it cannot fail.

@@ -6,16 +6,17 @@
 //! in memory; both decode the text, pick the [`Language`], and stream the
 //! sections the parser (or the JSON reader) yields through the one check
 //! pass, [`SceneCheck`], a batch at a time: neither language ever holds a
-//! large scene's whole syntax tree. [`load_summary`] does the same but keeps
-//! only a [`Summary`] of a valid scene, never its model, for callers that
-//! want only the diagnostics and the effects. [`parse`] stops after
-//! parsing, for callers that want the tree itself. Nothing here knows about
-//! the command line.
+//! large scene's whole syntax tree. They decode the scene's textures
+//! ([`Decoder`]) for the renderer. [`load_summary`] and [`check_bytes_as`]
+//! validate only: they keep a [`Summary`] of a valid scene, never its
+//! model, and read only the headers of its textures ([`HeaderReader`]),
+//! for callers that want the diagnostics and the effects (`raytracer
+//! check`, the language server). [`parse`] stops after parsing, for callers
+//! that want the tree itself. This module reads the files; the stages it
+//! drives do no I/O of their own. Nothing here knows about the command
+//! line.
 
 mod read;
-mod split;
-#[cfg(test)]
-mod split_parity;
 #[cfg(test)]
 mod summary_parity;
 
@@ -25,9 +26,10 @@ use std::time::{Duration, Instant};
 pub use read::{read_scene, ReadSceneError};
 
 use crate::ast::{self, Section};
-use crate::check::{Checked, Collect, SceneCheck, Sink, Summarise, Summary};
+use crate::check::{Checked, Collect, SceneCheck, Sink, Summarise, Summary, Valid};
 use crate::diagnostic::{boxed, io_reason, BoxedDiagnostic, Report, SourceFile};
 use crate::fix::Fix;
+use crate::texture::{Decoder, HeaderReader, TextureLoader};
 use crate::{json, syntax};
 
 /// A scene run through the front end: every diagnostic, and what was kept
@@ -56,13 +58,21 @@ impl Language {
     /// first non-blank character is `{` (which no scene file starts with);
     /// scene text otherwise.
     pub fn of(path: &Path, bytes: &[u8]) -> Language {
-        let json = if path == Path::new("-") {
-            bytes.trim_ascii_start().starts_with(b"{")
+        if path == Path::new("-") && bytes.trim_ascii_start().starts_with(b"{") {
+            Language::Json
         } else {
-            path.extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("json"))
-        };
-        if json {
+            Language::of_name(path)
+        }
+    }
+
+    /// By the name alone: JSON for a path ending in `.json` (any case),
+    /// scene text otherwise. The one rule every caller that has a name
+    /// (a file, an editor's document) goes by.
+    pub fn of_name(path: &Path) -> Language {
+        if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        {
             Language::Json
         } else {
             Language::Text
@@ -90,17 +100,24 @@ pub fn parse(language: Language, text: &str) -> (Option<ast::File>, Vec<BoxedDia
 /// Read `path` (`-` is stdin), parse it as scene text or JSON (see
 /// [`Language::of`]) and check it.
 pub fn load(path: &Path) -> Result<Loaded, ReadSceneError> {
-    load_into::<Collect>(path)
+    let mut decoder = Decoder::default();
+    let loaded = load_into::<Collect>(path, &mut decoder)?;
+    Ok(decoded(loaded, decoder))
 }
 
-/// [`load`], keeping only the [`Summary`] of a valid scene: each object is
-/// summarised and dropped as soon as it is checked.
+/// [`load`], keeping only the [`Summary`] of a valid scene (each object is
+/// summarised and dropped as soon as it is checked) and reading only the
+/// headers of its textures.
 pub fn load_summary(path: &Path) -> Result<Loaded<Summary>, ReadSceneError> {
-    load_into::<Summarise>(path)
+    load_into::<Summarise>(path, &mut HeaderReader)
 }
 
-/// [`load`] with each valid object handed to a sink of kind `S`.
-fn load_into<S: Sink>(path: &Path) -> Result<Loaded<S::Scene>, ReadSceneError> {
+/// [`load`] with each valid object handed to a sink of kind `S`, and
+/// texture files read through `textures`.
+fn load_into<S: Sink>(
+    path: &Path,
+    textures: &mut dyn TextureLoader,
+) -> Result<Loaded<S::Scene>, ReadSceneError> {
     let start = Instant::now();
     let bytes = read_scene(path)?;
     let (name, dir) = if path == Path::new("-") {
@@ -117,12 +134,48 @@ fn load_into<S: Sink>(path: &Path) -> Result<Loaded<S::Scene>, ReadSceneError> {
     // The buffer read becomes the text: one copy of a large scene, never
     // two.
     let (source, utf8_error) = SourceFile::from_vec(&name, &dir, bytes);
-    Ok(load_source::<S>(source, utf8_error, language, start))
+    Ok(load_source::<S>(
+        source, utf8_error, language, start, textures,
+    ))
+}
+
+/// A valid scene with the textures `decoder` decoded while checking it.
+fn decoded(loaded: Loaded<Valid>, mut decoder: Decoder) -> Loaded {
+    let Loaded {
+        report,
+        checked,
+        parse_seconds,
+        check_seconds,
+    } = loaded;
+    let checked = checked.map(|Valid { scene, textures }| Checked {
+        scene,
+        textures: textures
+            .into_iter()
+            .filter_map(|(written, header)| Some((written, decoder.take(&header)?)))
+            .collect(),
+    });
+    Loaded {
+        report,
+        checked,
+        parse_seconds,
+        check_seconds,
+    }
 }
 
 /// Parse and check scene bytes named `name` (scene text, or JSON when the
 /// name ends in `.json`), whose texture paths resolve against `dir`;
 /// `start` is when reading began, for the parse timing.
+///
+/// ```
+/// use std::path::Path;
+/// use std::time::Instant;
+///
+/// let text = "camera 4\nsphere\n  dimension 0\n  center 0 0 -5\n";
+/// let loaded = raytracer::frontend::load_bytes("a.txt", Path::new("."), text.as_bytes(), Instant::now());
+/// assert!(loaded.checked.is_none());
+/// let codes: Vec<String> = loaded.report.entries().map(|e| e.code).collect();
+/// assert!(codes.iter().any(|c| c.starts_with("scene::")), "{codes:?}");
+/// ```
 pub fn load_bytes(name: &str, dir: &Path, bytes: &[u8], start: Instant) -> Loaded {
     load_bytes_as(
         Language::of(Path::new(name), bytes),
@@ -142,49 +195,23 @@ pub fn load_bytes_as(
     start: Instant,
 ) -> Loaded {
     let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
-    load_source::<Collect>(source, utf8_error, language, start)
+    let mut decoder = Decoder::default();
+    let loaded = load_source::<Collect>(source, utf8_error, language, start, &mut decoder);
+    decoded(loaded, decoder)
 }
 
-/// Parse and check the scene text of `source` as two halves cut at `cut`,
-/// on two threads; the joined check with every section checked, and the
-/// syntax errors in order. `None` when the halves do not join (see
-/// [`SceneCheck::then`]).
-fn on_two_threads<S: Sink>(
-    source: &SourceFile,
-    cut: usize,
-) -> Option<(Batches<'_, S>, Vec<syntax::SyntaxError>)> {
-    let halves = split::halves(&source.text, cut).map(|mut sections| {
-        move || {
-            let mut batches = Batches::new(source, Language::Text);
-            for section in sections.by_ref() {
-                batches.push(section);
-            }
-            batches.flush();
-            (batches, sections.into_errors())
-        }
-    });
-    let [first, later] = halves;
-    let ((first, mut errors), (later, later_errors)) = std::thread::scope(|scope| {
-        let later = scope.spawn(later);
-        let first = first();
-        let later = later
-            .join()
-            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        (first, later)
-    });
-    errors.extend(later_errors);
-    // The halves ran side by side: the longer check is the time checking
-    // added to the run.
-    let checking = first.checking.max(later.checking);
-    let check = first.check.then(later.check)?;
-    Some((
-        Batches {
-            check,
-            batch: Vec::new(),
-            checking,
-        },
-        errors,
-    ))
+/// [`load_bytes_as`] validating only: the diagnostics and the [`Summary`]
+/// of a valid scene, reading only the headers of its textures (the
+/// language server's check after an edit).
+pub fn check_bytes_as(language: Language, name: &str, dir: &Path, bytes: &[u8]) -> Loaded<Summary> {
+    let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
+    load_source::<Summarise>(
+        source,
+        utf8_error,
+        language,
+        Instant::now(),
+        &mut HeaderReader,
+    )
 }
 
 /// A diagnostic with the fix it carries.
@@ -192,15 +219,12 @@ type Fixable = (BoxedDiagnostic, Option<Fix>);
 
 /// Sections parsed before they are checked (and dropped). Few, so that
 /// the blocks a batch frees fit the allocator's per-thread cache (glibc's
-/// tcache keeps 7 blocks of each size; a sphere frees two blocks of one
-/// size, its vectors' values) and the next batch reuses them while they
-/// are hot: with 1,024 sections a batch, malloc and free were a fifth of
-/// `check`'s time on a million spheres, with 3 they are a fifteenth.
+/// tcache keeps 7 blocks of each size) and the next batch reuses them
+/// while they are hot.
 const CHECK_BATCH: usize = 3;
 
 /// The check pass fed a batch of sections at a time, so the clock is read
-/// twice a batch, not twice a section (a million readings cost 1 % of the
-/// time).
+/// twice a batch, not twice a section.
 struct Batches<'a, S: Sink> {
     check: SceneCheck<'a, S>,
     batch: Vec<Section>,
@@ -208,13 +232,9 @@ struct Batches<'a, S: Sink> {
 }
 
 impl<'a, S: Sink> Batches<'a, S> {
-    fn new(source: &'a SourceFile, language: Language) -> Batches<'a, S> {
-        let check = SceneCheck::with_sink(source, S::default());
+    fn new(source: &'a SourceFile, textures: &'a mut dyn TextureLoader) -> Batches<'a, S> {
         Batches {
-            check: match language {
-                Language::Text => check.fed_from_scene_text(),
-                Language::Json => check,
-            },
+            check: SceneCheck::with_sink(source, S::default(), textures),
             batch: Vec::with_capacity(CHECK_BATCH),
             checking: Duration::ZERO,
         }
@@ -263,6 +283,7 @@ fn load_source<S: Sink>(
     utf8_error: Option<syntax::SyntaxError>,
     language: Language,
     start: Instant,
+    textures: &mut dyn TextureLoader,
 ) -> Loaded<S::Scene> {
     let mut diagnostics: Vec<Fixable> = Vec::new();
     let not_text = matches!(utf8_error, Some(syntax::SyntaxError::NotText { .. }));
@@ -282,38 +303,18 @@ fn load_source<S: Sink>(
             check_seconds: 0.0,
         };
     }
-    let cut = split::cut(&source.text).filter(|_| language == Language::Text);
-    load_text_cut_at::<S>(source, diagnostics, language, start, cut)
-}
-
-/// [`load_source`] with the text cut for two threads at `cut` (a safe
-/// cut of [`split`]), or read on one thread.
-fn load_text_cut_at<S: Sink>(
-    source: SourceFile,
-    mut diagnostics: Vec<Fixable>,
-    language: Language,
-    start: Instant,
-    cut: Option<usize>,
-) -> Loaded<S::Scene> {
-    let unfixed = |d: Vec<BoxedDiagnostic>| d.into_iter().map(|d| (d, None));
     let (batches, is_scene) = match language {
-        Language::Text => match cut.and_then(|cut| on_two_threads::<S>(&source, cut)) {
-            Some((joined, errors)) => {
-                diagnostics.extend(unfixed(boxed(errors)));
-                (joined, true)
+        Language::Text => {
+            let mut batches = Batches::<S>::new(&source, textures);
+            let mut sections = syntax::sections(&source.text);
+            for section in sections.by_ref() {
+                batches.push(section);
             }
-            None => {
-                let mut batches = Batches::new(&source, language);
-                let mut sections = syntax::sections(&source.text);
-                for section in sections.by_ref() {
-                    batches.push(section);
-                }
-                diagnostics.extend(unfixed(boxed(sections.into_errors())));
-                (batches, true)
-            }
-        },
+            diagnostics.extend(unfixed(boxed(sections.into_errors())));
+            (batches, true)
+        }
         Language::Json => {
-            let mut batches = Batches::new(&source, language);
+            let mut batches = Batches::<S>::new(&source, textures);
             let read = json::read(&source.text, |section| batches.push(section));
             diagnostics.extend(unfixed(boxed(read.errors)));
             (batches, read.is_scene)
@@ -356,7 +357,8 @@ mod tests {
         let (file, mut diagnostics) = parse(language, text);
         let mut checked = None;
         if let Some(file) = file {
-            let mut check = SceneCheck::new(&source);
+            let mut headers = HeaderReader;
+            let mut check = SceneCheck::new(&source, &mut headers);
             for section in &file.sections {
                 check.section(section);
             }

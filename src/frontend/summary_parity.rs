@@ -32,7 +32,13 @@ fn assert_same(name: &str, dir: &Path, bytes: &[u8]) {
 fn check<S: Sink>(name: &str, dir: &Path, bytes: &[u8]) -> Loaded<S::Scene> {
     let language = Language::of(Path::new(name), bytes);
     let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
-    load_source::<S>(source, utf8_error, language, Instant::now())
+    load_source::<S>(
+        source,
+        utf8_error,
+        language,
+        Instant::now(),
+        &mut HeaderReader,
+    )
 }
 
 /// The scene files under `dir`, recursively.

@@ -19,6 +19,18 @@ use crate::model;
 
 /// Lower a checked scene to the render IR, moving its decoded textures
 /// (never copying their texels).
+///
+/// ```
+/// use std::path::Path;
+/// use std::time::Instant;
+///
+/// let text = "camera 8\nsphere\n  dimension 1\n  center 0 0 -5\n  reflectivity 0.5\n";
+/// let loaded = raytracer::frontend::load_bytes("a.txt", Path::new("."), text.as_bytes(), Instant::now());
+/// let scene = raytracer::ir::lower(loaded.checked.unwrap());
+/// assert_eq!(scene.resolution, 8);
+/// assert_eq!(scene.objects.len(), 1);
+/// assert_eq!(scene.material(&scene.objects[0]).reflectivity, 0.5);
+/// ```
 pub fn lower(checked: Checked) -> Scene {
     let Checked {
         scene,

@@ -15,16 +15,9 @@ use serde::{Deserialize, Serialize};
 
 pub use lower::lower;
 
-use crate::check::{Checked, Summary};
+use crate::check::Summary;
 use crate::model;
 pub use crate::texture::Texture;
-
-impl Checked {
-    /// The effects the checked scene calls for, as its IR will record them.
-    pub fn effects(&self) -> Effects {
-        Effects::of(&self.scene)
-    }
-}
 
 /// A scene ready to render.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

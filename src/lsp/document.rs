@@ -4,7 +4,6 @@
 //! shows exactly what the command prints).
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use lsp_types::{
     CodeDescription, Diagnostic, DiagnosticRelatedInformation, DiagnosticSeverity, Location,
@@ -14,7 +13,7 @@ use lsp_types::{
 use super::position::LineIndex;
 use crate::diagnostic::severity_of;
 use crate::fix::Fix;
-use crate::frontend::{load_bytes_as, Language};
+use crate::frontend::{check_bytes_as, Language};
 use crate::span::Span;
 
 /// An open document.
@@ -30,8 +29,12 @@ pub struct Document {
 impl Document {
     pub fn new(uri: Url, text: String, version: i32, language_id: &str) -> Document {
         let path = uri.to_file_path().ok();
-        let json = language_id == "json" || uri.path().to_ascii_lowercase().ends_with(".json");
-        let language = if json { Language::Json } else { Language::Text };
+        // The client's language id, where it says JSON, else the name.
+        let language = if language_id == "json" {
+            Language::Json
+        } else {
+            Language::of_name(Path::new(uri.path()))
+        };
         // A document that is no file (an untitled buffer) resolves from the
         // server's working directory, as stdin does for `check`.
         let dir = path
@@ -78,13 +81,7 @@ impl Document {
     /// each with the fix it carries. `docs` is the address of
     /// docs/diagnostics.md, each code's section linked from its diagnostic.
     pub fn diagnostics(&self, docs: Option<&Url>) -> Vec<(Diagnostic, Option<Fix>)> {
-        let loaded = load_bytes_as(
-            self.language,
-            &self.name(),
-            &self.dir,
-            self.text.as_bytes(),
-            Instant::now(),
-        );
+        let loaded = check_bytes_as(self.language, &self.name(), &self.dir, self.text.as_bytes());
         let index = LineIndex::new(&self.text);
         let report = loaded.report;
         report

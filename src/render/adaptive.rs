@@ -19,14 +19,14 @@
 //!    them: bit for bit the uniform render's pixel.
 //!
 //! The corners see an edge or a texture step that crosses the pixel
-//! itself, so an edge refines the one or two pixels it crosses, not a band
-//! three wide; the bend test keeps smooth shading (a lit plane changes by
-//! several 1/255 a pixel) from being refined at all; and the middle level
-//! stops where an edge only clips a corner. What no level sees is detail
-//! between samples whose contrast is under the threshold: a texture's
-//! grain dimmed by ambient-only light changes by less than a step a texel,
-//! which is why the default threshold is a fraction of a step
-//! ([`DEFAULT_THRESHOLD`]).
+//! itself, so an edge refines the one or two pixels it crosses; the bend
+//! test keeps smooth shading (a lit plane changes by several 1/255 a
+//! pixel) from being refined at all; and the middle level stops where an
+//! edge only clips a corner. What no level sees is detail between samples
+//! whose contrast is under the threshold (a faint texture grain under
+//! ambient-only light), which is why the default threshold is a fraction
+//! of a step ([`DEFAULT_THRESHOLD`]). docs/accuracy.md measures what each
+//! setting costs and buys.
 //!
 //! With threshold 0 every pixel takes all its samples and the image is
 //! uniform `spp`'s (the corners are then spent for nothing). A pixel takes

@@ -6,8 +6,8 @@
 //! the sorted centroids for nodes of up to 16 primitives, then collapsed into a 4-wide tree (each
 //! node the boxes of up to four children, tested at once, one SIMD slab
 //! test per axis over four lanes; which binary nodes become wide nodes is
-//! chosen by expected cost in [`collapse`]): a ray visits about half as
-//! many nodes.
+//! chosen by expected cost in [`collapse`]), so a ray visits fewer
+//! nodes.
 //! Building reorders the world's primitives into leaf order, so a leaf
 //! names a run of slots and its primitives lie side by side in memory.
 //!
@@ -44,9 +44,9 @@ use super::real::{Real, Vector};
 const MAX_LEAF: usize = 4;
 /// Centroid bins per axis for the surface area heuristic.
 const BINS: usize = 16;
-/// The relative cost of testing a primitive against visiting a node: 0.3
-/// renders 100,000 spheres with 11 % fewer instructions than 0.6, with the
-/// same cache misses (cachegrind, docs/performance.md); 0.15 is no better.
+/// The relative cost of testing a primitive against visiting a node, as
+/// the surface area heuristic weighs them (docs/performance.md has how it
+/// was chosen).
 const PRIMITIVE_COST: f64 = 0.3;
 /// Scenes whose coordinates reach beyond this are left to brute force:
 /// far inside `f32`'s range, so box tests never meet an infinity.
@@ -253,8 +253,8 @@ impl Bvh {
         collapse::Plan::new(&nodes, items.len()).collapse(&nodes, 0, &mut wide);
         drop(nodes);
         // Gathered in leaf order: independent reads, unlike moving the
-        // primitives along the permutation's cycles in place, whose
-        // chained cache misses took a fifth of the build for 10⁶ spheres.
+        // primitives along the permutation's cycles in place, whose cache
+        // misses each wait for the one before.
         let order: Vec<u32> = items.iter().map(Item::slot).collect();
         drop(items);
         *prims = order

@@ -23,6 +23,7 @@ pub mod geometry;
 mod prim;
 pub mod real;
 mod sampling;
+pub mod stats;
 pub mod trace;
 pub mod world;
 
@@ -78,6 +79,78 @@ impl Default for Options {
     }
 }
 
+impl Options {
+    /// Refuse a sample count that is not a square number: the samples of a
+    /// pixel lie on a √spp×√spp grid. `option` names where the count came
+    /// from (`--spp`), for the message.
+    pub fn square_spp(spp: u32, option: &'static str) -> Result<u32, SppNotSquare> {
+        let grid = spp.isqrt();
+        if grid * grid == spp {
+            Ok(spp)
+        } else {
+            Err(SppNotSquare {
+                option,
+                found: spp,
+                below: grid * grid,
+                above: (grid + 1) * (grid + 1),
+            })
+        }
+    }
+}
+
+/// A sample count that is not a square number.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+#[error("expected a square number of samples for `{option}`, found {found}")]
+#[diagnostic(
+    code(usage::spp_not_square),
+    help("samples lie on a √N×√N grid: try {below} or {above}")
+)]
+pub struct SppNotSquare {
+    pub option: &'static str,
+    pub found: u32,
+    pub below: u32,
+    pub above: u32,
+}
+
+/// The floating-point type every ray computation is done in: the type
+/// parameter [`Real`] of [`render`], as a value (what `--precision` reads,
+/// statistics print and the options hash of tiles records).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Precision {
+    F32,
+    #[default]
+    F64,
+}
+
+impl Precision {
+    /// Its name: `f32` or `f64`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::F32 => "f32",
+            Precision::F64 => "f64",
+        }
+    }
+}
+
+impl std::fmt::Display for Precision {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Precision {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Precision, String> {
+        match s {
+            "f32" => Ok(Precision::F32),
+            "f64" => Ok(Precision::F64),
+            _ => Err(format!("expected `f32` or `f64`, found `{s}`")),
+        }
+    }
+}
+
 /// Which pixels take all `spp` samples.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -118,6 +191,20 @@ impl Radiance {
 
 /// Render `scene` in precision `R`, calling `row_done` once per finished
 /// row (from any thread).
+///
+/// ```
+/// use std::path::Path;
+/// use std::time::Instant;
+/// use raytracer::render::{render, Options};
+///
+/// let text = "camera 2\nsphere\n  dimension 10\n  center 0 0 -20\n  color 1 0 0\nlight\n  location 0 0 0\n  color 1 1 1\n";
+/// let loaded = raytracer::frontend::load_bytes("a.txt", Path::new("."), text.as_bytes(), Instant::now());
+/// let scene = raytracer::ir::lower(loaded.checked.unwrap());
+/// let (image, counters) = render::<f64>(&scene, &Options::default(), &|| ());
+/// assert_eq!((image.size, counters.primary_rays), (2, 4));
+/// // Every pixel sees the red sphere: no green, no blue.
+/// assert!(image.rgb.chunks(3).all(|p| p[0] > 0 && p[1] == 0 && p[2] == 0));
+/// ```
 pub fn render<R: Real>(
     scene: &ir::Scene,
     options: &Options,
@@ -230,8 +317,8 @@ fn eye<R: Real>() -> R::Vec {
 }
 
 /// The output of docs/rendering.md: clamp to [0, 1], then `round(c·255)`, halves up.
-/// Rounded by hand: `f64::round` is a libm call on baseline x86-64 (4 % of
-/// the sample scene's render); the fraction `x − ⌊x⌋` is exact here.
+/// Rounded by hand rather than with `f64::round`, which is a libm call on
+/// baseline x86-64; the fraction `x − ⌊x⌋` is exact here.
 fn quantize(color: DVec3) -> [u8; 3] {
     let byte = |c: f64| {
         let x = c.clamp(0.0, 1.0) * 255.0;

@@ -11,7 +11,7 @@
 use glam::DVec3;
 
 use super::real::{Real, Vector};
-use super::trace::{Counters, FirstHits, Lanes, Tracer};
+use super::trace::{Counters, FirstHits, Tracer};
 use super::{camera_ray, eye};
 
 /// The samples of a frame: resolution, grid side and seed.
@@ -97,7 +97,6 @@ impl Sampler {
             dirs,
             distances,
             slots,
-            lanes,
         } = rays;
         for buffer in dirs.iter_mut().chain([&mut *distances]) {
             buffer.resize(n, R::zero());
@@ -112,7 +111,7 @@ impl Sampler {
             distances,
             slots,
         };
-        tracer.paths(eye::<R>(), hits, lanes, counters, |i, color| {
+        tracer.paths(eye::<R>(), hits, counters, |i, color| {
             put(i, color.clamp(DVec3::ZERO, DVec3::ONE))
         });
     }
@@ -160,8 +159,6 @@ pub(super) struct RowRays<R: Real> {
     dirs: [Vec<R>; 3],
     distances: Vec<R>,
     slots: Vec<u32>,
-    /// Room to shade their first bounces in.
-    lanes: Lanes<R>,
 }
 
 /// The directions of the camera rays through the centres of row `y`'s

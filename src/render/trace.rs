@@ -21,9 +21,15 @@ use super::geometry::{error_scale, offset_origin, Ray, Rect, Shape, Sphere};
 use super::real::{Real, Vector};
 use super::world::{Accel, Fan, Hit, Prim, World};
 use crate::ir;
-pub use lanes::{FirstHits, Lanes};
 
-mod lanes;
+/// A row's camera rays, their directions per axis, and what they first
+/// hit, as [`Tracer::first_hits`] found it (`distances[k]` is ∞ where ray
+/// `k` misses).
+pub struct FirstHits<'a, R: Real> {
+    pub dirs: [&'a [R]; 3],
+    pub distances: &'a [R],
+    pub slots: &'a [u32],
+}
 
 /// The share of a surface's colour that is lit without any light.
 pub const AMBIENT: f64 = 0.1;
@@ -164,36 +170,29 @@ impl<'a, R: Real> Tracer<'a, R> {
     /// a hit for (`distances[k]` finite), each colour handed to `put` with
     /// the ray's index; rays that miss are passed over. One call for a
     /// row, out of line, the counts tallied in locals and added to
-    /// `counters` once. In a scene of a few primitives tested one by one,
-    /// the first bounces of the row are shaded in lanes ([`lanes`],
-    /// with `scratch` for room), the same values as a ray at a time.
+    /// `counters` once.
     #[inline(never)]
     pub fn paths(
         &self,
         eye: R::Vec,
         rays: FirstHits<'_, R>,
-        scratch: &mut Lanes<R>,
         counters: &mut Counters,
         mut put: impl FnMut(usize, DVec3),
     ) {
         let mut tally = Counters::default();
-        if self.world.scans_few() {
-            self.first_bounces(eye, rays, scratch, &mut tally, &mut put);
-        } else {
-            let FirstHits {
-                dirs: [x, y, z],
-                distances,
-                slots,
-            } = rays;
-            let rays = x.iter().zip(y).zip(z);
-            let hits = distances.iter().zip(slots);
-            for (k, (((&x, &y), &z), (&t, &slot))) in rays.zip(hits).enumerate() {
-                if t == R::infinity() {
-                    continue;
-                }
-                let ray = Ray::from_lanes(eye, (x, y, z), Ray::<R>::FROM_NO_PRIMITIVE);
-                put(k, self.trace_path(ray, Hit { t, slot }, &mut tally));
+        let FirstHits {
+            dirs: [x, y, z],
+            distances,
+            slots,
+        } = rays;
+        let rays = x.iter().zip(y).zip(z);
+        let hits = distances.iter().zip(slots);
+        for (k, (((&x, &y), &z), (&t, &slot))) in rays.zip(hits).enumerate() {
+            if t == R::infinity() {
+                continue;
             }
+            let ray = Ray::from_lanes(eye, (x, y, z), Ray::<R>::FROM_NO_PRIMITIVE);
+            put(k, self.trace_path(ray, Hit { t, slot }, &mut tally));
         }
         *counters += tally;
     }
@@ -335,8 +334,7 @@ impl<'a, R: Real> Tracer<'a, R> {
     /// What `light` does at `surface` (on primitive `slot`, of colour
     /// `albedo`), where the path so far is `color`, its weight `weight`
     /// and the local light of the lights before `local`: everything up to
-    /// the shadow ray's test, computed whatever the outcome (no branches,
-    /// so lanes of surfaces compute it side by side).
+    /// the shadow ray's test, computed whatever the outcome.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn light_step(

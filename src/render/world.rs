@@ -97,13 +97,6 @@ impl<R: Real> World<R> {
         }
     }
 
-    /// Whether rays test every primitive, and there are at most
-    /// [`BRUTE_FORCE_MAX`] of them: few enough that shading the hits of
-    /// each in turn over a row costs less than sorting them.
-    pub fn scans_few(&self) -> bool {
-        self.bvh.is_none() && self.prims.len() <= BRUTE_FORCE_MAX
-    }
-
     /// The wide nodes of the hierarchy, or 0 without one.
     pub fn bvh_nodes(&self) -> u64 {
         self.bvh.as_ref().map_or(0, |bvh| bvh.node_count() as u64)
@@ -211,50 +204,6 @@ impl<R: Real> World<R> {
                     let rect: Rect<R> = **rect;
                     for ((xy, z), (distance, slot)) in rays {
                         keep(rect.root(&ray(xy, z)), distance, slot);
-                    }
-                }
-                Shape::Rect(_) => {}
-            }
-        }
-    }
-
-    /// [`World::occluded`] of many rays without a hierarchy: ray `k`
-    /// leaves `origins[·][k]` along `dirs[·][k]` and is cast from the
-    /// primitive in `from` with `t_max = reach[k]`; `blocked[k]` says
-    /// whether anything lies on it. Each ray is a lane of the branch-free
-    /// tests [`World::scan_fan`] makes, so the compiler vectorises the
-    /// loops (in the caller's AVX2 where it has it).
-    #[inline(always)]
-    pub fn occluded_lanes(
-        &self,
-        origins: [&[R]; 3],
-        dirs: [&[R]; 3],
-        reach: &[R],
-        from: u32,
-        blocked: &mut [bool],
-    ) {
-        let n = reach.len();
-        let [ox, oy, oz] = origins.map(|v| &v[..n]);
-        let [dx, dy, dz] = dirs.map(|v| &v[..n]);
-        let blocked = &mut blocked[..n];
-        blocked.fill(false);
-        let ray = |i: usize| Ray {
-            origin: R::Vec::new(ox[i], oy[i], oz[i]),
-            dir: R::Vec::new(dx[i], dy[i], dz[i]),
-            from,
-        };
-        for (index, prim) in self.prims.iter().enumerate() {
-            let from_here = from == index as u32;
-            match &prim.shape {
-                &Shape::Sphere(sphere) => {
-                    for i in 0..n {
-                        blocked[i] |= sphere.approach(&ray(i)).root(from_here) < reach[i];
-                    }
-                }
-                Shape::Rect(rect) if !from_here => {
-                    let rect: Rect<R> = **rect;
-                    for i in 0..n {
-                        blocked[i] |= rect.root(&ray(i)) < reach[i];
                     }
                 }
                 Shape::Rect(_) => {}

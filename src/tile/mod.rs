@@ -33,7 +33,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::check::Checked;
-use crate::render::Options;
+use crate::render::{Options, Precision};
 
 /// The version of the [`TileInfo`] layout; `stitch` accepts only its own.
 pub const FORMAT_VERSION: u32 = 1;
@@ -87,7 +87,7 @@ impl Band {
 /// tracer, not a field of [`Options`].
 #[derive(Clone, Debug, Serialize)]
 pub struct PixelOptions<'a> {
-    pub precision: &'static str,
+    pub precision: Precision,
     #[serde(flatten)]
     pub render: &'a Options,
 }
@@ -260,8 +260,11 @@ mod tests {
             accel: crate::render::Accel::Brute,
             ..default
         };
-        assert_eq!(hash("f64", &default), hash("f64", &brute));
-        assert_ne!(hash("f64", &default), hash("f32", &default));
+        assert_eq!(hash(Precision::F64, &default), hash(Precision::F64, &brute));
+        assert_ne!(
+            hash(Precision::F64, &default),
+            hash(Precision::F32, &default)
+        );
         for changed in [
             Options { spp: 4, ..default },
             Options {
@@ -273,7 +276,11 @@ mod tests {
                 ..default
             },
         ] {
-            assert_ne!(hash("f64", &default), hash("f64", &changed), "{changed:?}");
+            assert_ne!(
+                hash(Precision::F64, &default),
+                hash(Precision::F64, &changed),
+                "{changed:?}"
+            );
         }
     }
 }

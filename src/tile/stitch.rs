@@ -340,7 +340,7 @@ mod tests {
             ..Options::default()
         };
         let options = PixelOptions {
-            precision: "f64",
+            precision: crate::render::Precision::F64,
             render: &options,
         };
         Part {
