@@ -299,7 +299,8 @@ pub struct PreviewArgs {
     #[arg(long, default_value_t = 800, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub max_size: u32,
     /// Floating-point precision of every ray computation.
-    #[arg(long, value_enum, default_value_t = Precision::F64)]
+    #[arg(long, default_value = "f64",
+          value_parser = PossibleValuesParser::new(["f32", "f64"]).try_map(|s| s.parse::<Precision>()))]
     pub precision: Precision,
     /// Samples per pixel, stratified on a √N×√N grid (1 = pixel centre).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]

@@ -11,9 +11,8 @@ use miette::Diagnostic;
 
 use super::render::thread_pool;
 use super::{Outcome, WriteStdoutError};
-use crate::accuracy::Precision as RenderPrecision;
 use crate::ci::sarif::docs_uri;
-use crate::cli::{Antialias, Precision, PreviewArgs};
+use crate::cli::{Antialias, PreviewArgs};
 use crate::diagnostic::BoxedDiagnostic;
 use crate::frontend::read_scene;
 use crate::preview::{Preview, Settings};
@@ -48,10 +47,7 @@ pub fn run(args: PreviewArgs) -> Result<Outcome, BoxedDiagnostic> {
             },
             ..Options::default()
         },
-        precision: match args.precision {
-            Precision::F32 => RenderPrecision::F32,
-            Precision::F64 => RenderPrecision::F64,
-        },
+        precision: args.precision,
         max_size: args.max_size,
         pool: thread_pool(args.threads)?,
     };

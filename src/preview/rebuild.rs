@@ -7,7 +7,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::accuracy::Precision;
+use crate::render::Precision;
 use crate::diagnostic::JsonDiagnostic;
 use crate::frontend::load;
 use crate::ir;
@@ -92,10 +92,7 @@ pub fn rebuild(scene: &Path, settings: &Settings, state: &State) -> Vec<PathBuf>
             shadow_rays: counters.shadow_rays,
             reflection_rays: counters.reflection_rays,
             spp: settings.options.spp,
-            precision: match settings.precision {
-                Precision::F32 => "f32",
-                Precision::F64 => "f64",
-            },
+            precision: settings.precision.name(),
             threads: settings.pool.current_num_threads(),
         };
         let coarse = pass + 1 < passes.len();
