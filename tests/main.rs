@@ -26,6 +26,7 @@ mod neovim;
 mod no_panic;
 mod pov;
 mod reference_model;
+mod registry;
 mod render_cli;
 mod round_trip;
 mod stability;

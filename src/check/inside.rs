@@ -234,8 +234,8 @@ fn reread(chunk: &Chunk, source: &SourceFile) -> Vec<SphereAt> {
     let mut spheres = Vec::with_capacity(chunk.spheres as usize);
     let text = syntax::sections_between(&source.text, chunk.start as usize, chunk.end as usize);
     for section in text.filter(|s| *s.kind == SectionKind::Sphere) {
-        let attrs = attributes::collect(&section, &mut scratch.problems);
-        if let (Some(center), Some(radius)) = sections::sphere_geometry(&attrs, &mut scratch) {
+        let attrs = attributes::collect(&section, &mut scratch);
+        if let (Some(center), Some(radius)) = sections::sphere_geometry(&attrs) {
             spheres.push(SphereAt {
                 center: *center,
                 radius,

@@ -4,8 +4,9 @@
 //! Every problem in the file is reported in one run. [`SceneCheck`] takes
 //! the sections one at a time, so the front end checks each section as the
 //! parser yields it and never holds a large scene's whole syntax tree. The shared attribute
-//! checks live in [`attributes`] (driven by the table in [`crate::language`]), each
-//! section kind's own rules in [`sections`] (with the vector geometry of
+//! checks live in [`attributes`] and the single-attribute rules in [`rules`]
+//! (both driven by the registry in [`crate::language`]), the rules between
+//! attributes in [`sections`] (with the vector geometry of
 //! [`crate::geometry`]), texture loading in [`textures`], the
 //! warning for text-direction controls in [`text_direction`], and the
 //! diagnostics themselves in [`errors`], some carrying a structured
@@ -15,7 +16,7 @@ mod attributes;
 pub mod errors;
 pub mod format;
 mod inside;
-
+mod rules;
 mod sections;
 mod sink;
 mod text_direction;

@@ -190,6 +190,14 @@ fn on_two_threads<S: Sink>(
 /// A diagnostic with the fix it carries.
 type Fixable = (BoxedDiagnostic, Option<Fix>);
 
+/// Syntax errors with the fixes they carry.
+fn with_fixes(errors: Vec<syntax::SyntaxError>) -> impl Iterator<Item = Fixable> {
+    errors.into_iter().map(|e| {
+        let fix = e.fix().cloned();
+        (Box::new(e) as BoxedDiagnostic, fix)
+    })
+}
+
 /// Sections parsed before they are checked (and dropped). Few, so that
 /// the blocks a batch frees fit the allocator's per-thread cache (glibc's
 /// tcache keeps 7 blocks of each size; a sphere frees two blocks of one
@@ -289,7 +297,7 @@ fn load_text_cut_at<S: Sink>(
     let (batches, is_scene) = match language {
         Language::Text => match cut.and_then(|cut| on_two_threads::<S>(&source, cut)) {
             Some((joined, errors)) => {
-                diagnostics.extend(unfixed(boxed(errors)));
+                diagnostics.extend(with_fixes(errors));
                 (joined, true)
             }
             None => {
@@ -298,7 +306,7 @@ fn load_text_cut_at<S: Sink>(
                 for section in sections.by_ref() {
                     batches.push(section);
                 }
-                diagnostics.extend(unfixed(boxed(sections.into_errors())));
+                diagnostics.extend(with_fixes(sections.into_errors()));
                 (batches, true)
             }
         },
