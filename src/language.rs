@@ -397,7 +397,7 @@ impl AttrSpec {
             out.push_str(&format!(" Rule: {}.", self.rule()));
         }
         if let Some(default) = self.default {
-            out.push_str(&format!(" DefaultValue: `{}`.", default.text()));
+            out.push_str(&format!(" Default: `{}`.", default.text()));
         }
         out.push_str(&format!(" Scene text: `{}`.", self.example));
         out

@@ -83,7 +83,6 @@ impl<'a> Attributes<'a> {
 /// Read the attributes of `section` (a known section kind), reporting every
 /// generic problem and every broken single-attribute rule.
 pub fn collect<'a>(section: &'a Section, cx: &mut Checker<'_>) -> Attributes<'a> {
-    let problems = &mut cx.problems;
     let kind = &*section.kind;
     // At most one line per known name: unknown and repeated names are
     // reported and left out.
@@ -96,11 +95,17 @@ pub fn collect<'a>(section: &'a Section, cx: &mut Checker<'_>) -> Attributes<'a>
             if let CheckError::UnknownAttribute { found, .. } = &problem {
                 suggested.extend(replacement(kind, found).map(|(name, _)| name));
             }
-            problems.push(problem);
+            cx.problems.push(problem);
             continue;
         };
         if let Some(first) = given.iter().find(|g| *g.attribute.name == *attribute.name) {
-            problems.push(CheckError::DuplicateAttribute {
+            let fix = cx.removal(
+                &format!("remove the second `{}` line", attribute.name.as_str()),
+                Applicability::Unsafe,
+                attribute.span,
+            );
+            cx.problems.push(CheckError::DuplicateAttribute {
+                fix,
                 name: attribute.name.as_str().to_string(),
                 section: kind.as_str().to_string(),
                 first: first.attribute.name.span.into(),
@@ -108,10 +113,10 @@ pub fn collect<'a>(section: &'a Section, cx: &mut Checker<'_>) -> Attributes<'a>
             });
             continue;
         }
-        let read = read_values(spec, attribute.name.span, &attribute.values, problems);
+        let read = read_values(spec, attribute.name.span, &attribute.values, &mut cx.problems);
         given.push(Given { attribute, read });
     }
-    report_missing(section, &given, &suggested, problems);
+    report_missing(section, &given, &suggested, &mut cx.problems);
     let mut attributes = Attributes { given };
     attributes.apply_rules(kind, cx);
     attributes

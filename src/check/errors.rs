@@ -101,6 +101,9 @@ pub enum CheckError {
         first: SourceSpan,
         #[label("given again here")]
         second: SourceSpan,
+        /// Removing the second line (unsafe: which one is wrong is the
+        /// author's call).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a section lacks one or more required attributes; one
@@ -136,6 +139,8 @@ pub enum CheckError {
         first: SourceSpan,
         #[label("another camera")]
         second: SourceSpan,
+        /// Removing the second camera line (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when the camera resolution has a fractional part.
@@ -397,6 +402,8 @@ pub enum CheckError {
         color: SourceSpan,
         #[label("the texture wins")]
         texture: SourceSpan,
+        /// Removing the ignored line (safe: the image is unchanged).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a light colour channel is above 1 (it over-exposes).
@@ -443,7 +450,10 @@ impl CheckError {
             | CheckError::ZeroNormal { fix, .. }
             | CheckError::ZeroHeadup { fix, .. }
             | CheckError::LightColorAboveOne { fix, .. }
-            | CheckError::ObjectBehindCamera { fix, .. } => fix.as_deref(),
+            | CheckError::ObjectBehindCamera { fix, .. }
+            | CheckError::DuplicateAttribute { fix, .. }
+            | CheckError::RepeatedCamera { fix, .. }
+            | CheckError::ColorWithTexture { fix, .. } => fix.as_deref(),
             _ => None,
         }
     }

@@ -114,6 +114,7 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
     /// (`inside.rs`), instead of a record per sphere.
     pub fn fed_from_scene_text(mut self) -> Self {
         self.cx.inside = inside::LightsInSpheres::chunked();
+        self.cx.scene_text = true;
         self
     }
 
@@ -133,10 +134,22 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
                 let resolution = sections::camera(section, cx);
                 match self.camera {
                     None => self.camera = Some((section.kind.span, resolution)),
-                    Some((first, _)) => cx.problems.push(CheckError::RepeatedCamera {
-                        first: first.into(),
-                        second: section.kind.span.into(),
-                    }),
+                    Some((first, _)) => {
+                        let line = section
+                            .args
+                            .last()
+                            .map_or(section.kind.span, |last| section.kind.span.join(last.span));
+                        let fix = cx.removal(
+                            "remove this `camera` line",
+                            Applicability::Unsafe,
+                            line,
+                        );
+                        cx.problems.push(CheckError::RepeatedCamera {
+                            first: first.into(),
+                            second: section.kind.span.into(),
+                            fix,
+                        })
+                    }
                 }
             }
             SectionKind::Sphere | SectionKind::Plane => {
@@ -308,6 +321,9 @@ struct Checker<'a> {
     textures: textures::Textures,
     /// What the light-inside-sphere warning weighs.
     inside: inside::LightsInSpheres,
+    /// Whether the source is scene text, where a fix may remove a line
+    /// (in JSON it would leave a stray comma).
+    scene_text: bool,
 }
 
 impl<'a> Checker<'a> {
@@ -317,11 +333,26 @@ impl<'a> Checker<'a> {
             problems: Problems::default(),
             textures: textures::Textures::new(&source.dir),
             inside: inside::LightsInSpheres::kept(),
+            scene_text: false,
         }
     }
 }
 
 impl Checker<'_> {
+    /// A fix that removes `span` (and its line, when nothing else is on
+    /// it), in scene text only.
+    fn removal(
+        &self,
+        message: &str,
+        applicability: Applicability,
+        span: Span,
+    ) -> Option<Box<Fix>> {
+        self.scene_text.then(|| {
+            let removed = crate::fix::removal(&self.source.text, span);
+            Fix::boxed(message.to_string(), applicability, removed, "")
+        })
+    }
+
     /// The source text of `span`, as written.
     fn text(&self, span: Span) -> String {
         self.source
@@ -366,8 +397,10 @@ mod tests {
         );
     }
 
+    /// (Unsafe fixes remain for some: a zero normal's stand-in, the
+    /// second of two `normal` lines removed.)
     #[test]
-    fn good_and_hopeless_planes_get_no_fix() {
+    fn good_and_hopeless_planes_get_no_safe_fix() {
         for plane in [
             "plane normal 0 1 0 headup 0 0 1",
             "plane normal 0 2 0 headup 0 0 1",
@@ -376,7 +409,7 @@ mod tests {
             "sphere normal 0 2 0",
         ] {
             let text = format!("camera 4 {plane} dimension 1 1 center 0 0 -5");
-            assert_eq!(fixed(&text, Applicability::Unsafe), text);
+            assert_eq!(fixed(&text, Applicability::Safe), text);
         }
     }
 

@@ -231,7 +231,13 @@ fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option
     if let (Some(color), Some(texture)) =
         (attrs.line(&AttrName::Color), attrs.line(&AttrName::Texture))
     {
+        let fix = cx.removal(
+            "remove the `color` line; the texture sets the surface colour",
+            Applicability::Safe,
+            color.span,
+        );
         cx.problems.push(CheckError::ColorWithTexture {
+            fix,
             shape: shape.to_string(),
             color: color.span.into(),
             texture: texture.span.into(),
