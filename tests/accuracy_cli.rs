@@ -2,7 +2,6 @@
 //! numbers follow from the scene (an image without edges has no sampling
 //! error), assets are written when asked, and bad input gets its exit code.
 
-
 use crate::support::{run, write};
 
 const BALL: &str = "camera 16\nsphere dimension 1 center 0 0 -4 color .5 .5 .5\n\

@@ -7,10 +7,10 @@ use crate::support;
 
 use std::path::Path;
 
+use crate::support::{lower, lower_in, run};
 use raytracer::render::{
     adaptive::DEFAULT_THRESHOLD, render, render_radiance, Antialias, Counters, Image, Options,
 };
-use crate::support::{lower, lower_in, run};
 
 const SPP: u32 = 16;
 

@@ -1,7 +1,6 @@
 //! `raytracer check` end to end: exit codes, the three formats, several
 //! files in one run, `--deny-warnings` and `--fix`.
 
-
 use std::process::Output;
 
 use crate::support::{run, write};

@@ -2,9 +2,8 @@
 //! allowed); the one whose headup is parallel to its normal is warned
 //! about and rendered with the stand-in headup its warning names.
 
-
-use raytracer::frontend::load;
 use crate::support::corpus_copy;
+use raytracer::frontend::load;
 
 const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";
 

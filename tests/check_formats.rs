@@ -5,7 +5,6 @@
 //! diagnostics at the same places as `--format json`, and insta snapshots
 //! keep both layouts.
 
-
 use std::path::Path;
 use std::process::Output;
 

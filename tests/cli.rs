@@ -8,7 +8,6 @@
 //! permission test run as root, a tmpfs that cannot be mounted) say so on
 //! stderr and pass without asserting.
 
-
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};

@@ -2,7 +2,6 @@
 //! `render`: output to stdout and to `-o`, exit codes, nothing written for
 //! a bad scene, diagnostics with JSON line and column.
 
-
 use std::path::Path;
 use std::process::{Output, Stdio};
 

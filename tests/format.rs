@@ -14,11 +14,11 @@ use crate::support;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::support::{run, write};
 use proptest::prelude::*;
 use raytracer::format::format;
 use raytracer::frontend::load_bytes;
 use raytracer::syntax::{self, trivia};
-use crate::support::{run, write};
 
 const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/format");
 const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");

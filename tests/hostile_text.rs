@@ -5,15 +5,14 @@
 //! terminal format shows them as `\u{…}` escapes with labels still under
 //! their characters (snapshots); JSON keeps them exactly.
 
-
 use std::ffi::OsStr;
 use std::os::unix::ffi::OsStrExt;
 use std::path::Path;
 use std::process::{Command, Output};
 use std::time::Instant;
 
-use raytracer::frontend::load_bytes;
 use crate::support::bin;
+use raytracer::frontend::load_bytes;
 
 /// A scene whose comments, attribute names and texture path hold every kind
 /// of hidden character.

@@ -7,12 +7,11 @@
 //! agree to within 1/255. A few small scenes are also checked, from scene
 //! text to pixel, against values worked out by hand.
 
-
 use std::path::Path;
 
-use raytracer::render::Options;
 use crate::reference::assert_renders_match_reference;
 use crate::support::{corpus_copy, lower, lower_in, pixel, quantized, render};
+use raytracer::render::Options;
 
 #[test]
 fn corpus_and_project_scenes_match_the_reference_model() {

@@ -40,7 +40,11 @@ fn scene_with(kind: &SectionKind, spec: &AttrSpec, values: &[f64]) -> (String, u
     let line = format!(
         "{} {}",
         spec.name.as_str(),
-        values.iter().map(f64::to_string).collect::<Vec<_>>().join(" ")
+        values
+            .iter()
+            .map(f64::to_string)
+            .collect::<Vec<_>>()
+            .join(" ")
     );
     let mut text = String::new();
     if spec.name != Key::Resolution {
@@ -75,11 +79,15 @@ fn every_single_attribute_rule_reports_with_a_fix_that_clears_it() {
                 .entries()
                 .filter(|e| e.labels.first().is_some_and(|l| l.line == line))
                 .collect();
-            assert!(!on_line.is_empty(), "a diagnostic on line {line} of:\n{text}");
+            assert!(
+                !on_line.is_empty(),
+                "a diagnostic on line {line} of:\n{text}"
+            );
             for diagnostic in &on_line {
-                let fix = diagnostic.fix.as_ref().unwrap_or_else(|| {
-                    panic!("`{}` carries no fix for:\n{text}", diagnostic.code)
-                });
+                let fix = diagnostic
+                    .fix
+                    .as_ref()
+                    .unwrap_or_else(|| panic!("`{}` carries no fix for:\n{text}", diagnostic.code));
                 assert_eq!(
                     diagnostic.help.as_deref(),
                     Some(fix.message.as_str()),

@@ -7,8 +7,8 @@ use crate::support;
 
 use std::path::Path;
 
-use serde_json::Value;
 use crate::support::{corpus_copy, listing, lower, render, run};
+use serde_json::Value;
 
 /// Render `scene` (text) with `--stats-json` and return the statistics.
 fn stats_of(scene: &str) -> Value {

@@ -15,7 +15,6 @@
 //! infinity reaches a pixel or a texture lookup (the tracer counts both in
 //! every build, so the check holds in release too).
 
-
 use std::path::Path;
 use std::time::Instant;
 

@@ -6,12 +6,11 @@
 //! scene (not its bytes) and sees a changed texture; and every way parts
 //! can fail to make a frame is an exit code and a message naming the part.
 
-
 use std::path::Path;
 use std::process::Output;
 
-use serde_json::Value;
 use crate::support::{command, listing};
+use serde_json::Value;
 
 /// 29 rows: uneven bands for most N. A light, a mirror and a texture, so
 /// shadow rays, reflections and texel reads all cross band edges.

@@ -113,7 +113,12 @@ pub fn collect<'a>(section: &'a Section, cx: &mut Checker<'_>) -> Attributes<'a>
             });
             continue;
         }
-        let read = read_values(spec, attribute.name.span, &attribute.values, &mut cx.problems);
+        let read = read_values(
+            spec,
+            attribute.name.span,
+            &attribute.values,
+            &mut cx.problems,
+        );
         given.push(Given { attribute, read });
     }
     report_missing(section, &given, &suggested, &mut cx.problems);
@@ -147,7 +152,11 @@ impl Attributes<'_> {
 /// The values after the `camera` keyword, checked against the registry's
 /// camera row ([`schema::CAMERA`]): its count, that they are numbers, and
 /// its rule. The resolution, when valid.
-pub fn camera_values(keyword: &Spanned<SectionKind>, values: &[Spanned<Value>], cx: &mut Checker<'_>) -> Option<f64> {
+pub fn camera_values(
+    keyword: &Spanned<SectionKind>,
+    values: &[Spanned<Value>],
+    cx: &mut Checker<'_>,
+) -> Option<f64> {
     let spec = &schema::CAMERA;
     let Some(Read::Numbers(numbers)) = read_values(spec, keyword.span, values, &mut cx.problems)
     else {

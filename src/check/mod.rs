@@ -139,11 +139,8 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
                             .args
                             .last()
                             .map_or(section.kind.span, |last| section.kind.span.join(last.span));
-                        let fix = cx.removal(
-                            "remove this `camera` line",
-                            Applicability::Unsafe,
-                            line,
-                        );
+                        let fix =
+                            cx.removal("remove this `camera` line", Applicability::Unsafe, line);
                         cx.problems.push(CheckError::RepeatedCamera {
                             first: first.into(),
                             second: section.kind.span.into(),
@@ -341,12 +338,7 @@ impl<'a> Checker<'a> {
 impl Checker<'_> {
     /// A fix that removes `span` (and its line, when nothing else is on
     /// it), in scene text only.
-    fn removal(
-        &self,
-        message: &str,
-        applicability: Applicability,
-        span: Span,
-    ) -> Option<Box<Fix>> {
+    fn removal(&self, message: &str, applicability: Applicability, span: Span) -> Option<Box<Fix>> {
         self.scene_text.then(|| {
             let removed = crate::fix::removal(&self.source.text, span);
             Fix::boxed(message.to_string(), applicability, removed, "")

@@ -215,7 +215,10 @@ fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option
         Some(color) => material.color = *color,
         None => ok &= attrs.line(&AttrName::Color).is_none(),
     }
-    match attrs.numbers(&AttrName::Reflectivity).and_then(|k| k.first()) {
+    match attrs
+        .numbers(&AttrName::Reflectivity)
+        .and_then(|k| k.first())
+    {
         Some(k) => material.reflectivity = **k,
         None => ok &= attrs.line(&AttrName::Reflectivity).is_none(),
     }

@@ -56,11 +56,8 @@ pub fn complete(document: &Document, offset: usize) -> Vec<CompletionItem> {
     let word_end = text[offset..]
         .find(|c: char| !is_word_char(c))
         .map_or(text.len(), |i| offset + i);
-    let has_camera = |file: &crate::ast::File| {
-        file.sections
-            .iter()
-            .any(|s| *s.kind == SectionKind::Camera)
-    };
+    let has_camera =
+        |file: &crate::ast::File| file.sections.iter().any(|s| *s.kind == SectionKind::Camera);
     let camera_elsewhere = has_camera(&file)
         || frontend::parse(Language::Text, &text[word_end..])
             .0
@@ -161,7 +158,10 @@ mod tests {
         let text = "camera 4\n# a note about the ";
         assert_eq!(labels(text, text.len()), Vec::<String>::new());
         let text = "camera 4 # the size\n";
-        assert_eq!(labels(text, text.find("size").unwrap() + 2), Vec::<String>::new());
+        assert_eq!(
+            labels(text, text.find("size").unwrap() + 2),
+            Vec::<String>::new()
+        );
     }
 
     #[test]

@@ -202,7 +202,10 @@ mod tests {
             assert!(shown.contains("any numbers"), "{shown}");
         }
         let camera = hover_text(&dir, text, "camera");
-        assert!(camera.contains("a whole number from 1 to 16384"), "{camera}");
+        assert!(
+            camera.contains("a whole number from 1 to 16384"),
+            "{camera}"
+        );
     }
 
     #[test]

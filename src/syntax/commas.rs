@@ -15,6 +15,8 @@ use super::number;
 pub struct CommaToken<'a> {
     /// Where its `InvalidNumber` error is in the parser's list.
     pub error: usize,
+    /// Where it is among the attribute's values.
+    pub index: usize,
     pub span: Span,
     pub text: &'a str,
 }
@@ -70,14 +72,16 @@ fn reading(tokens: &[CommaToken<'_>], found: usize, expected: usize) -> Option<R
 /// Replace the `InvalidNumber` errors of `tokens` in `errors` with the
 /// comma diagnostic the attribute's arity points to: `found` is how many
 /// value tokens the attribute had, `expected` how many numbers it takes.
+/// True when the commas separate values: each token then stands for as
+/// many values as it has pieces ([`piece_count`]).
 pub fn explain(
     tokens: &[CommaToken<'_>],
     found: usize,
     expected: Option<usize>,
     errors: &mut [SyntaxError],
-) {
+) -> bool {
     let Some(reading) = expected.and_then(|expected| reading(tokens, found, expected)) else {
-        return;
+        return false;
     };
     for token in tokens {
         let Some(error) = errors.get_mut(token.error) else {
@@ -118,6 +122,12 @@ pub fn explain(
             }
         };
     }
+    reading == Reading::Separators
+}
+
+/// How many values a token of values separated by commas stands for.
+pub fn piece_count(text: &str) -> usize {
+    pieces(text).map_or(1, |pieces| pieces.len())
 }
 
 #[cfg(test)]
@@ -127,6 +137,7 @@ mod tests {
     fn token(text: &str) -> CommaToken<'_> {
         CommaToken {
             error: 0,
+            index: 0,
             span: Span::new(0, text.len()),
             text,
         }

@@ -117,9 +117,8 @@ impl SyntaxError {
     /// The structured fix this diagnostic carries, if any.
     pub fn fix(&self) -> Option<&Fix> {
         match self {
-            SyntaxError::CommaSeparatedValues { fix, .. } | SyntaxError::DecimalComma { fix, .. } => {
-                fix.as_deref()
-            }
+            SyntaxError::CommaSeparatedValues { fix, .. }
+            | SyntaxError::DecimalComma { fix, .. } => fix.as_deref(),
             _ => None,
         }
     }

@@ -484,6 +484,7 @@ impl<'a> Cursor<'a> {
                     if value == Value::Invalid && w.contains(',') {
                         with_commas.push(commas::CommaToken {
                             error: self.errors.len() - 1,
+                            index: values.len(),
                             span,
                             text: w,
                         });
@@ -494,8 +495,22 @@ impl<'a> Cursor<'a> {
             }
             self.rest = rest;
         }
-        if !with_commas.is_empty() {
-            commas::explain(&with_commas, values.len(), expected, &mut self.errors);
+        let separated = !with_commas.is_empty()
+            && commas::explain(&with_commas, values.len(), expected, &mut self.errors);
+        if separated {
+            // Each token stands for its pieces, so the count is right and
+            // the check pass reports nothing more about it.
+            let mut expanded = Values::new();
+            for (i, value) in values.into_iter().enumerate() {
+                let copies = with_commas
+                    .iter()
+                    .find(|t| t.index == i)
+                    .map_or(1, |t| commas::piece_count(t.text));
+                for _ in 0..copies {
+                    expanded.push(value.clone());
+                }
+            }
+            return expanded;
         }
         values
     }
