@@ -73,6 +73,29 @@ impl Fix {
     }
 }
 
+/// The bytes to delete to remove `span` from `text`: the blanks before it
+/// too, and, when nothing but blanks is left on its line, the whole line
+/// with its line break (so removing an attribute line leaves no blank
+/// line behind).
+pub fn removal(text: &str, span: Span) -> Span {
+    let is_blank = |c: char| c == ' ' || c == '\t';
+    let before = &text[..span.start().min(text.len())];
+    let start = before.trim_end_matches(is_blank).len();
+    let after = &text[span.end().min(text.len())..];
+    let rest_of_line = after.len() - after.trim_start_matches(is_blank).len();
+    let at_line_start = start == 0 || before[..start].ends_with('\n');
+    let line_break = match &after[rest_of_line..] {
+        rest if rest.starts_with("\r\n") => Some(2),
+        rest if rest.starts_with('\n') => Some(1),
+        "" => Some(0),
+        _ => None,
+    };
+    match line_break {
+        Some(n) if at_line_start => Span::new(start, span.end() + rest_of_line + n),
+        _ => Span::new(start, span.end()),
+    }
+}
+
 /// Apply `fixes` to `text`, skipping a fix whose edits overlap one applied
 /// before it (each is applied whole or not at all). The fixes applied, in
 /// the order given, and the new text.
@@ -122,6 +145,24 @@ mod tests {
         let (text, applied) = apply("foo bar", &fixes);
         assert_eq!(text, "abcd Xar");
         assert_eq!(applied, [&fixes[0], &fixes[1]]);
+    }
+
+    #[test]
+    fn a_removal_takes_its_line_when_it_is_alone_on_it() {
+        let text = "sphere\n  color 1 0 0  \n  center 0 0 -5\n";
+        let start = text.find("color").unwrap();
+        let span = Span::new(start, start + "color 1 0 0".len());
+        let (removed, _) = apply(text, &[fix_of(removal(text, span))]);
+        assert_eq!(removed, "sphere\n  center 0 0 -5\n");
+        let text = "sphere dimension 1 color 1 0 0 center 0 0 -5";
+        let start = text.find("color").unwrap();
+        let span = Span::new(start, start + "color 1 0 0".len());
+        let (removed, _) = apply(text, &[fix_of(removal(text, span))]);
+        assert_eq!(removed, "sphere dimension 1 center 0 0 -5");
+    }
+
+    fn fix_of(span: Span) -> Fix {
+        fix(span.start(), span.end(), "")
     }
 
     #[test]

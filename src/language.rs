@@ -1,8 +1,13 @@
-//! The scene language as data: which attributes each section takes (the
-//! attribute table of docs/language.md), so the check pass's generic
-//! checks (unknown, misplaced, duplicate, count, missing) need no
-//! per-section code, and the English lists its messages and the JSON
-//! reader's are worded with. Below the check pass and the JSON reader.
+//! The scene language as data, one registry of rules in the manner of
+//! ruff's: a row per section and attribute (and one for the camera's
+//! resolution) with its arity, typed [`Constraint`], typed default, JSON
+//! field names, meaning and example. Everything that states a rule of an
+//! attribute reads it from here: the check pass's generic checks (unknown,
+//! misplaced, duplicate, count, missing) and its single-attribute rules
+//! (`check/rules.rs`) with their fixes, the messages, the model's defaults,
+//! the JSON reader and the JSON Schema's bounds, editor hover and
+//! completion, and the attribute table of docs/language.md. Below the
+//! check pass and the JSON reader.
 
 use crate::ast::{AttrName, SectionKind};
 
@@ -15,10 +20,104 @@ pub enum Arity {
     Path,
 }
 
-/// One row of the attribute table.
+/// What a row is about: an attribute, or the camera's resolution (the
+/// number after the `camera` keyword).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Key {
+    Resolution,
+    Attribute(AttrName),
+}
+
+impl Key {
+    /// The word a line of this row starts with: `camera` or the attribute.
+    pub fn as_str(&self) -> &str {
+        match self {
+            Key::Resolution => "camera",
+            Key::Attribute(name) => name.as_str(),
+        }
+    }
+}
+
+impl PartialEq<AttrName> for Key {
+    fn eq(&self, name: &AttrName) -> bool {
+        matches!(self, Key::Attribute(own) if own == name)
+    }
+}
+
+/// The rule a row's values must follow on their own (rules between
+/// attributes, such as `headup` against `normal`, live in the check pass).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Constraint {
+    /// Any finite numbers (a position).
+    Any,
+    /// Each number in `[min, max]`. `scale`, when given, is another scale
+    /// authors write these values on (0–255, percentages): values within it
+    /// are read as meant on it.
+    Range {
+        min: f64,
+        max: f64,
+        scale: Option<Scale>,
+    },
+    /// Each number greater than 0.
+    Positive,
+    /// Each number 0 or more; above `warn_above` is allowed with a warning.
+    NonNegative { warn_above: f64 },
+    /// Not the zero vector; `stand_in` is what a fix writes instead.
+    NonZero { stand_in: StandIn },
+    /// A whole number in `[min, max]`.
+    Whole { min: u32, max: u32 },
+    /// A path to an image file that decodes (checked by the texture
+    /// loader, against the file system).
+    Image,
+}
+
+/// A scale values are written on by mistake: `top` on it is 1 on ours.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scale {
+    pub top: f64,
+    /// "0–255 values", "a percentage", for help lines.
+    pub name: &'static str,
+}
+
+/// What a fix writes for a zero vector.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StandIn {
+    /// This vector.
+    Vector([f64; 3]),
+    /// A vector perpendicular to this attribute of the same section, when
+    /// that is valid (else `0 1 0`).
+    PerpendicularTo(&'static AttrName),
+}
+
+/// A row's value when it is not given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DefaultValue {
+    Number(f64),
+    Vector([f64; 3]),
+}
+
+impl DefaultValue {
+    /// The default as scene text: `0`, `1 1 1`.
+    pub fn text(&self) -> String {
+        match self {
+            DefaultValue::Number(x) => x.to_string(),
+            DefaultValue::Vector(v) => v.map(|x| x.to_string()).join(" "),
+        }
+    }
+
+    /// The default as JSON: `0`, `[1, 1, 1]`.
+    pub fn json(&self) -> serde_json::Value {
+        match self {
+            DefaultValue::Number(x) => serde_json::json!(x),
+            DefaultValue::Vector(v) => serde_json::json!(v),
+        }
+    }
+}
+
+/// One row of the registry.
 #[derive(Debug)]
 pub struct AttrSpec {
-    pub name: AttrName,
+    pub name: Key,
     pub arity: Arity,
     /// Placeholder values for help lines: `X Y Z`.
     pub placeholder: &'static str,
@@ -26,71 +125,106 @@ pub struct AttrSpec {
     /// The fields of a JSON scene object it is read from (`dimension` is
     /// `radius`, or `width` and `height`).
     pub json: &'static [&'static str],
-    /// The value when it is not given, as scene text.
-    pub default: Option<&'static str>,
+    /// The value when it is not given.
+    pub default: Option<DefaultValue>,
     /// What it means, with units, on one line.
     pub description: &'static str,
-    /// The rule its values must follow.
-    pub rule: &'static str,
+    /// The rule its values must follow on their own.
+    pub constraint: Constraint,
+    /// More about the rule, for people (`need not be unit length`).
+    pub note: &'static str,
     /// An example line.
     pub example: &'static str,
 }
 
+/// The camera's resolution: `camera N` for an N × N image.
+pub static CAMERA: AttrSpec = AttrSpec {
+    name: Key::Resolution,
+    arity: Arity::Numbers(1),
+    placeholder: "N",
+    required: true,
+    json: &["resolution"],
+    default: None,
+    description: "the image is N × N pixels",
+    constraint: Constraint::Whole { min: 1, max: 16384 },
+    note: "",
+    example: "camera 400",
+};
+
 const CENTER: AttrSpec = AttrSpec {
-    name: AttrName::Center,
+    name: Key::Attribute(AttrName::Center),
     arity: Arity::Numbers(3),
     placeholder: "X Y Z",
     required: true,
     json: &["center"],
     default: None,
     description: "the centre, in world units (the camera is at the origin looking down −z)",
-    rule: "—",
+    constraint: Constraint::Any,
+    note: "",
     example: "center 0 0 -5",
 };
 const COLOR: AttrSpec = AttrSpec {
-    name: AttrName::Color,
+    name: Key::Attribute(AttrName::Color),
     arity: Arity::Numbers(3),
     placeholder: "R G B",
     required: false,
     json: &["color"],
-    default: Some("1 1 1"),
+    default: Some(DefaultValue::Vector([1.0, 1.0, 1.0])),
     description: "the surface colour, linear RGB",
-    rule: "each in [0, 1]",
+    constraint: Constraint::Range {
+        min: 0.0,
+        max: 1.0,
+        scale: Some(Scale {
+            top: 255.0,
+            name: "0–255 values",
+        }),
+    },
+    note: "",
     example: "color 1 0.5 0",
 };
 const REFLECTIVITY: AttrSpec = AttrSpec {
-    name: AttrName::Reflectivity,
+    name: Key::Attribute(AttrName::Reflectivity),
     arity: Arity::Numbers(1),
     placeholder: "K",
     required: false,
     json: &["reflectivity"],
-    default: Some("0"),
+    default: Some(DefaultValue::Number(0.0)),
     description: "the weight of the mirror reflection",
-    rule: "in [0, 1]",
+    constraint: Constraint::Range {
+        min: 0.0,
+        max: 1.0,
+        scale: Some(Scale {
+            top: 100.0,
+            name: "a percentage",
+        }),
+    },
+    note: "",
     example: "reflectivity 0.5",
 };
 const TEXTURE: AttrSpec = AttrSpec {
-    name: AttrName::Texture,
+    name: Key::Attribute(AttrName::Texture),
     arity: Arity::Path,
     placeholder: "PATH",
     required: false,
     json: &["texture"],
     default: None,
     description: "an image (PPM, PNG or JPEG) replacing the colour, relative to the scene file",
-    rule: "an image file that decodes",
+    constraint: Constraint::Image,
+    note: "",
     example: "texture wood_tex.ppm",
 };
 
 static SPHERE: [AttrSpec; 5] = [
     AttrSpec {
-        name: AttrName::Dimension,
+        name: Key::Attribute(AttrName::Dimension),
         arity: Arity::Numbers(1),
         placeholder: "RADIUS",
         required: true,
         json: &["radius"],
         default: None,
         description: "the radius, in world units",
-        rule: "> 0",
+        constraint: Constraint::Positive,
+        note: "",
         example: "dimension 1",
     },
     CENTER,
@@ -101,37 +235,45 @@ static SPHERE: [AttrSpec; 5] = [
 
 static PLANE: [AttrSpec; 7] = [
     AttrSpec {
-        name: AttrName::Dimension,
+        name: Key::Attribute(AttrName::Dimension),
         arity: Arity::Numbers(2),
         placeholder: "WIDTH HEIGHT",
         required: true,
         json: &["width", "height"],
         default: None,
         description: "the width (along `right`) and height (along `up`), in world units",
-        rule: "each > 0",
+        constraint: Constraint::Positive,
+        note: "",
         example: "dimension 4 4",
     },
     CENTER,
     AttrSpec {
-        name: AttrName::Normal,
+        name: Key::Attribute(AttrName::Normal),
         arity: Arity::Numbers(3),
         placeholder: "X Y Z",
         required: true,
         json: &["normal"],
         default: None,
         description: "the direction the plane faces (normalised by the renderer)",
-        rule: "not `0 0 0`; need not be unit length",
+        // Facing the camera, which looks down −z.
+        constraint: Constraint::NonZero {
+            stand_in: StandIn::Vector([0.0, 0.0, 1.0]),
+        },
+        note: "need not be unit length",
         example: "normal 0 1 0",
     },
     AttrSpec {
-        name: AttrName::Headup,
+        name: Key::Attribute(AttrName::Headup),
         arity: Arity::Numbers(3),
         placeholder: "X Y Z",
         required: true,
         json: &["headup"],
         default: None,
         description: "which way is up on the plane (projected onto it)",
-        rule: "not `0 0 0`; parallel to `normal` warns (an axis stands in)",
+        constraint: Constraint::NonZero {
+            stand_in: StandIn::PerpendicularTo(&AttrName::Normal),
+        },
+        note: "parallel to `normal` warns (an axis stands in)",
         example: "headup 0 0 -1",
     },
     COLOR,
@@ -141,25 +283,27 @@ static PLANE: [AttrSpec; 7] = [
 
 static LIGHT: [AttrSpec; 2] = [
     AttrSpec {
-        name: AttrName::Location,
+        name: Key::Attribute(AttrName::Location),
         arity: Arity::Numbers(3),
         placeholder: "X Y Z",
         required: true,
         json: &["location"],
         default: None,
         description: "the position of the point light, in world units",
-        rule: "—",
+        constraint: Constraint::Any,
+        note: "",
         example: "location 0 5 0",
     },
     AttrSpec {
-        name: AttrName::Color,
+        name: Key::Attribute(AttrName::Color),
         arity: Arity::Numbers(3),
         placeholder: "R G B",
         required: true,
         json: &["color"],
         default: None,
         description: "the intensity per channel",
-        rule: "each ≥ 0 (above 1 is allowed, with a warning)",
+        constraint: Constraint::NonNegative { warn_above: 1.0 },
+        note: "",
         example: "color 1 1 1",
     },
 ];
@@ -169,6 +313,68 @@ const WITH_ATTRIBUTES: [SectionKind; 3] =
     [SectionKind::Sphere, SectionKind::Plane, SectionKind::Light];
 
 impl AttrSpec {
+    /// The attribute name of a section's row, as the syntax tree holds it
+    /// (the camera's row, which has none, gives its keyword as an unknown
+    /// name).
+    pub fn attr_name(&self) -> AttrName {
+        match &self.name {
+            Key::Attribute(name) => name.clone(),
+            Key::Resolution => AttrName::Unknown(self.name.as_str().into()),
+        }
+    }
+
+    /// How many numbers (or paths) a line of this row takes.
+    pub fn count(&self) -> usize {
+        match self.arity {
+            Arity::Numbers(n) => n,
+            Arity::Path => 1,
+        }
+    }
+
+    /// The largest value of a row whose rule is a whole-number range (the
+    /// camera's largest resolution); 0 for any other.
+    pub const fn max_whole(&self) -> u32 {
+        match self.constraint {
+            Constraint::Whole { max, .. } => max,
+            _ => 0,
+        }
+    }
+
+    /// The rule in words: `each in [0, 1]`, `> 0`, `any numbers`, with the
+    /// row's note.
+    pub fn rule(&self) -> String {
+        let each = if self.count() > 1 { "each " } else { "" };
+        let rule = match self.constraint {
+            Constraint::Any => "any numbers".to_string(),
+            Constraint::Range { min, max, .. } => format!("{each}in [{min}, {max}]"),
+            Constraint::Positive => format!("{each}> 0"),
+            Constraint::NonNegative { warn_above } => {
+                format!("{each}≥ 0 (above {warn_above} is allowed, with a warning)")
+            }
+            Constraint::NonZero { .. } => "not `0 0 0`".to_string(),
+            Constraint::Whole { min, max } => format!("a whole number from {min} to {max}"),
+            Constraint::Image => "an image file that decodes".to_string(),
+        };
+        if self.note.is_empty() {
+            rule
+        } else {
+            format!("{rule}; {}", self.note)
+        }
+    }
+
+    /// The bounds of each number, for the JSON Schema: `(minimum,
+    /// exclusive, maximum)`, where `exclusive` says the minimum itself is
+    /// out.
+    pub fn bounds(&self) -> (Option<f64>, bool, Option<f64>) {
+        match self.constraint {
+            Constraint::Range { min, max, .. } => (Some(min), false, Some(max)),
+            Constraint::Positive => (Some(0.0), true, None),
+            Constraint::NonNegative { .. } => (Some(0.0), false, None),
+            Constraint::Whole { min, max } => (Some(min.into()), false, Some(max.into())),
+            Constraint::Any | Constraint::NonZero { .. } | Constraint::Image => (None, false, None),
+        }
+    }
+
     /// The example line as the value of the attribute's `i`th JSON field:
     /// `"wood_tex.ppm"`, `[0, 0, -5]`, or one number of an attribute that
     /// JSON splits (`dimension 4 4` is `"width": 4, "height": 4`).
@@ -187,11 +393,11 @@ impl AttrSpec {
     /// editors: meaning, rule, default and the scene-text spelling.
     pub fn summary(&self) -> String {
         let mut out = format!("{}.", capitalised(self.description));
-        if self.rule != "—" {
-            out.push_str(&format!(" Rule: {}.", self.rule));
+        if self.constraint != Constraint::Any {
+            out.push_str(&format!(" Rule: {}.", self.rule()));
         }
         if let Some(default) = self.default {
-            out.push_str(&format!(" Default: `{default}`."));
+            out.push_str(&format!(" Default: `{}`.", default.text()));
         }
         out.push_str(&format!(" Scene text: `{}`.", self.example));
         out
@@ -205,8 +411,8 @@ fn capitalised(text: &str) -> String {
     })
 }
 
-/// The attributes `kind` takes, in documentation order (none for the camera
-/// and for unknown sections).
+/// The attributes `kind` takes, in documentation order (none for the camera,
+/// whose one row is [`CAMERA`], and for unknown sections).
 pub fn attributes_of(kind: &SectionKind) -> &'static [AttrSpec] {
     match kind {
         SectionKind::Sphere => &SPHERE,
@@ -216,9 +422,37 @@ pub fn attributes_of(kind: &SectionKind) -> &'static [AttrSpec] {
     }
 }
 
+/// Every row: the camera's, then each section's attributes.
+pub fn rows() -> impl Iterator<Item = (SectionKind, &'static AttrSpec)> {
+    std::iter::once((SectionKind::Camera, &CAMERA)).chain(
+        WITH_ATTRIBUTES
+            .into_iter()
+            .flat_map(|kind| attributes_of(&kind).iter().map(move |s| (kind.clone(), s))),
+    )
+}
+
 /// The row for `name` in `kind`, if `kind` takes it.
 pub fn find(kind: &SectionKind, name: &AttrName) -> Option<&'static AttrSpec> {
-    attributes_of(kind).iter().find(|s| &s.name == name)
+    attributes_of(kind).iter().find(|s| s.name == *name)
+}
+
+/// The default of `name` in `kind`, when it has one.
+pub fn default_of(kind: &SectionKind, name: &AttrName) -> Option<DefaultValue> {
+    find(kind, name)?.default
+}
+
+/// The attribute of `kind` that takes a path (`texture`), if any.
+pub fn path_attribute(kind: &SectionKind) -> Option<&'static AttrSpec> {
+    attributes_of(kind).iter().find(|s| s.arity == Arity::Path)
+}
+
+/// The attribute of `kind` a JSON field name stands for in scene text,
+/// when the field is named otherwise there: `radius` is a sphere's
+/// `dimension`.
+pub fn from_json_name(kind: &SectionKind, field: &str) -> Option<&'static AttrSpec> {
+    attributes_of(kind)
+        .iter()
+        .find(|s| s.json == [field] && s.name.as_str() != field)
 }
 
 /// The section keywords that take `name`, such as `["plane"]` for `normal`.
@@ -241,26 +475,35 @@ pub fn sections_taking(name: &AttrName) -> Vec<&'static str> {
 pub fn markdown_table() -> String {
     let mut table = String::from(
         "| section | attribute | JSON | values | required | default | meaning | rule | example |\n\
-         |---|---|---|---|---|---|---|---|---|\n\
-         | camera | (resolution) | `camera.resolution` | 1 whole number N | exactly one camera | — \
-         | the image is N × N pixels | 1 ≤ N ≤ 16384 | `camera 400` |\n",
+         |---|---|---|---|---|---|---|---|---|\n",
     );
-    for kind in WITH_ATTRIBUTES {
-        for spec in attributes_of(&kind) {
-            let json: Vec<String> = spec.json.iter().map(|f| format!("`{f}`")).collect();
-            table.push_str(&format!(
-                "| {} | `{}` | {} | {} | {} | {} | {} | {} | `{}` |\n",
-                kind.as_str(),
-                spec.name.as_str(),
-                json.join(", "),
-                spec.placeholder.to_lowercase(),
-                if spec.required { "yes" } else { "no" },
-                spec.default.map_or("—".to_string(), |d| format!("`{d}`")),
-                spec.description,
-                spec.rule,
-                spec.example,
-            ));
-        }
+    for (kind, spec) in rows() {
+        let (attribute, json, values, required) = match spec.name {
+            Key::Resolution => (
+                "(resolution)".to_string(),
+                format!("`camera.{}`", spec.json[0]),
+                format!("1 whole number {}", spec.placeholder),
+                "exactly one camera",
+            ),
+            Key::Attribute(ref name) => {
+                let json: Vec<String> = spec.json.iter().map(|f| format!("`{f}`")).collect();
+                (
+                    format!("`{}`", name.as_str()),
+                    json.join(", "),
+                    spec.placeholder.to_lowercase(),
+                    if spec.required { "yes" } else { "no" },
+                )
+            }
+        };
+        table.push_str(&format!(
+            "| {} | {attribute} | {json} | {values} | {required} | {} | {} | {} | `{}` |\n",
+            kind.as_str(),
+            spec.default
+                .map_or("—".to_string(), |d| format!("`{}`", d.text())),
+            spec.description,
+            spec.rule(),
+            spec.example,
+        ));
     }
     table
 }
@@ -303,5 +546,20 @@ mod tests {
             sections_taking(&AttrName::Color),
             ["sphere", "plane", "light"]
         );
+    }
+
+    #[test]
+    fn every_position_has_a_rule_in_words() {
+        let center = find(&SectionKind::Sphere, &AttrName::Center).unwrap();
+        assert_eq!(center.rule(), "any numbers");
+        assert_eq!(CAMERA.rule(), "a whole number from 1 to 16384");
+    }
+
+    #[test]
+    fn radius_is_the_json_name_of_a_spheres_dimension() {
+        let spec = from_json_name(&SectionKind::Sphere, "radius").unwrap();
+        assert_eq!(spec.name, AttrName::Dimension);
+        assert!(from_json_name(&SectionKind::Plane, "radius").is_none());
+        assert!(from_json_name(&SectionKind::Sphere, "color").is_none());
     }
 }

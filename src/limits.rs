@@ -2,8 +2,8 @@
 //! before it gets a diagnostic: the scene file's size, the number of
 //! objects and lights, and the size of each texture and of all of them.
 //!
-//! The camera resolution (1 to 16384, docs/language.md) is checked by the check
-//! pass and `--max-depth` (0 to 64) by the command line; docs/reliability.md
+//! The camera resolution (its row in [`crate::language`]) is checked by the
+//! check pass and `--max-depth` (0 to 64) by the command line; docs/reliability.md
 //! lists all of them with the reasons for each value.
 
 /// The largest scene file read, in bytes (256 MiB). A scene at the object

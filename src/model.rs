@@ -6,9 +6,13 @@
 //! written (a non-unit normal stays non-unit, headup is not projected, the
 //! texture path is relative to the scene file); everything derived for
 //! rendering belongs to [`crate::ir`]. The top-level `format` field versions
-//! the layout.
+//! the layout. The rules and defaults of each field are rows of the
+//! registry ([`crate::language`]); the defaults here are read from it.
 
 use serde::{Deserialize, Serialize};
+
+use crate::ast::{AttrName, SectionKind};
+use crate::language::{self, DefaultValue};
 
 /// The value of [`Scene::format`] this version reads and writes.
 pub const FORMAT: &str = "raytracer-scene/1";
@@ -35,7 +39,8 @@ pub struct Scene {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Camera {
-    /// Image width and height in pixels, 1 to 16384.
+    /// Image width and height in pixels (the range is the registry's
+    /// [`language::CAMERA`] row).
     pub resolution: u32,
 }
 
@@ -54,7 +59,7 @@ pub struct Object {
 pub enum Shape {
     Sphere {
         center: Vec3,
-        /// Radius, > 0 (the scene language's `dimension`).
+        /// Radius (the scene language's `dimension`).
         radius: f64,
     },
     Plane {
@@ -62,10 +67,10 @@ pub enum Shape {
         /// Width along `right` and height along `up` (`dimension W H`).
         width: f64,
         height: f64,
-        /// Non-zero; as written, not normalised.
+        /// As written, not normalised.
         normal: Vec3,
-        /// Non-zero; as written, not projected (one parallel to `normal` is
-        /// warned about and an axis stands in).
+        /// As written, not projected (one parallel to `normal` is warned
+        /// about and an axis stands in).
         headup: Vec3,
     },
 }
@@ -73,27 +78,44 @@ pub enum Shape {
 /// Surface properties shared by every object.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Material {
-    /// Each channel in [0, 1]; default white. Ignored where a texture is given.
-    #[serde(default = "white")]
+    /// Ignored where a texture is given.
+    #[serde(default = "default_color")]
     pub color: Vec3,
-    /// Mirror weight in [0, 1]; default 0.
-    #[serde(default)]
+    /// Mirror weight.
+    #[serde(default = "default_reflectivity")]
     pub reflectivity: f64,
     /// Image path as written, relative to the scene file's folder.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<String>,
 }
 
+/// The default of an object's attribute `name`, from the registry's row
+/// (every optional material row has one: tested below).
+fn object_default(name: AttrName) -> Option<DefaultValue> {
+    language::default_of(&SectionKind::Sphere, &name)
+}
+
 /// The default object colour.
-fn white() -> Vec3 {
-    [1.0, 1.0, 1.0]
+fn default_color() -> Vec3 {
+    match object_default(AttrName::Color) {
+        Some(DefaultValue::Vector(color)) => color,
+        _ => Vec3::default(),
+    }
+}
+
+/// The default reflectivity.
+fn default_reflectivity() -> f64 {
+    match object_default(AttrName::Reflectivity) {
+        Some(DefaultValue::Number(k)) => k,
+        _ => f64::default(),
+    }
 }
 
 impl Default for Material {
     fn default() -> Self {
         Material {
-            color: white(),
-            reflectivity: 0.0,
+            color: default_color(),
+            reflectivity: default_reflectivity(),
             texture: None,
         }
     }
@@ -106,4 +128,23 @@ pub struct Light {
     pub location: Vec3,
     /// Each channel ≥ 0; above 1 over-exposes.
     pub color: Vec3,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn material_defaults_are_the_registrys_for_both_shapes() {
+        for kind in [SectionKind::Sphere, SectionKind::Plane] {
+            assert_eq!(
+                language::default_of(&kind, &AttrName::Color),
+                Some(DefaultValue::Vector(Material::default().color))
+            );
+            assert_eq!(
+                language::default_of(&kind, &AttrName::Reflectivity),
+                Some(DefaultValue::Number(Material::default().reflectivity))
+            );
+        }
+    }
 }

@@ -160,7 +160,33 @@ fn sarif_carries_what_json_carries() {
             assert_eq!(region["startColumn"], label["column"]);
             assert_eq!(location["message"]["text"], label["label"]);
         }
+        // A fix is a SARIF `fixes` entry with one replacement per edit.
+        match entry.get("fix") {
+            None => assert!(result.get("fixes").is_none(), "{result}"),
+            Some(fix) => {
+                let sarif_fix = &result["fixes"][0];
+                assert_eq!(sarif_fix["description"]["text"], fix["message"]);
+                let change = &sarif_fix["artifactChanges"][0];
+                assert_eq!(
+                    change["artifactLocation"]["uri"].as_str().unwrap(),
+                    file.replace(' ', "%20")
+                );
+                let replacements = change["replacements"].as_array().unwrap();
+                let edits = fix["edits"].as_array().unwrap();
+                assert_eq!(replacements.len(), edits.len());
+                for (replacement, edit) in replacements.iter().zip(edits) {
+                    assert_eq!(replacement["insertedContent"]["text"], edit["content"]);
+                    let region = &replacement["deletedRegion"];
+                    assert_eq!(region["startLine"], edit["line"]);
+                    assert_eq!(region["startColumn"], edit["column"]);
+                }
+            }
+        }
     }
+    assert!(
+        results.iter().any(|r| r.get("fixes").is_some()),
+        "the fixtures carry fixes"
+    );
 }
 
 /// One workflow command, parsed by the grammar the runner reads:

@@ -31,6 +31,7 @@ mod pov;
 mod preview;
 mod preview_browser;
 mod reference_model;
+mod registry;
 mod render_cli;
 mod round_trip;
 mod semantic_tokens;

@@ -173,10 +173,25 @@ fn fixes_show_in_the_json_format() {
     assert_eq!(
         with_fixes,
         [
+            "scene::color_out_of_range",
+            "scene::color_with_texture",
+            "scene::dimension_not_positive",
+            "scene::duplicate_attribute",
             "scene::headup_not_perpendicular",
             "scene::headup_parallel_to_normal",
+            "scene::light_color_above_one",
+            "scene::negative_light_color",
+            "scene::object_behind_camera",
+            "scene::reflectivity_out_of_range",
+            "scene::repeated_camera",
+            "scene::resolution_not_integer",
+            "scene::resolution_out_of_range",
             "scene::unknown_attribute",
-            "scene::unknown_section"
+            "scene::unknown_section",
+            "scene::zero_headup",
+            "scene::zero_normal",
+            "syntax::comma_separated_values",
+            "syntax::decimal_comma"
         ]
     );
 }

@@ -1,8 +1,9 @@
 //! The checks every section shares: each attribute line is looked up in the
 //! table of [`crate::language`] and its values read, reporting unknown and
 //! misplaced names, duplicates, wrong value counts, strings where numbers
-//! belong and missing required attributes. What survives is an
-//! [`Attributes`] the per-section builders query by name.
+//! belong and missing required attributes; then each line's values are
+//! held to its row's single-attribute rule ([`super::rules`]). What
+//! survives is an [`Attributes`] the per-section builders query by name.
 
 use arrayvec::ArrayVec;
 
@@ -12,7 +13,7 @@ use crate::span::{Span, Spanned};
 use crate::suggest;
 
 use super::errors::CheckError;
-use super::Problems;
+use super::{rules, Checker, Problems};
 use crate::language::{self as schema, Arity, AttrSpec};
 
 /// The most numbers an attribute takes (a vector's three); the language
@@ -80,8 +81,8 @@ impl<'a> Attributes<'a> {
 }
 
 /// Read the attributes of `section` (a known section kind), reporting every
-/// generic problem into `problems`.
-pub fn collect<'a>(section: &'a Section, problems: &mut Problems) -> Attributes<'a> {
+/// generic problem and every broken single-attribute rule.
+pub fn collect<'a>(section: &'a Section, cx: &mut Checker<'_>) -> Attributes<'a> {
     let kind = &*section.kind;
     // At most one line per known name: unknown and repeated names are
     // reported and left out.
@@ -92,13 +93,19 @@ pub fn collect<'a>(section: &'a Section, problems: &mut Problems) -> Attributes<
         let Some(spec) = schema::find(kind, &attribute.name) else {
             let problem = not_taken(kind, attribute);
             if let CheckError::UnknownAttribute { found, .. } = &problem {
-                suggested.extend(nearest_taken(kind, found));
+                suggested.extend(replacement(kind, found).map(|(name, _)| name));
             }
-            problems.push(problem);
+            cx.problems.push(problem);
             continue;
         };
         if let Some(first) = given.iter().find(|g| *g.attribute.name == *attribute.name) {
-            problems.push(CheckError::DuplicateAttribute {
+            let fix = cx.removal(
+                &format!("remove the second `{}` line", attribute.name.as_str()),
+                Applicability::Unsafe,
+                attribute.span,
+            );
+            cx.problems.push(CheckError::DuplicateAttribute {
+                fix,
                 name: attribute.name.as_str().to_string(),
                 section: kind.as_str().to_string(),
                 first: first.attribute.name.span.into(),
@@ -106,11 +113,57 @@ pub fn collect<'a>(section: &'a Section, problems: &mut Problems) -> Attributes<
             });
             continue;
         }
-        let read = read_values(spec, attribute, problems);
+        let read = read_values(
+            spec,
+            attribute.name.span,
+            &attribute.values,
+            &mut cx.problems,
+        );
         given.push(Given { attribute, read });
     }
-    report_missing(section, &given, &suggested, problems);
-    Attributes { given }
+    report_missing(section, &given, &suggested, &mut cx.problems);
+    let mut attributes = Attributes { given };
+    attributes.apply_rules(kind, cx);
+    attributes
+}
+
+impl Attributes<'_> {
+    /// Hold each line's numbers to its row's rule; a line that breaks it
+    /// keeps no values.
+    fn apply_rules(&mut self, kind: &SectionKind, cx: &mut Checker<'_>) {
+        let mut broken = ArrayVec::<usize, MAX_GIVEN>::new();
+        for (i, given) in self.given.iter().enumerate() {
+            let (Some(spec), Some(Read::Numbers(numbers))) =
+                (schema::find(kind, &given.attribute.name), &given.read)
+            else {
+                continue;
+            };
+            let sibling = |name: &AttrName| self.vector(name).map(|v| v.value);
+            if !rules::check(spec, numbers, &sibling, cx) {
+                broken.push(i);
+            }
+        }
+        for i in broken {
+            self.given[i].read = None;
+        }
+    }
+}
+
+/// The values after the `camera` keyword, checked against the registry's
+/// camera row ([`schema::CAMERA`]): its count, that they are numbers, and
+/// its rule. The resolution, when valid.
+pub fn camera_values(
+    keyword: &Spanned<SectionKind>,
+    values: &[Spanned<Value>],
+    cx: &mut Checker<'_>,
+) -> Option<f64> {
+    let spec = &schema::CAMERA;
+    let Some(Read::Numbers(numbers)) = read_values(spec, keyword.span, values, &mut cx.problems)
+    else {
+        return None;
+    };
+    let nothing = |_: &AttrName| None;
+    rules::check(spec, &numbers, &nothing, cx).then(|| numbers[0].value)
 }
 
 /// The diagnostic for an attribute `kind` does not take.
@@ -125,9 +178,12 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
     let span = attribute.name.span.into();
     match &*attribute.name {
         AttrName::Unknown(found) => {
-            let near = nearest_taken(kind, found);
+            let near = replacement(kind, found);
             let help = match near {
-                Some(near) => format!("did you mean `{near}`?"),
+                Some((near, Replacement::JsonName)) => format!(
+                    "`{found}` is the JSON name; in scene text a {section}'s `{found}` is `{near}`"
+                ),
+                Some((near, Replacement::Near)) => format!("did you mean `{near}`?"),
                 None => match suggest::nearest(found, &AttrName::KEYWORDS) {
                     Some((near, _)) => format!(
                         "`{near}` is an attribute of {}; {takes_line}",
@@ -137,10 +193,15 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
                 },
             };
             CheckError::UnknownAttribute {
-                fix: near.map(|near| {
+                fix: near.map(|(near, replacement)| {
+                    // A JSON field name has one scene-text name: safe.
+                    let applicability = match replacement {
+                        Replacement::JsonName => Applicability::Safe,
+                        Replacement::Near => Applicability::Unsafe,
+                    };
                     Fix::boxed(
                         format!("replaced `{found}` with `{near}`"),
-                        Applicability::Unsafe,
+                        applicability,
                         attribute.name.span,
                         near,
                     )
@@ -179,9 +240,22 @@ fn names_taken(kind: &SectionKind) -> Vec<&'static str> {
         .collect()
 }
 
-/// The attribute of `kind` nearest to the unknown word `found`, if close.
-fn nearest_taken(kind: &SectionKind, found: &str) -> Option<&'static str> {
-    suggest::nearest(found, &names_taken(kind)).map(|(near, _)| near)
+/// Why an unknown attribute name is taken for another.
+#[derive(Clone, Copy)]
+enum Replacement {
+    /// It is the JSON field name of an attribute named otherwise in scene
+    /// text (`radius` for a sphere's `dimension`).
+    JsonName,
+    /// It is close to the name (a misspelling).
+    Near,
+}
+
+/// The attribute of `kind` the unknown word `found` stands for, if any.
+fn replacement(kind: &SectionKind, found: &str) -> Option<(&'static str, Replacement)> {
+    if let Some(spec) = schema::from_json_name(kind, found) {
+        return Some((spec.name.as_str(), Replacement::JsonName));
+    }
+    suggest::nearest(found, &names_taken(kind)).map(|(near, _)| (near, Replacement::Near))
 }
 
 /// "planes", "spheres and planes" for "only … take `x`".
@@ -198,18 +272,16 @@ fn plural_list(sections: &[&str]) -> String {
 /// silently, when the parser already reported a malformed value).
 fn read_values<'a>(
     spec: &AttrSpec,
-    attribute: &'a Attribute,
+    name_span: Span,
+    values: &'a [Spanned<Value>],
     problems: &mut Problems,
 ) -> Option<Read<'a>> {
-    let name = attribute.name.as_str();
-    let expected_count = match spec.arity {
-        Arity::Numbers(n) => n,
-        Arity::Path => 1,
-    };
+    let name = spec.name.as_str();
+    let expected_count = spec.count();
     let mut ok = true;
     // The texts are built only for a wrong count: a large scene has
     // millions of attributes.
-    if attribute.values.len() != expected_count {
+    if values.len() != expected_count {
         let expected = match spec.arity {
             Arity::Numbers(1) => "1 value".to_string(),
             Arity::Numbers(n) => format!("{n} values"),
@@ -219,22 +291,22 @@ fn read_values<'a>(
             name,
             &expected,
             expected_count,
-            attribute.name.span,
-            &attribute.values,
+            name_span,
+            values,
             &format!("write `{name} {}`", spec.placeholder),
         ) {
             problems.push(problem);
             ok = false;
         }
     }
-    if attribute.values.iter().any(|v| v.value == Value::Invalid) {
+    if values.iter().any(|v| v.value == Value::Invalid) {
         problems.mark_incomplete();
         ok = false;
     }
     match spec.arity {
         Arity::Numbers(_) => {
             let mut numbers = ArrayVec::new();
-            for value in &attribute.values {
+            for value in values {
                 match &value.value {
                     // Kept only while the count is right (then at most
                     // MAX_NUMBERS); otherwise nothing is built anyway.
@@ -253,7 +325,7 @@ fn read_values<'a>(
             }
             ok.then_some(Read::Numbers(numbers))
         }
-        Arity::Path => match attribute.values.first().map(|v| (&v.value, v.span)) {
+        Arity::Path => match values.first().map(|v| (&v.value, v.span)) {
             Some((Value::Text(text), span)) if ok => Some(Read::Path(Spanned::new(span, &**text))),
             _ => None,
         },
@@ -261,8 +333,8 @@ fn read_values<'a>(
 }
 
 /// The wrong-count diagnostic for `values` after `name_span`, if the count
-/// is not `expected_count`. Shared with the camera line.
-pub fn count_problem(
+/// is not `expected_count`.
+fn count_problem(
     name: &str,
     expected: &str,
     expected_count: usize,
@@ -306,7 +378,7 @@ fn report_missing(
 ) {
     let missing: Vec<&AttrSpec> = schema::attributes_of(&section.kind)
         .iter()
-        .filter(|s| s.required && !given.iter().any(|g| *g.attribute.name == s.name))
+        .filter(|s| s.required && !given.iter().any(|g| s.name == *g.attribute.name))
         .filter(|s| !suggested.contains(&s.name.as_str()))
         .collect();
     if missing.is_empty() {

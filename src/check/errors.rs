@@ -101,6 +101,9 @@ pub enum CheckError {
         first: SourceSpan,
         #[label("given again here")]
         second: SourceSpan,
+        /// Removing the second line (unsafe: which one is wrong is the
+        /// author's call).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a section lacks one or more required attributes; one
@@ -136,6 +139,8 @@ pub enum CheckError {
         first: SourceSpan,
         #[label("another camera")]
         second: SourceSpan,
+        /// Removing the second camera line (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when the camera resolution has a fractional part.
@@ -147,17 +152,24 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// Writing the values the help line shows (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
-    /// Fires when the camera resolution is below 1 or above 16384.
-    #[error("the camera resolution must be from 1 to 16384, found `{found}`")]
+    /// Fires when the camera resolution is outside the range of its row
+    /// in the registry ([`crate::language::CAMERA`]).
+    #[error("the camera resolution must be from {min} to {max}, found `{found}`")]
     #[diagnostic(code(scene::resolution_out_of_range))]
     ResolutionOutOfRange {
+        min: String,
+        max: String,
         found: String,
         #[label("out of range")]
         span: SourceSpan,
         #[help]
         help: String,
+        /// Writing the values the help line shows (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires on values directly after a `sphere`, `plane` or `light` keyword.
@@ -182,28 +194,38 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// Writing the values the help line shows (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when an object colour has a channel outside [0, 1].
-    #[error("colour channels must be from 0 to 1, found `{found}`")]
+    #[error("colour channels must be from {min} to {max}, found `{found}`")]
     #[diagnostic(code(scene::color_out_of_range))]
     ColorOutOfRange {
+        min: String,
+        max: String,
         found: String,
         #[label("out of range")]
         span: SourceSpan,
         #[help]
         help: String,
+        /// Writing the values the help line shows (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a reflectivity is outside [0, 1].
-    #[error("reflectivity must be from 0 to 1, found `{found}`")]
+    #[error("reflectivity must be from {min} to {max}, found `{found}`")]
     #[diagnostic(code(scene::reflectivity_out_of_range))]
     ReflectivityOutOfRange {
+        min: String,
+        max: String,
         found: String,
         #[label("out of range")]
         span: SourceSpan,
         #[help]
         help: String,
+        /// Writing the values the help line shows (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a light colour has a negative channel.
@@ -215,17 +237,20 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// Writing the values the help line shows (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a plane's normal is `0 0 0`.
     #[error("the plane normal must not be zero")]
-    #[diagnostic(
-        code(scene::zero_normal),
-        help("give the direction the plane faces, such as `normal 0 1 0`")
-    )]
+    #[diagnostic(code(scene::zero_normal))]
     ZeroNormal {
         #[label("zero vector")]
         span: SourceSpan,
+        #[help]
+        help: String,
+        /// Writing the values the help line shows (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a plane's headup is `0 0 0`.
@@ -236,6 +261,8 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// Writing the values the help line shows (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when headup points along the normal (|n̂ × ĥ| ≤ 1e-9), so the
@@ -343,6 +370,8 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// Negating the centre's z, when it is above 0 (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a light is strictly inside a sphere: it lights only the
@@ -373,6 +402,8 @@ pub enum CheckError {
         color: SourceSpan,
         #[label("the texture wins")]
         texture: SourceSpan,
+        /// Removing the ignored line (safe: the image is unchanged).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a light colour channel is above 1 (it over-exposes).
@@ -383,6 +414,8 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// Writing the values the help line shows (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires on each Unicode text-direction control (U+202A–U+202E,
@@ -407,7 +440,20 @@ impl CheckError {
             CheckError::UnknownSection { fix, .. }
             | CheckError::UnknownAttribute { fix, .. }
             | CheckError::HeadupNotPerpendicular { fix, .. }
-            | CheckError::HeadupParallelToNormal { fix, .. } => fix.as_deref(),
+            | CheckError::HeadupParallelToNormal { fix, .. }
+            | CheckError::ResolutionNotInteger { fix, .. }
+            | CheckError::ResolutionOutOfRange { fix, .. }
+            | CheckError::DimensionNotPositive { fix, .. }
+            | CheckError::ColorOutOfRange { fix, .. }
+            | CheckError::ReflectivityOutOfRange { fix, .. }
+            | CheckError::NegativeLightColor { fix, .. }
+            | CheckError::ZeroNormal { fix, .. }
+            | CheckError::ZeroHeadup { fix, .. }
+            | CheckError::LightColorAboveOne { fix, .. }
+            | CheckError::ObjectBehindCamera { fix, .. }
+            | CheckError::DuplicateAttribute { fix, .. }
+            | CheckError::RepeatedCamera { fix, .. }
+            | CheckError::ColorWithTexture { fix, .. } => fix.as_deref(),
             _ => None,
         }
     }

@@ -4,8 +4,9 @@
 //! Every problem in the file is reported in one run. [`SceneCheck`] takes
 //! the sections one at a time, so the front end checks each section as the
 //! parser yields it and never holds a large scene's whole syntax tree. The shared attribute
-//! checks live in [`attributes`] (driven by the table in [`crate::language`]), each
-//! section kind's own rules in [`sections`] (with the vector geometry of
+//! checks live in [`attributes`] and the single-attribute rules in [`rules`]
+//! (both driven by the registry in [`crate::language`]), the rules between
+//! attributes in [`sections`] (with the vector geometry of
 //! [`crate::geometry`]), texture files (through the caller's
 //! [`TextureLoader`]: the pass does no I/O of its own) in [`textures`], the
 //! light-inside-sphere warning in [`inside`], the
@@ -17,7 +18,7 @@ mod attributes;
 pub mod errors;
 pub mod format;
 mod inside;
-
+mod rules;
 mod sections;
 mod sink;
 mod text_direction;
@@ -124,6 +125,13 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
         }
     }
 
+    /// This check is fed the sections [`crate::syntax::sections`] reads from
+    /// scene text (not JSON), so fixes may remove whole lines of it.
+    pub fn fed_from_scene_text(mut self) -> Self {
+        self.cx.scene_text = true;
+        self
+    }
+
     /// Check the next section of the file.
     pub fn section(&mut self, section: &ast::Section) {
         let cx = &mut self.cx;
@@ -140,10 +148,19 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
                 let resolution = sections::camera(section, cx);
                 match self.camera {
                     None => self.camera = Some((section.kind.span, resolution)),
-                    Some((first, _)) => cx.problems.push(CheckError::RepeatedCamera {
-                        first: first.into(),
-                        second: section.kind.span.into(),
-                    }),
+                    Some((first, _)) => {
+                        let line = section
+                            .args
+                            .last()
+                            .map_or(section.kind.span, |last| section.kind.span.join(last.span));
+                        let fix =
+                            cx.removal("remove this `camera` line", Applicability::Unsafe, line);
+                        cx.problems.push(CheckError::RepeatedCamera {
+                            first: first.into(),
+                            second: section.kind.span.into(),
+                            fix,
+                        })
+                    }
                 }
             }
             SectionKind::Sphere | SectionKind::Plane => {
@@ -284,6 +301,9 @@ struct Checker<'a> {
     textures: textures::Textures<'a>,
     /// What the light-inside-sphere warning weighs.
     inside: inside::LightsInSpheres,
+    /// Whether the source is scene text, where a fix may remove a line
+    /// (in JSON it would leave a stray comma).
+    scene_text: bool,
 }
 
 impl<'a> Checker<'a> {
@@ -293,11 +313,21 @@ impl<'a> Checker<'a> {
             problems: Problems::default(),
             textures: textures::Textures::new(&source.dir, textures),
             inside: inside::LightsInSpheres::default(),
+            scene_text: false,
         }
     }
 }
 
 impl Checker<'_> {
+    /// A fix that removes `span` (and its line, when nothing else is on
+    /// it), in scene text only.
+    fn removal(&self, message: &str, applicability: Applicability, span: Span) -> Option<Box<Fix>> {
+        self.scene_text.then(|| {
+            let removed = crate::fix::removal(&self.source.text, span);
+            Fix::boxed(message.to_string(), applicability, removed, "")
+        })
+    }
+
     /// The source text of `span`, as written.
     fn text(&self, span: Span) -> String {
         self.source
@@ -342,8 +372,10 @@ mod tests {
         );
     }
 
+    /// (Unsafe fixes remain for some: a zero normal's stand-in, the
+    /// second of two `normal` lines removed.)
     #[test]
-    fn good_and_hopeless_planes_get_no_fix() {
+    fn good_and_hopeless_planes_get_no_safe_fix() {
         for plane in [
             "plane normal 0 1 0 headup 0 0 1",
             "plane normal 0 2 0 headup 0 0 1",
@@ -352,7 +384,7 @@ mod tests {
             "sphere normal 0 2 0",
         ] {
             let text = format!("camera 4 {plane} dimension 1 1 center 0 0 -5");
-            assert_eq!(fixed(&text, Applicability::Unsafe), text);
+            assert_eq!(fixed(&text, Applicability::Safe), text);
         }
     }
 

@@ -1,10 +1,11 @@
-//! One builder per section kind: each runs the shared attribute checks,
-//! then the range rules and warnings of its own attributes (docs/language.md), and
-//! returns the model value when everything it needs is valid.
+//! One builder per section kind: each runs the shared attribute checks
+//! (which hold every line to its row's rule in the registry), then the
+//! rules between attributes (docs/language.md): `headup` against
+//! `normal`, a texture that loads, `color` beside `texture`, an object
+//! behind the camera. It returns the model value when everything it needs
+//! is valid.
 
-use arrayvec::ArrayVec;
-
-use crate::ast::{AttrName, Section, Value};
+use crate::ast::{AttrName, Section};
 use crate::fix::{Applicability, Edit, Fix};
 use crate::model;
 use crate::span::Spanned;
@@ -16,70 +17,25 @@ use super::inside::{LightAt, SphereAt};
 use super::Checker;
 use crate::geometry::{self, Headup};
 
-/// The camera line: its resolution, when valid.
+/// The camera line: its resolution, when valid (its rule is the
+/// registry's camera row, checked by [`attributes::camera_values`]).
 pub fn camera(section: &Section, cx: &mut Checker<'_>) -> Option<u32> {
-    attributes::collect(section, &mut cx.problems);
-    if let Some(problem) = attributes::count_problem(
-        "camera",
-        "1 value",
-        1,
-        section.kind.span,
-        &section.args,
-        "write `camera N` for an N × N image, such as `camera 400`",
-    ) {
-        cx.problems.push(problem);
-        return None;
-    }
-    let arg = &section.args[0];
-    let n = match &arg.value {
-        Value::Number(n) => *n,
-        Value::Text(text) => {
-            cx.problems.push(CheckError::NotANumber {
-                name: "camera".to_string(),
-                found: text.to_string(),
-                span: arg.span.into(),
-            });
-            return None;
-        }
-        Value::Invalid => {
-            cx.problems.mark_incomplete();
-            return None;
-        }
-    };
-    let found = cx.text(arg.span);
-    let nearest = n.round().clamp(1.0, 16384.0);
-    if n.fract() != 0.0 {
-        cx.problems.push(CheckError::ResolutionNotInteger {
-            found,
-            span: arg.span.into(),
-            help: format!("write `camera {}`", format::number(nearest)),
-        });
-        return None;
-    }
-    if !(1.0..=16384.0).contains(&n) {
-        cx.problems.push(CheckError::ResolutionOutOfRange {
-            found,
-            span: arg.span.into(),
-            help: format!(
-                "the image is N × N pixels with N from 1 to 16384: write `camera {}`",
-                format::number(nearest)
-            ),
-        });
-        return None;
-    }
-    // In 1..=16384 and whole, so the cast is exact.
+    attributes::collect(section, cx);
+    let n = attributes::camera_values(&section.kind, &section.args, cx)?;
+    // A whole number within the row's range, which a `u32` holds, so the
+    // cast is exact.
     Some(n as u32)
 }
 
 /// A sphere, when valid.
 pub fn sphere(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> {
     no_positional_values(section, "dimension 1", cx);
-    let attrs = attributes::collect(section, &mut cx.problems);
-    let (center, radius) = sphere_geometry(&attrs, cx);
+    let attrs = attributes::collect(section, cx);
+    let (center, radius) = sphere_geometry(&attrs);
     let material = material(&attrs, "sphere", cx);
     let (center, radius) = (center?, radius?);
     if center[2] - radius >= 0.0 {
-        cx.problems.push(behind_camera("sphere", center));
+        cx.problems.push(behind_camera("sphere", center, &attrs));
     }
     let at = SphereAt {
         center: *center,
@@ -97,20 +53,21 @@ pub fn sphere(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> 
 }
 
 /// A sphere's centre and radius, each when valid: all of a sphere that the
-/// light-inside-sphere warning weighs.
-pub fn sphere_geometry(
-    attrs: &Attributes<'_>,
-    cx: &mut Checker<'_>,
-) -> (Option<Spanned<[f64; 3]>>, Option<f64>) {
-    let radius = dimensions(attrs, &["radius"], cx).map(|d| d[0]);
+/// light-inside-sphere warning weighs (the radius's own rule is checked
+/// with the other single-attribute rules).
+pub fn sphere_geometry(attrs: &Attributes<'_>) -> (Option<Spanned<[f64; 3]>>, Option<f64>) {
+    let radius = attrs
+        .numbers(&AttrName::Dimension)
+        .and_then(|d| d.first())
+        .map(|r| r.value);
     (attrs.vector(&AttrName::Center), radius)
 }
 
 /// A plane, when valid.
 pub fn plane(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> {
     no_positional_values(section, "dimension 4 4", cx);
-    let attrs = attributes::collect(section, &mut cx.problems);
-    let size = dimensions(&attrs, &["width", "height"], cx);
+    let attrs = attributes::collect(section, cx);
+    let size = attrs.numbers(&AttrName::Dimension);
     let center = attrs.vector(&AttrName::Center);
     let written_once = |name: AttrName| {
         section
@@ -124,11 +81,11 @@ pub fn plane(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> {
     let orientation = orientation(&attrs, unique, cx);
     let material = material(&attrs, "plane", cx);
     let (size, center, (normal, headup)) = (size?, center?, orientation?);
-    let (width, height) = (size[0], size[1]);
+    let (width, height) = (size[0].value, size[1].value);
     if let Some(basis) = geometry::plane_basis(normal, headup) {
         let corners = geometry::corners(*center, &basis, width, height);
         if corners.iter().all(|c| c.z >= 0.0) {
-            cx.problems.push(behind_camera("plane", center));
+            cx.problems.push(behind_camera("plane", center, &attrs));
         }
     }
     Some(model::Object {
@@ -146,34 +103,9 @@ pub fn plane(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> {
 /// A light, when valid.
 pub fn light(section: &Section, cx: &mut Checker<'_>) -> Option<model::Light> {
     no_positional_values(section, "location 0 0 0", cx);
-    let attrs = attributes::collect(section, &mut cx.problems);
+    let attrs = attributes::collect(section, cx);
     let location = attrs.vector(&AttrName::Location);
-    let color = attrs.vector(&AttrName::Color).and_then(|color| {
-        let channels = attrs.numbers(&AttrName::Color)?;
-        let negative: Vec<_> = channels.iter().filter(|c| ***c < 0.0).collect();
-        let ok = negative.is_empty();
-        if let (Some(first), Some(last)) = (negative.first(), negative.last()) {
-            cx.problems.push(CheckError::NegativeLightColor {
-                found: cx.text(color.span),
-                span: first.span.join(last.span).into(),
-                help: format!(
-                    "write `color {}`",
-                    format::vector(color.value.map(|c| c.max(0.0)))
-                ),
-            });
-        }
-        let brightest = color.iter().copied().fold(0.0, f64::max);
-        if ok && brightest > 1.0 {
-            cx.problems.push(CheckError::LightColorAboveOne {
-                span: color.span.into(),
-                help: format!(
-                    "to keep the hue without clipping, write `color {}`",
-                    format::vector(color.value.map(|c| c / brightest))
-                ),
-            });
-        }
-        ok.then_some(*color)
-    });
+    let color = attrs.vector(&AttrName::Color);
     let location = location?;
     cx.inside.light(LightAt {
         location: *location,
@@ -181,7 +113,7 @@ pub fn light(section: &Section, cx: &mut Checker<'_>) -> Option<model::Light> {
     });
     Some(model::Light {
         location: *location,
-        color: color?,
+        color: *color?,
     })
 }
 
@@ -198,37 +130,6 @@ fn no_positional_values(section: &Section, example: &str, cx: &mut Checker<'_>) 
     });
 }
 
-/// The `dimension` values, each checked > 0; `names` says what each is.
-fn dimensions(
-    attrs: &Attributes<'_>,
-    names: &[&str],
-    cx: &mut Checker<'_>,
-) -> Option<ArrayVec<f64, 2>> {
-    let values = attrs.numbers(&AttrName::Dimension)?;
-    // The suggested line, written only when a value is wrong.
-    let fixed = || {
-        let fixed: Vec<String> = values
-            .iter()
-            .map(|v| format::number(if **v == 0.0 { 1.0 } else { v.abs() }))
-            .collect();
-        fixed.join(" ")
-    };
-    let mut ok = true;
-    for (value, what) in values.iter().zip(names) {
-        if **value > 0.0 {
-            continue;
-        }
-        ok = false;
-        cx.problems.push(CheckError::DimensionNotPositive {
-            what: what.to_string(),
-            found: cx.text(value.span),
-            span: value.span.into(),
-            help: format!("write `dimension {}`", fixed()),
-        });
-    }
-    ok.then(|| values.iter().map(|v| **v).collect())
-}
-
 /// A plane's `normal` and `headup`, when both are valid: non-zero and not
 /// parallel. Warns when headup is not perpendicular.
 /// `unique` says that `normal` and `headup` are each written once: with a
@@ -238,27 +139,11 @@ fn orientation(
     unique: bool,
     cx: &mut Checker<'_>,
 ) -> Option<([f64; 3], [f64; 3])> {
-    let normal = attrs.vector(&AttrName::Normal);
-    let headup = attrs.vector(&AttrName::Headup);
-    let normal_unit = normal.and_then(|n| geometry::unit(*n));
-    if let (Some(n), None) = (normal, normal_unit) {
-        cx.problems.push(CheckError::ZeroNormal {
-            span: n.span.into(),
-        });
-    }
-    if let Some(h) = headup.filter(|h| geometry::unit(**h).is_none()) {
-        cx.problems.push(CheckError::ZeroHeadup {
-            span: h.span.into(),
-            help: match normal_unit {
-                Some(_) => format!(
-                    "write `headup {}`, perpendicular to the normal",
-                    perpendicular_to(normal.map_or([0.0; 3], |n| *n))
-                ),
-                None => "give the plane's up direction, such as `headup 0 1 0`".to_string(),
-            },
-        });
-    }
-    let (normal, headup) = (normal?, headup?);
+    // Zero vectors were reported by their rows' rules and kept no values.
+    let (normal, headup) = (
+        attrs.vector(&AttrName::Normal)?,
+        attrs.vector(&AttrName::Headup)?,
+    );
     // Both headup fixes write the vector the renderer uses, when headup is
     // written once.
     let headup_fix = |used: [f64; 3], message: &str| {
@@ -319,70 +204,23 @@ fn rewrite_headup(written: &[Spanned<f64>], used: [f64; 3], message: &str) -> Op
     })
 }
 
-/// A vector perpendicular to `normal` for help lines: the stand-in headup
-/// of [`geometry::stand_in_headup`] projected onto the plane.
-fn perpendicular_to(normal: [f64; 3]) -> String {
-    let Some(n) = geometry::unit(normal) else {
-        return "0 1 0".to_string();
-    };
-    let axis = geometry::stand_in_headup(n);
-    format::vector((axis - axis.dot(n) * n).to_array())
-}
-
-/// An object's material: colour and reflectivity in [0, 1], a texture that
-/// loads, and a warning when colour and texture are both given.
+/// An object's material: colour and reflectivity (held to their rules
+/// already), a texture that loads, and a warning when colour and texture
+/// are both given.
 fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option<model::Material> {
     let mut material = model::Material::default();
     let mut ok = true;
-    if let Some(color) = attrs.vector(&AttrName::Color) {
-        let bad = attrs.numbers(&AttrName::Color).and_then(|channels| {
-            let out: Vec<_> = channels
-                .iter()
-                .filter(|c| !(0.0..=1.0).contains(&***c))
-                .collect();
-            Some(out.first()?.span.join(out.last()?.span))
-        });
-        if let Some(span) = bad {
-            ok = false;
-            let on_255_scale = color.iter().all(|c| (0.0..=255.0).contains(c));
-            let fixed = if on_255_scale {
-                color.value.map(|c| (c / 255.0 * 1000.0).round() / 1000.0)
-            } else {
-                color.value.map(|c| c.clamp(0.0, 1.0))
-            };
-            let help = if on_255_scale {
-                format!(
-                    "if these are 0–255 values, write `color {}`",
-                    format::vector(fixed)
-                )
-            } else {
-                format!("write `color {}`", format::vector(fixed))
-            };
-            cx.problems.push(CheckError::ColorOutOfRange {
-                found: cx.text(color.span),
-                span: span.into(),
-                help,
-            });
-        }
-        material.color = *color;
-    } else if attrs.line(&AttrName::Color).is_some() {
-        ok = false;
+    // Each value was held to its row's rule: a line without values broke it.
+    match attrs.vector(&AttrName::Color) {
+        Some(color) => material.color = *color,
+        None => ok &= attrs.line(&AttrName::Color).is_none(),
     }
-    if let Some(k) = attrs
+    match attrs
         .numbers(&AttrName::Reflectivity)
         .and_then(|k| k.first())
     {
-        if !(0.0..=1.0).contains(&**k) {
-            ok = false;
-            cx.problems.push(CheckError::ReflectivityOutOfRange {
-                found: cx.text(k.span),
-                span: k.span.into(),
-                help: format!("write `reflectivity {}`", format::number(k.clamp(0.0, 1.0))),
-            });
-        }
-        material.reflectivity = **k;
-    } else if attrs.line(&AttrName::Reflectivity).is_some() {
-        ok = false;
+        Some(k) => material.reflectivity = **k,
+        None => ok &= attrs.line(&AttrName::Reflectivity).is_none(),
     }
     if let Some(path) = attrs.path(&AttrName::Texture) {
         if let Err(problem) = cx.textures.load(path) {
@@ -396,7 +234,13 @@ fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option
     if let (Some(color), Some(texture)) =
         (attrs.line(&AttrName::Color), attrs.line(&AttrName::Texture))
     {
+        let fix = cx.removal(
+            "remove the `color` line; the texture sets the surface colour",
+            Applicability::Safe,
+            color.span,
+        );
         cx.problems.push(CheckError::ColorWithTexture {
+            fix,
             shape: shape.to_string(),
             color: color.span.into(),
             texture: texture.span.into(),
@@ -405,20 +249,32 @@ fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option
     ok.then_some(material)
 }
 
-/// The warning for an object with every point at z ≥ 0.
-fn behind_camera(shape: &str, center: Spanned<[f64; 3]>) -> CheckError {
+/// The warning for an object with every point at z ≥ 0; when its centre
+/// has z > 0, the fix (unsafe) negates that z.
+fn behind_camera(shape: &str, center: Spanned<[f64; 3]>, attrs: &Attributes<'_>) -> CheckError {
     let [x, y, z] = *center;
-    let help = if z > 0.0 {
-        format!(
-            "the camera looks down −z; did you mean `center {}`?",
-            format::vector([x, y, -z])
+    let written_z = attrs.numbers(&AttrName::Center).and_then(|c| c.get(2));
+    let fix = written_z.filter(|_| z > 0.0).map(|written| {
+        Fix::boxed(
+            format!(
+                "the camera looks down −z; did you mean `center {}`?",
+                format::vector([x, y, -z])
+            ),
+            Applicability::Unsafe,
+            written.span,
+            &format::number(-z),
         )
-    } else {
-        format!("the camera looks down −z from the origin; move the {shape} to negative z")
+    });
+    let help = match &fix {
+        Some(fix) => fix.message.clone(),
+        None => {
+            format!("the camera looks down −z from the origin; move the {shape} to negative z")
+        }
     };
     CheckError::ObjectBehindCamera {
         shape: shape.to_string(),
         span: center.span.into(),
         help,
+        fix,
     }
 }

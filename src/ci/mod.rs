@@ -10,7 +10,7 @@
 pub mod github;
 pub mod sarif;
 
-use crate::diagnostic::{JsonDiagnostic, Report};
+use crate::diagnostic::{JsonDiagnostic, Report, SourceFile};
 
 /// A diagnostic with the extent of each of its labels.
 #[derive(Clone, Debug)]
@@ -18,6 +18,8 @@ pub struct Finding {
     pub diagnostic: JsonDiagnostic,
     /// One per entry of `diagnostic.labels`, in the same order.
     pub regions: Vec<Region>,
+    /// One per edit of `diagnostic.fix`, in the same order.
+    pub fix_regions: Vec<Region>,
 }
 
 /// Where a label lies: lines and columns are 1-based, columns and the
@@ -40,44 +42,53 @@ impl Finding {
     pub fn without_source(diagnostic: JsonDiagnostic) -> Finding {
         Finding {
             regions: Vec::new(),
+            fix_regions: Vec::new(),
             diagnostic,
         }
     }
 }
 
-/// Every diagnostic of `report` with the regions of its labels.
+/// Every diagnostic of `report` with the regions of its labels and of
+/// its fix's edits.
 pub fn findings(report: &Report) -> Vec<Finding> {
     let source = &report.source;
-    let text = &*source.text;
     report
         .entries()
         .map(|diagnostic| {
             let regions = diagnostic
                 .labels
                 .iter()
-                .map(|label| {
-                    let end_byte = label.byte_offset + label.byte_length;
-                    let last_byte = if label.byte_length == 0 {
-                        label.byte_offset
-                    } else {
-                        end_byte - 1
-                    };
-                    let char_offset = chars_before(text, label.byte_offset);
-                    Region {
-                        start: (label.line, label.column),
-                        end: source.line_col(end_byte),
-                        last: source.line_col(last_byte),
-                        char_offset,
-                        char_length: chars_before(text, end_byte) - char_offset,
-                    }
-                })
+                .map(|l| region(source, l.byte_offset, l.byte_length, (l.line, l.column)))
+                .collect();
+            let fix_regions = diagnostic
+                .fix
+                .iter()
+                .flat_map(|fix| &fix.edits)
+                .map(|e| region(source, e.byte_offset, e.byte_length, (e.line, e.column)))
                 .collect();
             Finding {
                 diagnostic,
                 regions,
+                fix_regions,
             }
         })
         .collect()
+}
+
+/// The region of `length` bytes at byte `offset` of `source`, which starts
+/// at `start` (line and column).
+fn region(source: &SourceFile, offset: usize, length: usize, start: (usize, usize)) -> Region {
+    let text = &*source.text;
+    let end_byte = offset + length;
+    let last_byte = if length == 0 { offset } else { end_byte - 1 };
+    let char_offset = chars_before(text, offset);
+    Region {
+        start,
+        end: source.line_col(end_byte),
+        last: source.line_col(last_byte),
+        char_offset,
+        char_length: chars_before(text, end_byte) - char_offset,
+    }
 }
 
 /// How many characters of `text` start before byte `offset`.
@@ -96,7 +107,7 @@ mod tests {
     use miette::{LabeledSpan, MietteDiagnostic};
 
     use super::*;
-    use crate::diagnostic::{BoxedDiagnostic, SourceFile};
+    use crate::diagnostic::BoxedDiagnostic;
 
     /// A report on `text` with one diagnostic labelling each byte range.
     pub fn report(text: &str, labels: &[std::ops::Range<usize>]) -> Report {

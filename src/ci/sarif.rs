@@ -8,12 +8,14 @@
 //! there, and the project has no published address, so they are `file:`
 //! URIs into the source tree the binary was built from. Each result has
 //! the code as `ruleId`, its first label as its location and the others
-//! as related locations; columns count Unicode code points, as the run's
-//! `columnKind` says. docs/cli.md shows the shape.
+//! as related locations, and the fix it carries (if any) as a `fixes`
+//! entry whose `artifactChanges` replace regions of the file; columns count
+//! Unicode code points, as the run's `columnKind` says. docs/cli.md shows
+//! the shape.
 
 use serde_json::{json, Value};
 
-use super::Finding;
+use super::{Finding, Region};
 
 /// The published schema of the log's shape (its `id`).
 const SCHEMA: &str =
@@ -98,14 +100,7 @@ fn result(finding: &Finding, rule_index: usize) -> Value {
                 "id": id,
                 "physicalLocation": {
                     "artifactLocation": { "uri": uri },
-                    "region": {
-                        "startLine": region.start.0,
-                        "startColumn": region.start.1,
-                        "endLine": region.end.0,
-                        "endColumn": region.end.1,
-                        "charOffset": region.char_offset,
-                        "charLength": region.char_length,
-                    }
+                    "region": sarif_region(region),
                 }
             });
             if let Some(label) = &label.label {
@@ -128,7 +123,40 @@ fn result(finding: &Finding, rule_index: usize) -> Value {
     if !related.is_empty() {
         result["relatedLocations"] = Value::Array(related);
     }
+    if let Some(fix) = &d.fix {
+        let replacements: Vec<Value> = fix
+            .edits
+            .iter()
+            .zip(&finding.fix_regions)
+            .map(|(edit, region)| {
+                json!({
+                    "deletedRegion": sarif_region(region),
+                    "insertedContent": { "text": edit.content },
+                })
+            })
+            .collect();
+        result["fixes"] = json!([{
+            "description": { "text": fix.message },
+            "artifactChanges": [{
+                "artifactLocation": { "uri": uri },
+                "replacements": replacements,
+            }],
+        }]);
+    }
     result
+}
+
+/// A region as SARIF writes it: lines and columns, and the character
+/// offset and length.
+fn sarif_region(region: &Region) -> Value {
+    json!({
+        "startLine": region.start.0,
+        "startColumn": region.start.1,
+        "endLine": region.end.0,
+        "endColumn": region.end.1,
+        "charOffset": region.char_offset,
+        "charLength": region.char_length,
+    })
 }
 
 /// SARIF's level for our severity.

@@ -47,10 +47,14 @@ pub fn schema() -> String {
     out
 }
 
-/// Give every attribute field of the schema's objects and lights the
-/// description and example of its row in the language table.
+/// Give every attribute field of the schema's camera, objects and lights
+/// the description, example, bounds and default of its row in the
+/// registry.
 fn describe_attributes(schema: &mut Value) {
     let definitions = &mut schema["definitions"];
+    if let Some(Value::Object(properties)) = definitions["Camera"].get_mut("properties") {
+        describe_field(properties, &language::CAMERA);
+    }
     describe(&mut definitions["Light"]["properties"], &SectionKind::Light);
     let object = &mut definitions["Object"];
     // The material's fields are the same row for spheres and planes.
@@ -72,15 +76,49 @@ fn describe(properties: &mut Value, kind: &SectionKind) {
         return;
     };
     for spec in language::attributes_of(kind) {
-        for (i, name) in spec.json.iter().enumerate() {
-            let Some(Value::Object(field)) = properties.get_mut(*name) else {
-                continue;
-            };
-            field.insert("description".to_string(), Value::String(spec.summary()));
-            if let Ok(example) = serde_json::from_str::<Value>(&spec.json_example(i)) {
-                field.insert("examples".to_string(), Value::Array(vec![example]));
-            }
+        describe_field(properties, spec);
+    }
+}
+
+/// The fields of `spec` among `properties`, described from its row.
+fn describe_field(properties: &mut serde_json::Map<String, Value>, spec: &language::AttrSpec) {
+    for (i, name) in spec.json.iter().enumerate() {
+        let Some(Value::Object(field)) = properties.get_mut(*name) else {
+            continue;
+        };
+        field.insert("description".to_string(), Value::String(spec.summary()));
+        if let Ok(example) = serde_json::from_str::<Value>(&spec.json_example(i)) {
+            field.insert("examples".to_string(), Value::Array(vec![example]));
         }
+        if let Some(default) = spec.default {
+            field.insert("default".to_string(), default.json());
+        }
+        // A vector's bounds hold for each of its numbers.
+        let numbers = match field.get_mut("items") {
+            Some(Value::Object(items)) => items,
+            _ => &mut *field,
+        };
+        let (minimum, exclusive, maximum) = spec.bounds();
+        if let Some(minimum) = minimum {
+            let key = if exclusive {
+                "exclusiveMinimum"
+            } else {
+                "minimum"
+            };
+            numbers.insert(key.to_string(), json_number(minimum));
+        }
+        if let Some(maximum) = maximum {
+            numbers.insert("maximum".to_string(), json_number(maximum));
+        }
+    }
+}
+
+/// `x` as JSON, a whole number written without a fraction (`1`, not `1.0`).
+fn json_number(x: f64) -> Value {
+    if x.fract() == 0.0 && x.abs() < 1e15 {
+        Value::from(x as i64)
+    } else {
+        Value::from(x)
     }
 }
 

@@ -60,7 +60,7 @@ fn section<'a>(
     out.push('\n');
     for spec in attributes_of(kind) {
         let name = spec.name.as_str();
-        match value_of(&spec.name) {
+        match value_of(&spec.attr_name()) {
             Printed::Numbers(values) => line(out, name, &values),
             // Writing to a String cannot fail.
             Printed::Path(texture) => {

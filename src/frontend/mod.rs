@@ -217,6 +217,14 @@ pub fn check_bytes_as(language: Language, name: &str, dir: &Path, bytes: &[u8]) 
 /// A diagnostic with the fix it carries.
 type Fixable = (BoxedDiagnostic, Option<Fix>);
 
+/// Syntax errors with the fixes they carry.
+fn with_fixes(errors: Vec<syntax::SyntaxError>) -> impl Iterator<Item = Fixable> {
+    errors.into_iter().map(|e| {
+        let fix = e.fix().cloned();
+        (Box::new(e) as BoxedDiagnostic, fix)
+    })
+}
+
 /// Sections parsed before they are checked (and dropped). Few, so that
 /// the blocks a batch frees fit the allocator's per-thread cache (glibc's
 /// tcache keeps 7 blocks of each size) and the next batch reuses them
@@ -232,9 +240,17 @@ struct Batches<'a, S: Sink> {
 }
 
 impl<'a, S: Sink> Batches<'a, S> {
-    fn new(source: &'a SourceFile, textures: &'a mut dyn TextureLoader) -> Batches<'a, S> {
+    fn new(
+        source: &'a SourceFile,
+        textures: &'a mut dyn TextureLoader,
+        language: Language,
+    ) -> Batches<'a, S> {
+        let check = SceneCheck::with_sink(source, S::default(), textures);
         Batches {
-            check: SceneCheck::with_sink(source, S::default(), textures),
+            check: match language {
+                Language::Text => check.fed_from_scene_text(),
+                Language::Json => check,
+            },
             batch: Vec::with_capacity(CHECK_BATCH),
             checking: Duration::ZERO,
         }
@@ -305,16 +321,16 @@ fn load_source<S: Sink>(
     }
     let (batches, is_scene) = match language {
         Language::Text => {
-            let mut batches = Batches::<S>::new(&source, textures);
+            let mut batches = Batches::<S>::new(&source, textures, language);
             let mut sections = syntax::sections(&source.text);
             for section in sections.by_ref() {
                 batches.push(section);
             }
-            diagnostics.extend(unfixed(boxed(sections.into_errors())));
+            diagnostics.extend(with_fixes(sections.into_errors()));
             (batches, true)
         }
         Language::Json => {
-            let mut batches = Batches::<S>::new(&source, textures);
+            let mut batches = Batches::<S>::new(&source, textures, language);
             let read = json::read(&source.text, |section| batches.push(section));
             diagnostics.extend(unfixed(boxed(read.errors)));
             (batches, read.is_scene)

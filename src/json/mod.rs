@@ -447,17 +447,17 @@ impl Reader<'_> {
     ) -> Option<Attribute> {
         let first = given.get(spec.json[0]);
         match spec.arity {
-            Arity::Path => self.texture(first?, spec.name.clone(), &given.path.child(spec.json[0])),
+            Arity::Path => self.texture(first?, spec.attr_name(), &given.path.child(spec.json[0])),
             Arity::Numbers(n) if spec.json.len() == n => {
                 let any = spec.json.iter().any(|name| given.get(name).is_some());
                 (any || spec.required).then(|| self.scalars(given, spec, missing))
             }
             Arity::Numbers(n) => match first {
                 Some(prop) => {
-                    Some(self.vector(prop, spec.name.clone(), n, &given.path.child(spec.json[0])))
+                    Some(self.vector(prop, spec.attr_name(), n, &given.path.child(spec.json[0])))
                 }
                 None => spec.required.then(|| Attribute {
-                    name: Spanned::new(missing, spec.name.clone()),
+                    name: Spanned::new(missing, spec.attr_name()),
                     values: vec![Spanned::new(missing, Value::Invalid); n].into(),
                     span: missing,
                 }),
@@ -487,7 +487,7 @@ impl Reader<'_> {
             }
         }
         Attribute {
-            name: Spanned::new(name_span.unwrap_or(missing), spec.name.clone()),
+            name: Spanned::new(name_span.unwrap_or(missing), spec.attr_name()),
             values: values.into(),
             span,
         }

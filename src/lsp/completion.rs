@@ -1,10 +1,15 @@
-//! Completion at a cursor in scene text:
-//! - after `texture`, the image files in the document's folder;
+//! Completion at a cursor in scene text, from the registry
+//! ([`crate::language`]):
+//! - in a comment, nothing;
+//! - after an attribute that takes a path (`texture`), the image files in
+//!   the document's folder;
 //! - where a number is still expected (an attribute short of its values,
 //!   a camera without its size), nothing;
 //! - inside a section, the attributes it can still take (not those already
 //!   given, not those of other sections), and the section keywords;
-//! - before any section, the section keywords.
+//! - before any section, the section keywords;
+//!
+//! and `camera` only while the document has none (a scene has one).
 
 use lsp_types::{CompletionItem, CompletionItemKind};
 
@@ -12,7 +17,7 @@ use super::document::Document;
 use crate::ast::{AttrName, SectionKind};
 use crate::frontend::{self, Language};
 use crate::language::{self, Arity};
-use crate::syntax::is_word_char;
+use crate::syntax::{is_word_char, trivia};
 
 /// Extensions of the texture formats the renderer reads.
 const TEXTURE_EXTENSIONS: [&str; 5] = ["ppm", "pnm", "png", "jpg", "jpeg"];
@@ -31,17 +36,32 @@ pub fn complete(document: &Document, offset: usize) -> Vec<CompletionItem> {
         .take_while(|&(_, c)| is_word_char(c))
         .last()
         .map_or(offset, |(i, _)| i);
+    let in_comment = trivia::comments(&text[..offset])
+        .last()
+        .is_some_and(|comment| comment.end() == offset);
+    if in_comment {
+        return Vec::new();
+    }
     let before = text[..word_start].trim_end();
     let previous_word = before
         .rsplit(|c: char| !is_word_char(c))
         .next()
         .unwrap_or("");
-    if previous_word == "texture" && before.len() < word_start {
+    if takes_path(previous_word) && before.len() < word_start {
         return texture_files(document);
     }
     let Some(file) = frontend::parse(Language::Text, &text[..word_start]).0 else {
         return Vec::new();
     };
+    let word_end = text[offset..]
+        .find(|c: char| !is_word_char(c))
+        .map_or(text.len(), |i| offset + i);
+    let has_camera =
+        |file: &crate::ast::File| file.sections.iter().any(|s| *s.kind == SectionKind::Camera);
+    let camera_elsewhere = has_camera(&file)
+        || frontend::parse(Language::Text, &text[word_end..])
+            .0
+            .is_some_and(|after| has_camera(&after));
     let mut items = Vec::new();
     if let Some(section) = file.sections.last() {
         if let Some(last) = section.attributes.last() {
@@ -57,7 +77,7 @@ pub fn complete(document: &Document, offset: usize) -> Vec<CompletionItem> {
         }
         let given: Vec<&AttrName> = section.attributes.iter().map(|a| &*a.name).collect();
         for spec in language::attributes_of(&section.kind) {
-            if !given.contains(&&spec.name) {
+            if !given.iter().any(|name| spec.name == **name) {
                 items.push(CompletionItem {
                     label: spec.name.as_str().to_string(),
                     kind: Some(CompletionItemKind::PROPERTY),
@@ -67,13 +87,23 @@ pub fn complete(document: &Document, offset: usize) -> Vec<CompletionItem> {
             }
         }
     }
-    items.extend(SectionKind::KEYWORDS.iter().map(|keyword| CompletionItem {
+    let keywords = SectionKind::KEYWORDS
+        .iter()
+        .filter(|keyword| !(camera_elsewhere && **keyword == SectionKind::Camera.as_str()));
+    items.extend(keywords.map(|keyword| CompletionItem {
         label: keyword.to_string(),
         kind: Some(CompletionItemKind::KEYWORD),
         detail: Some("section".to_string()),
         ..CompletionItem::default()
     }));
     items
+}
+
+/// Whether `word` is an attribute that takes a path in some section.
+fn takes_path(word: &str) -> bool {
+    AttrName::known(word).is_some_and(|name| {
+        language::rows().any(|(_, spec)| spec.name == name && spec.arity == Arity::Path)
+    })
 }
 
 /// The texture files in the document's folder, sorted.
@@ -104,4 +134,45 @@ fn texture_files(document: &Document) -> Vec<CompletionItem> {
             ..CompletionItem::default()
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use lsp_types::Url;
+
+    use super::*;
+
+    fn labels(text: &str, offset: usize) -> Vec<String> {
+        let uri = Url::from_file_path(std::env::temp_dir().join("scene.txt")).expect("a path");
+        let document = Document::new(uri, text.to_string(), 1, "raytracer");
+        let mut labels: Vec<String> = complete(&document, offset)
+            .into_iter()
+            .map(|item| item.label)
+            .collect();
+        labels.sort();
+        labels
+    }
+
+    #[test]
+    fn nothing_is_offered_in_a_comment() {
+        let text = "camera 4\n# a note about the ";
+        assert_eq!(labels(text, text.len()), Vec::<String>::new());
+        let text = "camera 4 # the size\n";
+        assert_eq!(
+            labels(text, text.find("size").unwrap() + 2),
+            Vec::<String>::new()
+        );
+    }
+
+    #[test]
+    fn camera_is_offered_only_while_there_is_none() {
+        assert_eq!(labels("", 0), ["camera", "light", "plane", "sphere"]);
+        let text = "camera 4\n";
+        assert_eq!(labels(text, text.len()), ["light", "plane", "sphere"]);
+        // A camera further down counts too.
+        let text = "\nsphere dimension 1 center 0 0 -5\ncamera 4\n";
+        assert!(!labels(text, 0).contains(&"camera".to_string()));
+        // The word being typed is not a camera yet.
+        assert!(labels("cam", 3).contains(&"camera".to_string()));
+    }
 }

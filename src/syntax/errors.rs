@@ -6,6 +6,8 @@
 use miette::{Diagnostic, SourceSpan};
 use thiserror::Error;
 
+use crate::fix::Fix;
+
 /// A problem in the token stream of a scene file.
 #[derive(Clone, Debug, Error, Diagnostic, PartialEq, Eq, strum::VariantNames)]
 #[strum(serialize_all = "snake_case")]
@@ -90,9 +92,46 @@ pub enum SyntaxError {
         #[label("not inside any section")]
         span: SourceSpan,
     },
+
+    /// Fires on numbers joined by commas where the attribute takes that
+    /// many values, such as `center 0,0,-5`: values are separated by spaces.
+    #[error("expected values separated by spaces, found `{found}`")]
+    #[diagnostic(code(syntax::comma_separated_values))]
+    CommaSeparatedValues {
+        found: String,
+        #[label("separated by commas")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+        /// The values separated by spaces (safe: the arity says so).
+        fix: Option<Box<Fix>>,
+    },
+
+    /// Fires on a number written with a decimal comma where the attribute's
+    /// arity rules out two values, such as `reflectivity 0,5`.
+    #[error("expected a decimal point, found a decimal comma in `{found}`")]
+    #[diagnostic(code(syntax::decimal_comma))]
+    DecimalComma {
+        found: String,
+        #[label("decimal comma")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+        /// The number with a decimal point (safe: the arity says so).
+        fix: Option<Box<Fix>>,
+    },
 }
 
 impl SyntaxError {
+    /// The structured fix this diagnostic carries, if any.
+    pub fn fix(&self) -> Option<&Fix> {
+        match self {
+            SyntaxError::CommaSeparatedValues { fix, .. }
+            | SyntaxError::DecimalComma { fix, .. } => fix.as_deref(),
+            _ => None,
+        }
+    }
+
     /// Every code this enum can produce: `syntax::` and each variant's name
     /// in snake case, which is what each variant's `code(...)` says (the
     /// UI fixtures, one per code, check that).

@@ -17,6 +17,7 @@
 //! wherever the text leaves their ASCII subset; the `parity` tests hold the
 //! two routes to the same tree, spans and errors.
 
+mod commas;
 pub mod errors;
 mod fast;
 pub mod trivia;
@@ -30,6 +31,7 @@ use nom::sequence::preceded;
 use nom::{IResult, Offset, Parser};
 
 use crate::ast::{AttrName, Attribute, File, Section, SectionKind, Value, Values};
+use crate::language::{self, Arity};
 use crate::span::{Span, Spanned};
 use crate::suggest;
 pub use errors::SyntaxError;
@@ -382,7 +384,7 @@ impl<'a> Cursor<'a> {
                 }
                 // A number or string: `values` consumes at least this token.
                 _ => {
-                    let stray = self.values(false);
+                    let stray = self.values(false, None);
                     // A run of only malformed values was reported already.
                     let reported = stray.iter().all(|v| v.value == Value::Invalid);
                     if let Some(last) = stray.last().filter(|_| !reported) {
@@ -405,7 +407,8 @@ impl<'a> Cursor<'a> {
         };
         self.rest = rest;
         let kind = Spanned::new(kw_span, SectionKind::from_word(keyword));
-        let args = self.values(false);
+        let camera = (*kind == SectionKind::Camera).then(|| language::CAMERA.count());
+        let args = self.values(false, camera);
         let mut span = args.last().map_or(kw_span, |v| kw_span.join(v.span));
         let mut attributes = Vec::new();
         while let Some((Token::Word(w), _, _)) = self.peek() {
@@ -416,7 +419,7 @@ impl<'a> Cursor<'a> {
                 None if starts_section(w) => break,
                 None => AttrName::Unknown(w.into()),
             };
-            let attribute = self.attribute(name);
+            let attribute = self.attribute(&kind, name);
             span = span.join(attribute.span);
             attributes.push(attribute);
         }
@@ -430,14 +433,18 @@ impl<'a> Cursor<'a> {
 
     /// `attribute = attribute_name , { value } | "texture" , path ;`
     ///
-    /// `name` is the next word, already looked up.
-    fn attribute(&mut self, name: AttrName) -> Attribute {
+    /// `name` is the next word, already looked up; `kind` is the section's.
+    fn attribute(&mut self, kind: &SectionKind, name: AttrName) -> Attribute {
         let Some((Token::Word(..), name_span, rest)) = self.peek() else {
             unreachable!("attribute() is only called on a word");
         };
         self.rest = rest;
         let name = Spanned::new(name_span, name);
-        let values = self.values(*name == AttrName::Texture);
+        // A path where any section's row of this name takes one, so a
+        // misplaced `texture` still reads as one line.
+        let takes_path = language::rows().any(|(_, s)| s.name == *name && s.arity == Arity::Path);
+        let expected = language::find(kind, &name).map(|spec| spec.count());
+        let values = self.values(takes_path, expected);
         let span = values.last().map_or(name_span, |v| name_span.join(v.span));
         Attribute { name, values, span }
     }
@@ -448,9 +455,11 @@ impl<'a> Cursor<'a> {
     ///
     /// Bad numbers and unterminated strings are reported and kept as
     /// [`Value::Invalid`]; the run of values ends at the first word that is neither a number nor a
-    /// path.
-    fn values(&mut self, path_allowed: bool) -> Values {
+    /// path. `expected` is how many values the registry says the line
+    /// takes, which tells what commas in its numbers meant.
+    fn values(&mut self, path_allowed: bool, expected: Option<usize>) -> Values {
         let mut values = Values::new();
+        let mut with_commas = Vec::new();
         loop {
             // A path comes first, whatever it looks like.
             if self.route == Route::Fast && !(path_allowed && values.is_empty()) {
@@ -481,11 +490,36 @@ impl<'a> Cursor<'a> {
                     let value = self
                         .number_value(w, span)
                         .map_or(Value::Invalid, Value::Number);
+                    if value == Value::Invalid && w.contains(',') {
+                        with_commas.push(commas::CommaToken {
+                            error: self.errors.len() - 1,
+                            index: values.len(),
+                            span,
+                            text: w,
+                        });
+                    }
                     values.push(Spanned::new(span, value));
                 }
                 Token::Word(..) => break,
             }
             self.rest = rest;
+        }
+        let separated = !with_commas.is_empty()
+            && commas::explain(&with_commas, values.len(), expected, &mut self.errors);
+        if separated {
+            // Each token stands for its pieces, so the count is right and
+            // the check pass reports nothing more about it.
+            let mut expanded = Values::new();
+            for (i, value) in values.into_iter().enumerate() {
+                let copies = with_commas
+                    .iter()
+                    .find(|t| t.index == i)
+                    .map_or(1, |t| commas::piece_count(t.text));
+                for _ in 0..copies {
+                    expanded.push(value.clone());
+                }
+            }
+            return expanded;
         }
         values
     }

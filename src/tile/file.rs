@@ -15,9 +15,10 @@ use miette::Diagnostic;
 use super::{TileInfo, KEYWORD};
 use crate::diagnostic::io_reason;
 
-/// The largest frame's side: the camera's limit (docs/language.md). A
-/// tile claiming a larger frame is refused before any pixel is allocated.
-const MAX_SIDE: u64 = 16_384;
+/// The largest frame's side: the camera's limit, from its row in the
+/// registry. A tile claiming a larger frame is refused before any pixel is
+/// allocated.
+const MAX_SIDE: u64 = crate::language::CAMERA.max_whole() as u64;
 
 /// Why a file is not a tile that can be read.
 #[derive(Debug, thiserror::Error, Diagnostic)]
