@@ -12,7 +12,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use raytracer::check::CheckError;
-use raytracer::frontend::{load_bytes, Loaded};
+use raytracer::frontend::Loaded;
 use raytracer::json::JsonError;
 use raytracer::syntax::SyntaxError;
 
@@ -41,18 +41,17 @@ fn fixtures() -> Vec<PathBuf> {
     fixtures
 }
 
-/// A fixture checked as `check` would, named by its path relative to the
-/// crate root and with textures resolved from its own folder, without
-/// changing the working directory of the test process (other tests share it).
+/// A fixture checked as `check` would, by its path relative to the crate
+/// root: cargo runs test binaries in the package root, and no test of this
+/// binary changes the working directory, so rendered file names and texture
+/// paths are the same wherever the repository is.
 fn load(fixture: &Path) -> Loaded {
-    let bytes = std::fs::read(root().join(fixture)).expect("fixture readable");
-    let dir = root().join(fixture.parent().expect("fixture folder"));
-    load_bytes(
-        &fixture.to_string_lossy(),
-        &dir,
-        &bytes,
-        std::time::Instant::now(),
-    )
+    assert_eq!(
+        std::env::current_dir().expect("working directory"),
+        root(),
+        "the UI tests run in the crate root"
+    );
+    raytracer::frontend::load(fixture).expect("fixture readable")
 }
 
 /// `syntax::invalid_number` for `tests/ui/syntax/invalid_number.txt`.

@@ -7,11 +7,11 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::render::Precision;
 use crate::diagnostic::JsonDiagnostic;
 use crate::frontend::load;
 use crate::ir;
 use crate::output::{self, Format};
+use crate::render::Precision;
 use crate::render::{self, Counters, Image, Options};
 
 use super::state::{Phase, RenderStats, State};
