@@ -253,7 +253,7 @@ fn check_lists_changed_files_and_writes_nothing() {
 #[test]
 fn syntax_errors_refuse_and_leave_the_file() {
     let dir = tempfile::tempdir().unwrap();
-    let text = "camera 4,5\nsphere   dimension 1\n";
+    let text = "camera 1.2.3\nsphere   dimension 1\n";
     let bad = write(dir.path(), "bad.txt", text);
     let output = run(&["fmt", &bad]);
     assert_eq!(output.status.code(), Some(1));
