@@ -9,8 +9,9 @@ cd "$(dirname "$0")/.."
 CARGO=${CARGO:-cargo}
 CLI_ONLY="clap indicatif plotters lsp-server lsp-types ignore ctrlc cpu-time"
 
-$CARGO run --release --locked --quiet -p library-user >/dev/null
-tree=$($CARGO tree --locked -p library-user -e normal --prefix none)
+MANIFEST=tests/library-user/Cargo.toml
+CARGO_TARGET_DIR="$PWD/target" $CARGO run --release --locked --quiet --manifest-path "$MANIFEST" >/dev/null
+tree=$($CARGO tree --locked --manifest-path "$MANIFEST" -e normal --prefix none)
 found=""
 for crate in $CLI_ONLY; do
   if grep -q "^$crate v" <<<"$tree"; then
