@@ -34,9 +34,10 @@ cargo fetch --locked --quiet
 
 # $1 label, then the command; prints whole seconds.
 timed() {
-  local start end
+  local label=$1 start end
+  shift
   start=$(date +%s)
-  "$@" >"$OUT/$1.log" 2>&1 || { echo "cold-times: $1 failed, see $OUT/$1.log" >&2; exit 1; }
+  "$@" >"$OUT/$label.log" 2>&1 || { echo "cold-times: $label failed, see $OUT/$label.log" >&2; exit 1; }
   end=$(date +%s)
   echo $((end - start))
 }
