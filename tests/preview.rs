@@ -368,9 +368,14 @@ fn the_page_image_and_diagnostics_follow_edits_errors_and_deletion() {
 
 #[test]
 fn a_large_scene_is_capped_and_shows_a_coarse_pass_first() {
-    let (_dir, scene) = scene_in_temp(&scene_text("1 1 1").replace("camera 48", "camera 2000"));
+    let large = |color| scene_text(color).replace("camera 48", "camera 2000");
+    let (_dir, scene) = scene_in_temp(&large("1 1 1"));
     let server = Server::start(&scene, &["--max-size", "300"]);
     let mut events = server.events();
+    // The first render may finish before the stream is connected; a save
+    // made while it is connected shows both of its passes, in order.
+    events.until_rendered();
+    save(&scene, &large("1 0 0"));
     let coarse = events.until("with a coarse image", |u| u["coarse"] == true);
     assert_eq!(coarse["phase"], "rendering");
     assert_eq!(coarse["stats"]["resolution"], 75);
