@@ -19,12 +19,14 @@ build:
 	$(CARGO) build --release --locked $(CARGO_FLAGS)
 
 # Everything CI checks: formatting, lints, unit, integration and snapshot
-# tests. The suite runs in the release profile, reusing what `make` built;
-# the examples are not built again here (clippy --all-targets checks them);
-# and the library built without the command line.
+# tests. Clippy and the suite run in the release profile, reusing what
+# `make` built (the procedural macros and build scripts clippy needs, the
+# dependencies the tests link); the examples are not built again here
+# (clippy --all-targets checks them); and the library built without the
+# command line.
 test: raytracer
 	$(CARGO) fmt --check
-	$(CARGO) clippy --locked --all-targets -- -D warnings
+	$(CARGO) clippy --release --locked --all-targets -- -D warnings
 	$(CARGO) test --release --locked --lib --tests $(CARGO_FLAGS)
 	$(CARGO) test --release --locked --doc
 	CARGO="$(CARGO)" scripts/library_user.sh
