@@ -25,7 +25,7 @@ light\n  location 6 4 -3\n  color 1 1 1\n";
 /// The binary, where the graded programs (run as `nobody` when the tests
 /// run as root) can execute it: in place when every folder above it lets
 /// others in, else a copy in the system's temporary folder.
-fn binary() -> &'static Path {
+pub(crate) fn binary() -> &'static Path {
     static BINARY: OnceLock<PathBuf> = OnceLock::new();
     BINARY.get_or_init(|| {
         let built = PathBuf::from(bin());
@@ -45,7 +45,7 @@ fn binary() -> &'static Path {
 
 /// A folder anyone may use (the graded program writes its working folder's
 /// name into it).
-fn open_folder(prefix: &str) -> tempfile::TempDir {
+pub(crate) fn open_folder(prefix: &str) -> tempfile::TempDir {
     let dir = tempfile::Builder::new().prefix(prefix).tempdir().unwrap();
     std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o777)).unwrap();
     dir
