@@ -25,7 +25,11 @@ const IMAGES: &str = "Array.from(document.images).map((image) => \
     [image.getAttribute('src'), image.complete, image.naturalWidth])";
 
 /// Characters a `file://` URL keeps as they are.
-const PATH: &AsciiSet = &NON_ALPHANUMERIC.remove(b'/').remove(b'.').remove(b'-').remove(b'_');
+const PATH: &AsciiSet = &NON_ALPHANUMERIC
+    .remove(b'/')
+    .remove(b'.')
+    .remove(b'-')
+    .remove(b'_');
 
 /// The `file://` URL of `path`.
 fn file_url(path: &Path) -> String {
@@ -122,7 +126,10 @@ fn reports_show_every_image_and_link_the_class_to_each_scene() {
            row.textContent.startsWith('dave')).querySelectorAll('a.status')[1].href",
     );
     let link = link.as_str().unwrap();
-    assert!(link.ends_with("/class/dave/index.html#scene-red.txt"), "{link}");
+    assert!(
+        link.ends_with("/class/dave/index.html#scene-red.txt"),
+        "{link}"
+    );
     browser.navigate(link);
     assert_eq!(
         browser.eval(

@@ -88,7 +88,10 @@ pub(crate) fn class_folder() -> tempfile::TempDir {
         "bob",
         &[
             ("build.txt", "sh build.sh\n"),
-            ("build.sh", "echo 'tracer.c:3: error: expected ;' >&2\nexit 2\n"),
+            (
+                "build.sh",
+                "echo 'tracer.c:3: error: expected ;' >&2\nexit 2\n",
+            ),
             ("tracer.txt", "./tracer {scene} {out}\n"),
         ],
     );
@@ -138,7 +141,9 @@ fn a_class_is_graded_and_merged_from_separate_reports_the_same_way() {
     let d = dir.path();
     let (code, stderr) = grade_in(
         d,
-        &["--class", "students", "-o", "class", "--cache", "cache", "suite"],
+        &[
+            "--class", "students", "-o", "class", "--cache", "cache", "suite",
+        ],
     );
     assert_eq!(code, 1, "{stderr}");
     assert_eq!(read(&d.join("class/class.csv")), expected_csv());
@@ -166,7 +171,10 @@ fn a_class_is_graded_and_merged_from_separate_reports_the_same_way() {
             assert!(links.iter().any(|l| l.ends_with(&cell)), "{links:?}");
         }
     }
-    assert!(html.contains("carol &quot;&lt;&amp;&gt;&quot; #1"), "{html}");
+    assert!(
+        html.contains("carol &quot;&lt;&amp;&gt;&quot; #1"),
+        "{html}"
+    );
     assert!(!html.contains(CAROL));
 
     let alice: Value = serde_json::from_str(&read(&d.join("class/alice/summary.json"))).unwrap();
@@ -218,11 +226,19 @@ fn bad_student_folders_and_merges_are_clear_errors() {
     support::write(d, "students/erin/tracer.txt", "./a {scene} {out}\n./b\n");
     let (code, stderr) = grade_in(
         d,
-        &["--class", "students", "-o", "class", "--cache", "cache", "suite"],
+        &[
+            "--class", "students", "-o", "class", "--cache", "cache", "suite",
+        ],
     );
     assert_eq!(code, 2, "{stderr}");
-    assert!(stderr.contains("2 student folders cannot be graded"), "{stderr}");
-    assert!(stderr.contains("dave/tracer.txt`: no such file"), "{stderr}");
+    assert!(
+        stderr.contains("2 student folders cannot be graded"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("dave/tracer.txt`: no such file"),
+        "{stderr}"
+    );
     assert!(
         stderr.contains("erin/tracer.txt` holds 2 command lines; expected one"),
         "{stderr}"
@@ -231,7 +247,10 @@ fn bad_student_folders_and_merges_are_clear_errors() {
 
     let (code, stderr) = grade_in(d, &["--merge", "students"]);
     assert_eq!(code, 2, "{stderr}");
-    assert!(stderr.contains("alice/summary.json`: no such file"), "{stderr}");
+    assert!(
+        stderr.contains("alice/summary.json`: no such file"),
+        "{stderr}"
+    );
     support::write(d, "reports/alice/summary.json", "{\"score\": 1}");
     let (code, stderr) = grade_in(d, &["--merge", "reports"]);
     assert_eq!(code, 2, "{stderr}");

@@ -21,12 +21,12 @@ use rayon::prelude::*;
 
 use super::Outcome;
 use crate::cli::{GradeArgs, SandboxArgs};
+use crate::compare::Picture;
 use crate::diagnostic::{io_reason, BoxedDiagnostic};
+use crate::grade::class::{self, ClassError};
 use crate::grade::reference::{self, Cache};
 use crate::grade::report::{self, SandboxSummary, Summary};
 use crate::grade::sandbox::{self, Confinement, Limits};
-use crate::compare::Picture;
-use crate::grade::class::{self, ClassError};
 use crate::grade::student::{self, Student, StudentError};
 use crate::grade::suite::{self, SuiteError, SuiteScene};
 use crate::grade::workdir::{Template, TemplateError};
@@ -111,9 +111,9 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     };
     let here = std::env::current_dir().map_err(io_error(Path::new(".")))?;
     let students = match (&args.student, &args.class) {
-        (Some(folder), _) => vec![Student::read(folder).map_err(|e| GradeError::Students {
-            errors: vec![e],
-        })?],
+        (Some(folder), _) => {
+            vec![Student::read(folder).map_err(|e| GradeError::Students { errors: vec![e] })?]
+        }
         (_, Some(folder)) => {
             student::class(folder).map_err(|errors| GradeError::Students { errors })?
         }

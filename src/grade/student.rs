@@ -51,10 +51,7 @@ pub enum StudentError {
         code(grade::student),
         help("write the command on one line, e.g. `python3 tracer.py {{scene}} {{out}}`")
     )]
-    Command {
-        path: String,
-        source: TemplateError,
-    },
+    Command { path: String, source: TemplateError },
 
     #[error("`{path}` holds {lines} command lines; expected one")]
     #[diagnostic(

@@ -26,7 +26,11 @@ white-space:nowrap;text-decoration:none;font-size:13px}\
 .missing{color:#777}";
 
 /// Characters kept as they are in a link's path segment.
-const SEGMENT: &AsciiSet = &NON_ALPHANUMERIC.remove(b'-').remove(b'.').remove(b'_').remove(b'~');
+const SEGMENT: &AsciiSet = &NON_ALPHANUMERIC
+    .remove(b'-')
+    .remove(b'.')
+    .remove(b'_')
+    .remove(b'~');
 
 /// The page for `class`.
 pub fn page(class: &Class) -> String {
