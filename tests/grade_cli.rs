@@ -411,7 +411,7 @@ fn our_tracer_matches_the_built_in_suite() {
     }
 
     let html = std::fs::read_to_string(report.join("index.html")).unwrap();
-    assert_eq!(html.matches("<tr class=\"scene\">").count(), 23);
+    assert_eq!(html.matches("<tr class=\"scene\" id=\"scene-").count(), 23);
     assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("<script"));
     for scene in scenes {
         for kind in ["reference", "student", "heatmap"] {
