@@ -8,7 +8,7 @@ CARGO_FLAGS ?=
 BIN := target/release/raytracer
 
 .PHONY: all build test cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
-	vsix preview-screenshot preview-latency
+	vsix preview-screenshot preview-latency grading-screenshot
 
 all: raytracer
 
@@ -119,6 +119,12 @@ vsix:
 preview-screenshot:
 	RAYTRACER_PREVIEW_SCREENSHOT=$(CURDIR)/docs/preview.png \
 	  $(CARGO) test --locked --test integration preview_browser::chromium_shows
+
+# docs/grading-report.png: a student's report of `raytracer grade` as
+# headless Chromium draws it in the browser test (tests/grade_browser.rs).
+grading-screenshot:
+	RAYTRACER_GRADING_SCREENSHOT=$(CURDIR)/docs/grading-report.png \
+	  $(CARGO) test --release --locked --test integration grade_browser::
 
 # The save-to-image latency table of docs/preview.md: the same test's
 # measurement, on a release build, written between its markers.

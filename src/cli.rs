@@ -478,24 +478,39 @@ pub struct SandboxArgs {
 }
 
 #[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("mode").required(true)
+    .args(["tracer", "student", "class", "merge", "export_suite"])))]
 pub struct GradeArgs {
     /// The tracer's command line: `{scene}` and `{out}` are replaced by the
     /// scene's file name and the image to write; split into words like a
     /// shell would, never run through one.
-    #[arg(long, value_name = "COMMAND", required_unless_present = "export_suite")]
+    #[arg(long, value_name = "COMMAND")]
     pub tracer: Option<String>,
+    /// Grade the student whose folder is DIR: its `tracer.txt` names the
+    /// command, its optional `build.txt` a build run there first.
+    #[arg(long, value_name = "DIR")]
+    pub student: Option<PathBuf>,
+    /// Grade every student folder in DIR into REPORT/<student>/, then
+    /// write REPORT/class.html and REPORT/class.csv.
+    #[arg(long, value_name = "DIR")]
+    pub class: Option<PathBuf>,
+    /// Write REPORT/class.html and REPORT/class.csv from the student
+    /// reports in REPORT/*/summary.json, and exit.
+    #[arg(long, value_name = "REPORT", conflicts_with_all = ["report", "suite"])]
+    pub merge: Option<PathBuf>,
     /// Scene files or folders (default: the built-in suite).
     pub suite: Vec<PathBuf>,
-    /// The report folder (index.html, summary.json, results.json).
+    /// The report folder (index.html, summary.json, results.json; with
+    /// `--class`, a folder per student and the class overview).
     #[arg(
         short = 'o',
         long = "output",
         value_name = "REPORT",
-        required_unless_present = "export_suite"
+        required_unless_present_any = ["export_suite", "merge"]
     )]
     pub report: Option<PathBuf>,
     /// Write the built-in suite to DIR (scenes, textures, suite.json) and exit.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["tracer", "report", "suite"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["report", "suite"])]
     pub export_suite: Option<PathBuf>,
     /// Where our reference images are cached, by content hash (default:
     /// `$XDG_CACHE_HOME/raytracer/references`, else `~/.cache/…`).

@@ -25,7 +25,7 @@ light\n  location 6 4 -3\n  color 1 1 1\n";
 /// The binary, where the graded programs (run as `nobody` when the tests
 /// run as root) can execute it: in place when every folder above it lets
 /// others in, else a copy in the system's temporary folder.
-fn binary() -> &'static Path {
+pub(crate) fn binary() -> &'static Path {
     static BINARY: OnceLock<PathBuf> = OnceLock::new();
     BINARY.get_or_init(|| {
         let built = PathBuf::from(bin());
@@ -45,7 +45,7 @@ fn binary() -> &'static Path {
 
 /// A folder anyone may use (the graded program writes its working folder's
 /// name into it).
-fn open_folder(prefix: &str) -> tempfile::TempDir {
+pub(crate) fn open_folder(prefix: &str) -> tempfile::TempDir {
     let dir = tempfile::Builder::new().prefix(prefix).tempdir().unwrap();
     std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o777)).unwrap();
     dir
@@ -411,7 +411,7 @@ fn our_tracer_matches_the_built_in_suite() {
     }
 
     let html = std::fs::read_to_string(report.join("index.html")).unwrap();
-    assert_eq!(html.matches("<tr class=\"scene\">").count(), 23);
+    assert_eq!(html.matches("<tr class=\"scene\" id=\"scene-").count(), 23);
     assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("<script"));
     for scene in scenes {
         for kind in ["reference", "student", "heatmap"] {

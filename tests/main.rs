@@ -19,6 +19,8 @@ mod compare_cli;
 mod convert_cli;
 mod distributed;
 mod format;
+mod grade_browser;
+mod grade_class;
 mod grade_cli;
 mod hostile_inputs;
 mod hostile_text;

@@ -34,7 +34,7 @@ fn under_ci() -> bool {
 
 /// True when `chromium` runs. Without it, `test` fails under CI and
 /// otherwise says it was skipped where `cargo test` shows it.
-fn chromium_available(test: &str) -> bool {
+pub(crate) fn chromium_available(test: &str) -> bool {
     let found = Command::new("chromium")
         .arg("--version")
         .output()
@@ -42,8 +42,9 @@ fn chromium_available(test: &str) -> bool {
     if !found {
         assert!(
             !under_ci(),
-            "`chromium` is not installed, and CI must run the browser test of \
-             `raytracer preview`: .ci/run installs it (`apt-get install -y chromium`)"
+            "`chromium` is not installed, and CI must run the browser tests \
+             (`raytracer preview`, `grade`'s reports): .ci/run installs it \
+             (`apt-get install -y chromium`)"
         );
         use std::io::Write;
         let _ = writeln!(
@@ -55,8 +56,9 @@ fn chromium_available(test: &str) -> bool {
 }
 
 /// A headless Chromium with one page, driven over the DevTools protocol;
-/// killed when dropped.
-struct Browser {
+/// killed when dropped. tests/grade_browser.rs drives the reports of
+/// `raytracer grade` with it too.
+pub(crate) struct Browser {
     child: Child,
     socket: WebSocket<TcpStream>,
     next_id: u64,
@@ -65,7 +67,7 @@ struct Browser {
 
 impl Browser {
     /// Start Chromium on a blank page `width`×`height` CSS pixels.
-    fn start(width: u32, height: u32) -> Browser {
+    pub(crate) fn start(width: u32, height: u32) -> Browser {
         let profile = tempfile::tempdir().expect("profile folder");
         let mut child = Command::new("chromium")
             .args([
@@ -133,7 +135,7 @@ impl Browser {
     }
 
     /// Call `method` and return its result (events on the way are skipped).
-    fn call(&mut self, method: &str, params: Value) -> Value {
+    pub(crate) fn call(&mut self, method: &str, params: Value) -> Value {
         let id = self.send(method, params);
         loop {
             let reply = self.receive();
@@ -165,7 +167,7 @@ impl Browser {
 
     /// The value of the JavaScript expression `expression` (awaited when it
     /// is a promise).
-    fn eval(&mut self, expression: &str) -> Value {
+    pub(crate) fn eval(&mut self, expression: &str) -> Value {
         let result = self.call(
             "Runtime.evaluate",
             json!({"expression": expression, "returnByValue": true, "awaitPromise": true}),
@@ -179,7 +181,7 @@ impl Browser {
 
     /// Wait in the page until `condition` (JavaScript) holds, then return
     /// the value of `value`; fails after [`PATIENCE`].
-    fn wait_for(&mut self, condition: &str, value: &str) -> Value {
+    pub(crate) fn wait_for(&mut self, condition: &str, value: &str) -> Value {
         let limit = PATIENCE.as_millis();
         let found = self.eval(&format!(
             "new Promise((resolve) => {{
@@ -202,7 +204,7 @@ impl Browser {
 
     /// Load `url` and wait for its `load` event, so that scripts then run
     /// in the new document.
-    fn navigate(&mut self, url: &str) {
+    pub(crate) fn navigate(&mut self, url: &str) {
         self.call("Page.enable", json!({}));
         self.send("Page.navigate", json!({ "url": url }));
         loop {
@@ -215,7 +217,7 @@ impl Browser {
     }
 
     /// A PNG of the page as it is shown.
-    fn screenshot(&mut self) -> Vec<u8> {
+    pub(crate) fn screenshot(&mut self) -> Vec<u8> {
         let shot = self.call("Page.captureScreenshot", json!({"format": "png"}));
         let data = shot["data"].as_str().expect("base64 data");
         data_encoding::BASE64

@@ -4,7 +4,12 @@
 //! sandbox of [`crate::grade::sandbox`] (`--jobs` at once, a progress bar
 //! on a terminal), and write the report. Exit 0 when every scene matches,
 //! 1 otherwise, 2 for usage errors and a suite or report that cannot be
-//! read or written. `--export-suite DIR` writes the built-in suite out.
+//! read or written. `--student DIR` takes the command (and a build) from
+//! a student's folder ([`crate::grade::student`]); `--class DIR` grades
+//! each student folder in DIR into REPORT/<student>/ against the same
+//! references, then merges the class overview ([`crate::grade::class`]),
+//! which `--merge REPORT` does alone. `--export-suite DIR` writes the
+//! built-in suite out.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -16,10 +21,13 @@ use rayon::prelude::*;
 
 use super::Outcome;
 use crate::cli::{GradeArgs, SandboxArgs};
+use crate::compare::Picture;
 use crate::diagnostic::{io_reason, BoxedDiagnostic};
+use crate::grade::class::{self, ClassError};
 use crate::grade::reference::{self, Cache};
 use crate::grade::report::{self, SandboxSummary, Summary};
 use crate::grade::sandbox::{self, Confinement, Limits};
+use crate::grade::student::{self, Student, StudentError};
 use crate::grade::suite::{self, SuiteError, SuiteScene};
 use crate::grade::workdir::{Template, TemplateError};
 use crate::grade::{self, Plan};
@@ -45,6 +53,17 @@ pub enum GradeError {
     #[diagnostic(code(io::grade))]
     Io { path: String, reason: String },
 
+    #[error("{} student folder{} cannot be graded", errors.len(), if errors.len() == 1 { "" } else { "s" })]
+    #[diagnostic(code(grade::student))]
+    Students {
+        #[related]
+        errors: Vec<StudentError>,
+    },
+
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Class(#[from] ClassError),
+
     #[error("no folder for the reference cache: neither `XDG_CACHE_HOME` nor `HOME` is set")]
     #[diagnostic(code(usage::no_cache), help("give one with `--cache DIR`"))]
     NoCache,
@@ -57,6 +76,24 @@ fn io_error(path: &Path) -> impl Fn(std::io::Error) -> GradeError + '_ {
     }
 }
 
+/// One tracer to grade: the command, where a relative program is taken
+/// from, the student (for a build) and the report folder.
+struct Job<'a> {
+    tracer: String,
+    template: Template,
+    cwd: PathBuf,
+    student: Option<&'a Student>,
+    report: PathBuf,
+}
+
+/// The scenes every job is graded on, with our reference images.
+struct Graded<'a> {
+    scenes: &'a [SuiteScene],
+    references: &'a [(Picture, bool)],
+    confinement: Confinement,
+    pool: &'a rayon::ThreadPool,
+}
+
 /// Run `raytracer grade`.
 pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     if let Some(dir) = &args.export_suite {
@@ -64,16 +101,52 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         eprintln!("wrote the built-in suite to `{}`", dir.display());
         return Ok(Outcome::Success);
     }
-    let (Some(tracer), Some(report_folder)) = (&args.tracer, &args.report) else {
-        unreachable!("clap requires --tracer and -o without --export-suite")
+    if let Some(report) = &args.merge {
+        let class = class::merge(report).map_err(GradeError::from)?;
+        print_class(report, &class);
+        return Ok(Outcome::Success);
+    }
+    let Some(report_folder) = &args.report else {
+        unreachable!("clap requires -o without --export-suite and --merge")
     };
-    let template = Template::parse(tracer).map_err(GradeError::from)?;
+    let here = std::env::current_dir().map_err(io_error(Path::new(".")))?;
+    let students = match (&args.student, &args.class) {
+        (Some(folder), _) => {
+            vec![Student::read(folder).map_err(|e| GradeError::Students { errors: vec![e] })?]
+        }
+        (_, Some(folder)) => {
+            student::class(folder).map_err(|errors| GradeError::Students { errors })?
+        }
+        _ => Vec::new(),
+    };
+    let jobs: Vec<Job> = match &args.tracer {
+        Some(tracer) => vec![Job {
+            tracer: tracer.clone(),
+            template: Template::parse(tracer).map_err(GradeError::from)?,
+            cwd: here,
+            student: None,
+            report: report_folder.clone(),
+        }],
+        None => students
+            .iter()
+            .map(|student| Job {
+                tracer: student.tracer.clone(),
+                template: student.template.clone(),
+                cwd: here.join(&student.folder),
+                student: Some(student),
+                report: if args.class.is_some() {
+                    report_folder.join(&student.name)
+                } else {
+                    report_folder.clone()
+                },
+            })
+            .collect(),
+    };
     let cache_folder = match &args.cache {
         Some(folder) => folder.clone(),
         None => reference::default_folder().ok_or(GradeError::NoCache)?,
     };
-    let images = report_folder.join("images");
-    std::fs::create_dir_all(&images).map_err(io_error(&images))?;
+    std::fs::create_dir_all(report_folder).map_err(io_error(report_folder))?;
     let cache = Cache::open(&cache_folder).map_err(io_error(&cache_folder))?;
 
     // The built-in suite is graded from a copy, like any folder.
@@ -106,14 +179,6 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
 
     let confinement = Confinement::new(limits(&args.sandbox));
     sandbox::become_subreaper();
-    let plan = Plan {
-        template: &template,
-        confinement,
-        thresholds: args.thresholds.thresholds(),
-        report: report_folder,
-        cwd: std::env::current_dir().map_err(io_error(Path::new(".")))?,
-    };
-    let progress = progress_bar(scenes.len());
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.jobs as usize)
         .build()
@@ -121,10 +186,72 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
             path: "threads".into(),
             reason: e.to_string(),
         })?;
-    let results = pool.install(|| {
-        scenes
+    let graded = Graded {
+        scenes: &scenes,
+        references: &references,
+        confinement,
+        pool: &pool,
+    };
+    let mut all_match = true;
+    for job in &jobs {
+        let summary = grade_job(job, &graded, &args)?;
+        all_match &= summary.all_match();
+        let matched = summary
+            .scenes
+            .iter()
+            .filter(|s| s.status == grade::Status::Match)
+            .count();
+        let who = match (job.student, &args.class) {
+            (Some(student), Some(_)) => format!("{}: ", student.name.to_string_lossy()),
+            _ => String::new(),
+        };
+        let build = match &summary.build {
+            Some(build) if !build.ok => " (the build failed)",
+            _ => "",
+        };
+        println!(
+            "{who}{matched} of {} scenes match, {} of {} points{build}; report: {}",
+            summary.scenes.len(),
+            summary.score,
+            summary.max_score,
+            job.report.join("index.html").display()
+        );
+    }
+    if args.class.is_some() {
+        let class = class::merge(report_folder).map_err(GradeError::from)?;
+        print_class(report_folder, &class);
+    }
+    Ok(if all_match {
+        Outcome::Success
+    } else {
+        Outcome::Differs
+    })
+}
+
+/// Build the job's student, if any, grade every scene, and write the report.
+fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, GradeError> {
+    let images = job.report.join("images");
+    std::fs::create_dir_all(&images).map_err(io_error(&images))?;
+    let build = job
+        .student
+        .and_then(|student| student.build(graded.confinement));
+    let plan = Plan {
+        template: &job.template,
+        confinement: graded.confinement,
+        thresholds: args.thresholds.thresholds(),
+        report: &job.report,
+        cwd: job.cwd.clone(),
+        skip: build
+            .as_ref()
+            .and_then(|b| b.reason.as_ref())
+            .map(|reason| format!("the build failed: {reason}")),
+    };
+    let progress = progress_bar(graded.scenes.len());
+    let results = graded.pool.install(|| {
+        graded
+            .scenes
             .par_iter()
-            .zip(&references)
+            .zip(graded.references)
             .enumerate()
             .map(|(index, (scene, (reference, _)))| {
                 progress.set_message(scene.name.clone());
@@ -136,35 +263,30 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     });
     sandbox::reap_orphans(None);
     progress.finish_and_clear();
-    let results = results.map_err(io_error(report_folder))?;
+    let results = results.map_err(io_error(&job.report))?;
 
     let mut summary = Summary {
-        tracer: tracer.clone(),
+        tracer: job.tracer.clone(),
         score: results.iter().map(|r| r.score).sum(),
-        max_score: scenes.iter().map(|s: &SuiteScene| s.points).sum(),
+        max_score: graded.scenes.iter().map(|s| s.points).sum(),
         thresholds: plan.thresholds,
-        sandbox: sandbox_summary(&args.sandbox, &confinement),
+        sandbox: sandbox_summary(&args.sandbox, &graded.confinement),
+        build,
         scenes: results,
     };
     summary.sort();
-    report::write(report_folder, &summary).map_err(io_error(report_folder))?;
-    let matched = summary
-        .scenes
-        .iter()
-        .filter(|s| s.status == grade::Status::Match)
-        .count();
+    report::write(&job.report, &summary).map_err(io_error(&job.report))?;
+    Ok(summary)
+}
+
+/// Say where the class overview is.
+fn print_class(report: &Path, class: &class::Class) {
     println!(
-        "{matched} of {} scenes match, {} of {} points; report: {}",
-        summary.scenes.len(),
-        summary.score,
-        summary.max_score,
-        report_folder.join("index.html").display()
+        "class of {}: {} and {}",
+        class.students.len(),
+        report.join(class::HTML).display(),
+        report.join(class::CSV).display()
     );
-    Ok(if summary.all_match() {
-        Outcome::Success
-    } else {
-        Outcome::Differs
-    })
 }
 
 /// The sandbox limits of the options.

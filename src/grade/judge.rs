@@ -5,13 +5,15 @@
 use std::path::Path;
 
 use schemars::JsonSchema;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::sandbox::Ended;
 use crate::compare::{self, Comparison, Picture, Thresholds, Verdict};
 
 /// Where a scene ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, JsonSchema)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize, JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Status {
     /// Killed at the wall-clock timeout, or stopped at the CPU limit.
@@ -42,19 +44,8 @@ pub fn judge(ended: &Ended, out: &Path, reference: &Picture, thresholds: &Thresh
         reason: Some(reason),
         compared: None,
     };
-    match ended {
-        Ended::TimedOut => return plain(Status::Timeout, "wall-clock time limit".into()),
-        Ended::Signalled(signal) if *signal == libc::SIGXCPU => {
-            return plain(Status::Timeout, "CPU time limit (SIGXCPU)".into())
-        }
-        Ended::Signalled(signal) => return plain(Status::Crashed, signal_reason(*signal)),
-        Ended::Exited(code) if *code != 0 => {
-            return plain(Status::Crashed, format!("exit code {code}"))
-        }
-        Ended::NotStarted(reason) => {
-            return plain(Status::Crashed, format!("cannot start: {reason}"))
-        }
-        Ended::Exited(_) => {}
+    if let Some((status, reason)) = failure(ended) {
+        return plain(status, reason);
     }
     if !out.exists() {
         return plain(
@@ -84,6 +75,21 @@ pub fn judge(ended: &Ended, out: &Path, reference: &Picture, thresholds: &Thresh
         reason,
         compared: Some((picture, comparison)),
     }
+}
+
+/// How a run that did not exit 0 failed: its status and reason; `None`
+/// for an exit 0.
+pub fn failure(ended: &Ended) -> Option<(Status, String)> {
+    Some(match ended {
+        Ended::TimedOut => (Status::Timeout, "wall-clock time limit".into()),
+        Ended::Signalled(signal) if *signal == libc::SIGXCPU => {
+            (Status::Timeout, "CPU time limit (SIGXCPU)".into())
+        }
+        Ended::Signalled(signal) => (Status::Crashed, signal_reason(*signal)),
+        Ended::Exited(0) => return None,
+        Ended::Exited(code) => (Status::Crashed, format!("exit code {code}")),
+        Ended::NotStarted(reason) => (Status::Crashed, format!("cannot start: {reason}")),
+    })
 }
 
 /// "signal N (NAME)", with what the sandbox's signals mean.

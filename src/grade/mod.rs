@@ -6,14 +6,18 @@
 //! cache) our image of each; [`workdir`] prepares the folder and argument
 //! vector; [`sandbox`] runs the program under limits, capturing its
 //! output with [`capture`]; [`judge`] turns the run and the image into a
-//! [`Status`]; [`report`] writes the HTML report, summary.json and
+//! [`Status`]; [`student`] reads a student's folder (its command, its
+//! build) for `--student` and `--class`; [`class`] merges the students'
+//! summaries into the class overview; [`report`] writes the HTML report, summary.json and
 //! Gradescope's results.json.
 
 pub mod capture;
+pub mod class;
 pub mod judge;
 pub mod reference;
 pub mod report;
 pub mod sandbox;
+pub mod student;
 pub mod suite;
 pub mod workdir;
 
@@ -77,8 +81,12 @@ pub struct Plan<'a> {
     pub thresholds: Thresholds,
     /// The report folder; images go to its `images/`.
     pub report: &'a Path,
-    /// The folder `grade` runs in, for a relative program path.
+    /// The folder a relative program path is taken from: where `grade`
+    /// runs, or the student's folder.
     pub cwd: PathBuf,
+    /// When set, no scene runs: each is `crashed` for this reason (the
+    /// student's build failed).
+    pub skip: Option<String>,
 }
 
 /// Grade one scene against its `reference`; `index` names its images.
@@ -97,6 +105,9 @@ pub fn grade_scene(
     };
     let reference_image = image("reference");
     write_png(&reference_image, reference)?;
+    if let Some(reason) = &plan.skip {
+        return Ok(not_run(scene, reference_image, reason));
+    }
 
     let dir = workdir::prepare(scene, plan.confinement.user)?;
     let argv = plan.template.argv(&dir.scene_file, workdir::OUT, &plan.cwd);
@@ -157,8 +168,35 @@ pub fn grade_scene(
     })
 }
 
+/// A scene that did not run because of `reason`.
+fn not_run(scene: &SuiteScene, reference_image: String, reason: &str) -> SceneResult {
+    SceneResult {
+        scene: scene.name.clone(),
+        description: scene.description.clone(),
+        status: Status::Crashed,
+        reason: Some(reason.to_string()),
+        points: scene.points,
+        score: 0.0,
+        coverage_iou: None,
+        flip_mean: None,
+        flip: None,
+        rmse: None,
+        psnr: None,
+        seconds: 0.0,
+        exit_code: None,
+        signal: None,
+        stdout: String::new(),
+        stderr: String::new(),
+        images: Images {
+            reference: reference_image,
+            student: None,
+            heatmap: None,
+        },
+    }
+}
+
 /// A file-name-safe form of a scene's path.
-fn slug(name: &str) -> String {
+pub fn slug(name: &str) -> String {
     name.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || c == '-' || c == '.' {

@@ -80,9 +80,9 @@ fn give(path: &Path, id: u32) -> std::io::Result<()> {
 /// Why a command template cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum TemplateError {
-    #[error("cannot split the `--tracer` command into words: {0}")]
+    #[error("cannot split the command into words: {0}")]
     Split(String),
-    #[error("the `--tracer` command is empty")]
+    #[error("the command is empty")]
     Empty,
 }
 
@@ -103,11 +103,23 @@ impl Template {
     /// The argument vector for one scene. A program given as a relative
     /// path with a `/` is taken from `cwd`, the folder `grade` runs in.
     pub fn argv(&self, scene: &str, out: &str, cwd: &Path) -> Vec<OsString> {
+        self.words(cwd, |word| {
+            word.replace("{scene}", scene).replace("{out}", out)
+        })
+    }
+
+    /// The argument vector as written (a build command), a relative
+    /// program taken from `cwd`.
+    pub fn argv_as_written(&self, cwd: &Path) -> Vec<OsString> {
+        self.words(cwd, str::to_string)
+    }
+
+    fn words(&self, cwd: &Path, substitute: impl Fn(&str) -> String) -> Vec<OsString> {
         self.0
             .iter()
             .enumerate()
             .map(|(i, word)| {
-                let word = word.replace("{scene}", scene).replace("{out}", out);
+                let word = substitute(word);
                 if i == 0 && word.contains('/') && Path::new(&word).is_relative() {
                     cwd.join(word).into_os_string()
                 } else {

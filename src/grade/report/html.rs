@@ -74,6 +74,29 @@ pub fn page(summary: &Summary) -> String {
         summary.thresholds.min_coverage,
         summary.thresholds.max_flip,
     );
+    if let Some(build) = &summary.build {
+        let outcome = match &build.reason {
+            None => "built".to_string(),
+            Some(reason) => format!(
+                "<span class=\"status crashed\">build failed</span> {}",
+                escape(reason)
+            ),
+        };
+        let _ = write!(
+            html,
+            "<p id=\"build\">Build: <code>{}</code>, {outcome} in {:.2} s.</p>",
+            escape(&build.command),
+            build.seconds
+        );
+        if !build.ok {
+            for stream in [&build.stdout, &build.stderr] {
+                if !stream.trim().is_empty() {
+                    let _ = write!(html, "<pre>{}</pre>", escape(stream.trim_end()));
+                }
+            }
+        }
+        html.push('\n');
+    }
     html.push_str("<table>\n<tr><th>scene</th><th>status</th><th>images: ours, the student's, ꟻLIP error</th><th>metrics</th></tr>\n");
     for scene in &summary.scenes {
         row(&mut html, scene);
@@ -87,8 +110,9 @@ fn row(html: &mut String, scene: &SceneResult) {
     let name = status_name(scene.status);
     let _ = write!(
         html,
-        "<tr class=\"scene\"><td><b>{}</b><br>{}<br>{} / {} points</td>\
+        "<tr class=\"scene\" id=\"{}\"><td><b>{}</b><br>{}<br>{} / {} points</td>\
 <td><span class=\"status {name}\">{name}</span><br>{}</td><td>",
+        anchor(&scene.scene),
         escape(&scene.scene),
         escape(&scene.description),
         scene.score,
@@ -123,6 +147,11 @@ fn row(html: &mut String, scene: &SceneResult) {
     html.push_str("</td></tr>\n");
 }
 
+/// The `id` of a scene's row, which class.html links to.
+pub fn anchor(scene: &str) -> String {
+    format!("scene-{}", crate::grade::slug(scene))
+}
+
 /// An image with its caption, or a grey box when there is none.
 fn figure(html: &mut String, src: Option<&str>, caption: &str) {
     let _ = match src {
@@ -139,7 +168,7 @@ fn figure(html: &mut String, src: Option<&str>, caption: &str) {
 }
 
 /// Text made safe inside HTML elements and attribute values.
-fn escape(text: &str) -> String {
+pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {

@@ -26,8 +26,28 @@ pub struct Summary {
     pub max_score: f64,
     pub thresholds: Thresholds,
     pub sandbox: SandboxSummary,
+    /// The student's build (`build.txt`), when there was one; when it
+    /// failed, every scene is `crashed` and no scene was run.
+    pub build: Option<BuildSummary>,
     /// One entry per scene, worst first.
     pub scenes: Vec<SceneResult>,
+}
+
+/// How the build command ran.
+#[derive(Clone, Debug, Serialize, JsonSchema)]
+pub struct BuildSummary {
+    /// The command line of `build.txt`.
+    pub command: String,
+    /// It exited 0.
+    pub ok: bool,
+    /// How it failed (`exit code 2`, a signal, a limit), `null` when `ok`.
+    pub reason: Option<String>,
+    pub seconds: f64,
+    pub exit_code: Option<i32>,
+    pub signal: Option<i32>,
+    /// The first bytes of its stdout and stderr.
+    pub stdout: String,
+    pub stderr: String,
 }
 
 /// The limits the programs ran under.

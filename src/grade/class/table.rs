@@ -1,0 +1,68 @@
+//! `class.csv`: one row per student (`student`, `score`, `max_score`,
+//! `build`: empty, `ok` or `failed`), then one column per scene with the
+//! points the student earned on it, empty when the student was not graded
+//! on it. A text cell that a spreadsheet would take for a formula (it
+//! starts with `=`, `+`, `-`, `@`, a tab or a carriage return) is written
+//! with a `'` before it.
+
+use super::Class;
+
+/// The table of `class`.
+pub fn csv(class: &Class) -> String {
+    let mut writer = csv::Writer::from_writer(Vec::new());
+    let mut header = vec![
+        "student".to_string(),
+        "score".into(),
+        "max_score".into(),
+        "build".into(),
+    ];
+    header.extend(class.scenes.iter().map(|scene| text(scene)));
+    let mut rows = vec![header];
+    for student in &class.students {
+        let summary = &student.summary;
+        let build = match &summary.build {
+            None => "",
+            Some(build) if build.ok => "ok",
+            Some(_) => "failed",
+        };
+        let mut row = vec![
+            text(&student.name()),
+            summary.score.to_string(),
+            summary.max_score.to_string(),
+            build.to_string(),
+        ];
+        row.extend(class.scenes.iter().map(|scene| {
+            student
+                .scene(scene)
+                .map_or_else(String::new, |s| s.score.to_string())
+        }));
+        rows.push(row);
+    }
+    for row in rows {
+        writer
+            .write_record(&row)
+            .expect("writing to memory cannot fail");
+    }
+    String::from_utf8(writer.into_inner().expect("writing to memory cannot fail"))
+        .expect("the cells are UTF-8")
+}
+
+/// A text cell, never read as a formula.
+fn text(cell: &str) -> String {
+    if cell.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+        format!("'{cell}")
+    } else {
+        cell.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::text;
+
+    #[test]
+    fn a_formula_is_not_a_formula() {
+        assert_eq!(text("=HYPERLINK(\"x\")"), "'=HYPERLINK(\"x\")");
+        assert_eq!(text("alice"), "alice");
+    }
+}

@@ -1,0 +1,141 @@
+//! The reports of `raytracer grade` in a real browser: Debian's
+//! `chromium`, headless, driven over the DevTools protocol by the
+//! [`Browser`] of tests/preview_browser.rs. Each student's `index.html`,
+//! opened from `file://`, shows every image it names (loaded, with a
+//! width) and one row per scene; `class.html` has one row per student,
+//! and a cell's link opens that student's report at the scene's row. A
+//! screenshot of a report is taken (`make grading-screenshot` keeps it as
+//! docs/grading-report.png).
+//!
+//! Chromium is a Debian package that .ci/run installs; without it the test
+//! fails when `CI` is set and prints `SKIPPED` otherwise.
+
+use std::path::Path;
+
+use percent_encoding::{utf8_percent_encode, AsciiSet, NON_ALPHANUMERIC};
+use serde_json::Value;
+
+use crate::grade_class::class_folder;
+use crate::grade_cli::binary;
+use crate::preview_browser::{chromium_available, Browser};
+use crate::support;
+
+/// Every `<img>` of the page: whether it loaded, and its natural width.
+const IMAGES: &str = "Array.from(document.images).map((image) => \
+    [image.getAttribute('src'), image.complete, image.naturalWidth])";
+
+/// Characters a `file://` URL keeps as they are.
+const PATH: &AsciiSet = &NON_ALPHANUMERIC
+    .remove(b'/')
+    .remove(b'.')
+    .remove(b'-')
+    .remove(b'_');
+
+/// The `file://` URL of `path`.
+fn file_url(path: &Path) -> String {
+    format!(
+        "file://{}",
+        utf8_percent_encode(&path.display().to_string(), PATH)
+    )
+}
+
+#[test]
+fn reports_show_every_image_and_link_the_class_to_each_scene() {
+    if !chromium_available("reports_show_every_image_and_link_the_class_to_each_scene") {
+        return;
+    }
+    let dir = class_folder();
+    let d = dir.path();
+    // A fourth student: right on the ball, too dark on the red ball.
+    let dave = d.join("students/dave");
+    std::fs::create_dir(&dave).unwrap();
+    support::write(&dave, "tracer.txt", "./tracer.sh {scene} {out}\n");
+    let script = format!(
+        "#!/bin/sh\ncase \"$1\" in\n  red.txt) sed 's/color .9 .1 .2/color .4 .05 .1/' \"$1\" > dim.txt\n    \
+         exec {bin} render dim.txt \"$2\" ;;\n  *) exec {bin} render \"$1\" \"$2\" ;;\nesac\n",
+        bin = binary().display()
+    );
+    support::write(&dave, "tracer.sh", script);
+    std::fs::set_permissions(
+        dave.join("tracer.sh"),
+        std::os::unix::fs::PermissionsExt::from_mode(0o755),
+    )
+    .unwrap();
+    let output = support::command(&[
+        "grade", "--class", "students", "-o", "class", "--cache", "cache", "suite",
+    ])
+    .current_dir(d)
+    .output()
+    .unwrap();
+    assert_eq!(
+        output.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let class = d.join("class");
+
+    let mut browser = Browser::start(1100, 760);
+    for student in ["alice", "bob", "carol \"<&>\" #1", "dave"] {
+        let report = class.join(student).join("index.html");
+        let summary: Value = serde_json::from_slice(
+            &std::fs::read(class.join(student).join("summary.json")).unwrap(),
+        )
+        .unwrap();
+        browser.navigate(&file_url(&report));
+        let images = browser.eval(IMAGES);
+        let images = images.as_array().unwrap();
+        // Ours for each scene, and the student's and the heat map when it wrote one.
+        let named: usize = summary["scenes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| {
+                ["reference", "student", "heatmap"]
+                    .iter()
+                    .filter(|kind| s["images"][**kind].is_string())
+                    .count()
+            })
+            .sum();
+        assert_eq!(images.len(), named, "{student}: {images:?}");
+        for image in images {
+            assert_eq!(image[1], true, "{student}: {image}");
+            assert!(image[2].as_u64().unwrap() > 0, "{student}: {image}");
+        }
+        assert_eq!(
+            browser.eval("document.querySelectorAll('tr.scene').length"),
+            2,
+            "{student}"
+        );
+    }
+    // The last report shown is dave's: a match and an image that differs.
+    let screenshot = browser.screenshot();
+    let image = image::load_from_memory(&screenshot).expect("a PNG screenshot");
+    assert_eq!((image.width(), image.height()), (1100, 760));
+    if let Some(path) = std::env::var_os("RAYTRACER_GRADING_SCREENSHOT") {
+        std::fs::write(path, &screenshot).expect("write the screenshot");
+    }
+
+    browser.navigate(&file_url(&class.join("class.html")));
+    assert_eq!(
+        browser.eval("document.querySelectorAll('tr.student').length"),
+        4
+    );
+    let link = browser.eval(
+        "Array.from(document.querySelectorAll('tr.student')).find((row) => \
+           row.textContent.startsWith('dave')).querySelectorAll('a.status')[1].href",
+    );
+    let link = link.as_str().unwrap();
+    assert!(
+        link.ends_with("/class/dave/index.html#scene-red.txt"),
+        "{link}"
+    );
+    browser.navigate(link);
+    assert_eq!(
+        browser.eval(
+            "document.querySelector(':target').className + ' ' + \
+             document.querySelector(':target b').textContent"
+        ),
+        "scene red.txt"
+    );
+}
