@@ -115,22 +115,25 @@ impl Line<'_> {
             }
         };
         let found = cx.text(self.span());
+        let (min, max) = (format::short(min), format::short(max));
+        let (span, help) = (span.into(), fix.message.clone());
+        let fix = Some(Box::new(fix));
         let problem = match self.spec.name {
             Key::Attribute(AttrName::Reflectivity) => CheckError::ReflectivityOutOfRange {
-                min: format::short(min),
-                max: format::short(max),
+                min,
+                max,
                 found,
-                span: span.into(),
-                help: fix.message.clone(),
-                fix: Some(Box::new(fix)),
+                span,
+                help,
+                fix,
             },
             _ => CheckError::ColorOutOfRange {
-                min: format::short(min),
-                max: format::short(max),
+                min,
+                max,
                 found,
-                span: span.into(),
-                help: fix.message.clone(),
-                fix: Some(Box::new(fix)),
+                span,
+                help,
+                fix,
             },
         };
         cx.problems.push(problem);
