@@ -1,9 +1,10 @@
 //! The rule registry (src/language.rs) drives the check pass: for every
 //! row whose rule a value can break, a scene that breaks it gets a
 //! diagnostic on that line carrying a fix, whose message is the help line,
-//! and applying the fixes leaves no error. Scenes are built from the
-//! registry's own example lines, so a new row is covered without a new
-//! test.
+//! and applying the fixes leaves no error. The same holds for every row's
+//! wrong value counts and missing lines that have a mechanical remedy.
+//! Scenes are built from the registry's own example lines, so a new row is
+//! covered without a new test.
 
 use std::path::Path;
 use std::time::Instant;

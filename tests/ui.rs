@@ -6,7 +6,9 @@
 //! Coverage cannot drift: every code of the diagnostic enums (derived from
 //! their variant names, `codes()`) must have a fixture that produces it,
 //! every fixture must be named after a code, and docs/diagnostics.md must
-//! have a section per code showing the fixture's current output.
+//! have a section per code showing the fixture's current output. Every code
+//! either carries a fix in its fixture (snapshotted as JSON) or is on
+//! [`raytracer::fix::WITHOUT_FIX`], whose reason its section states.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};

@@ -118,23 +118,12 @@ impl Line<'_> {
         let (min, max) = (format::short(min), format::short(max));
         let (span, help) = (span.into(), fix.message.clone());
         let fix = Some(Box::new(fix));
+        // One line a variant: the two carry the same fields.
+        #[rustfmt::skip]
         let problem = match self.spec.name {
-            Key::Attribute(AttrName::Reflectivity) => CheckError::ReflectivityOutOfRange {
-                min,
-                max,
-                found,
-                span,
-                help,
-                fix,
-            },
-            _ => CheckError::ColorOutOfRange {
-                min,
-                max,
-                found,
-                span,
-                help,
-                fix,
-            },
+            Key::Attribute(AttrName::Reflectivity) =>
+                CheckError::ReflectivityOutOfRange { min, max, found, span, help, fix },
+            _ => CheckError::ColorOutOfRange { min, max, found, span, help, fix },
         };
         cx.problems.push(problem);
         false

@@ -232,7 +232,7 @@ fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option
     if let Some(path) = attrs.path(&AttrName::Texture) {
         if let Err(problem) = cx.textures.load(path) {
             ok = false;
-            cx.problems.push(problem);
+            cx.problems.push(*problem);
         }
         material.texture = Some(path.value.to_string());
     } else if attrs.line(&AttrName::Texture).is_some() {
