@@ -91,12 +91,10 @@ pub enum Antialias {
     Adaptive,
 }
 
+/// The options `render` and `preview` share: how each pixel is sampled and
+/// computed, and on how many threads.
 #[derive(Debug, Args)]
-pub struct RenderArgs {
-    /// Scene file (`.json` is read as JSON; `-` reads stdin).
-    pub scene: PathBuf,
-    /// Output image; the extension picks the format.
-    pub out: PathBuf,
+pub struct SamplingArgs {
     /// Floating-point precision of every ray computation.
     #[arg(long, default_value = "f64",
           value_parser = PossibleValuesParser::new(["f32", "f64"]).try_map(|s| s.parse::<Precision>()))]
@@ -105,9 +103,23 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub spp: u32,
     /// Which pixels take all `--spp` samples: every one, or only those
-    /// whose corners, then four samples, differ by `--aa-threshold`.
+    /// whose corners, then four samples, differ by the adaptive threshold
+    /// (`render --aa-threshold`).
     #[arg(long, value_enum, default_value_t = Antialias::Uniform)]
     pub aa: Antialias,
+    /// Worker threads for rendering (default: all cores).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+}
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file (`.json` is read as JSON; `-` reads stdin).
+    pub scene: PathBuf,
+    /// Output image; the extension picks the format.
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
     /// The contrast within a pixel, in steps of 1/255 (fractions allowed),
     /// that refines it under `--aa adaptive` (0 refines every pixel).
     #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "STEPS", value_parser = contrast_steps)]
@@ -115,9 +127,6 @@ pub struct RenderArgs {
     /// Maximum number of reflections per primary ray.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(0..=64))]
     pub max_depth: u32,
-    /// Worker threads (default: all cores).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub threads: Option<u32>,
     /// Trace rays even where their contribution cannot change an 8-bit
     /// value (for measuring what that skip saves).
     #[arg(long)]
@@ -298,19 +307,8 @@ pub struct PreviewArgs {
     /// at N (the same view, fewer pixels).
     #[arg(long, default_value_t = 800, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub max_size: u32,
-    /// Floating-point precision of every ray computation.
-    #[arg(long, default_value = "f64",
-          value_parser = PossibleValuesParser::new(["f32", "f64"]).try_map(|s| s.parse::<Precision>()))]
-    pub precision: Precision,
-    /// Samples per pixel, stratified on a √N×√N grid (1 = pixel centre).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub spp: u32,
-    /// Which pixels take all `--spp` samples (see `render --aa`).
-    #[arg(long, value_enum, default_value_t = Antialias::Uniform)]
-    pub aa: Antialias,
-    /// Worker threads for rendering (default: all cores).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub threads: Option<u32>,
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
     /// Where diagnostic codes link: the URL of docs/diagnostics.md
     /// [default: the file in the source tree the binary was built from].
     #[arg(long, value_name = "URL")]
@@ -541,7 +539,7 @@ mod tests {
         };
         assert_eq!(args.out, PathBuf::from("out.ppm"));
         assert_eq!(args.max_depth, 8);
-        assert_eq!(args.spp, 1);
+        assert_eq!(args.sampling.spp, 1);
     }
 
     #[test]

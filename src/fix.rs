@@ -16,6 +16,89 @@ use serde::Serialize;
 
 use crate::span::Span;
 
+/// The codes whose diagnostics carry no fix, each with the reason: no
+/// edit of the scene has one right answer or a likely one. Every other
+/// code carries a fix where its remedy is mechanical (tests/ui.rs holds the
+/// two lists to every code, and docs/diagnostics.md states each reason).
+pub const WITHOUT_FIX: &[(&str, &str)] = &[
+    (
+        "syntax::invalid_utf8",
+        "the bytes are in another encoding, which the scene does not name",
+    ),
+    (
+        "syntax::not_text",
+        "the file is not text, so no edit of its text repairs it",
+    ),
+    (
+        "syntax::invalid_number",
+        "which number the malformed word stands for is unknown",
+    ),
+    (
+        "syntax::non_finite_number",
+        "no finite number stands for an infinite or undefined one",
+    ),
+    (
+        "syntax::number_out_of_range",
+        "which finite number was meant is unknown",
+    ),
+    (
+        "syntax::unterminated_string",
+        "where the string was meant to end is unknown",
+    ),
+    (
+        "syntax::value_outside_section",
+        "which section or attribute the values belong to is unknown",
+    ),
+    (
+        "json::syntax",
+        "what the broken JSON was meant to say is unknown",
+    ),
+    (
+        "json::unsupported_format",
+        "another format version's layout is not translated field by field",
+    ),
+    (
+        "json::missing_field",
+        "the values of the missing fields are the author's",
+    ),
+    (
+        "json::unknown_field",
+        "JSON diagnostics carry no structured fixes yet; the help names the field to rename it to",
+    ),
+    (
+        "json::duplicate_field",
+        "which of the two fields is meant is unknown, and removing one would leave the commas to mend",
+    ),
+    (
+        "json::schema",
+        "the value's shape is wrong, and what it was meant to hold is unknown",
+    ),
+    (
+        "scene::texture_not_found",
+        "the file the path was meant to name is unknown",
+    ),
+    (
+        "scene::texture_not_a_file",
+        "the file the path was meant to name is unknown",
+    ),
+    (
+        "scene::texture_not_an_image",
+        "the remedy is a new image file, not an edit of the scene",
+    ),
+    (
+        "scene::texture_too_large",
+        "the remedy is a smaller image file, not an edit of the scene",
+    ),
+    (
+        "scene::too_many_objects",
+        "which objects to drop is a choice about the picture, not a correction",
+    ),
+    (
+        "scene::light_inside_sphere",
+        "where the light belongs is the author's call",
+    ),
+];
+
 /// Whether a fix may be applied without review.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -96,6 +179,40 @@ pub fn removal(text: &str, span: Span) -> Span {
     }
 }
 
+/// The edit that adds `items` (attribute lines such as `normal 0 1 0`)
+/// after `last`, the span of a section's last element. When `last` starts
+/// its line and nothing but a comment follows it there, each item goes on a
+/// line of its own after that line, indented as `last` is (one level more
+/// when `nested`, as attributes are under a keyword alone on its line);
+/// otherwise the items follow `last` on its line, separated by spaces.
+pub fn insertion(text: &str, last: Span, nested: bool, items: &[&str]) -> Edit {
+    let is_blank = |c: char| c == ' ' || c == '\t';
+    let end = last.end().min(text.len());
+    let start = last.start().min(end);
+    let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
+    let indent = &text[line_start..start];
+    let line_end = text[end..].find('\n').map_or(text.len(), |i| end + i);
+    let crlf = text[..line_end].ends_with('\r') && line_end < text.len();
+    let line_end = if crlf { line_end - 1 } else { line_end };
+    let rest = text[end..line_end].trim_start_matches(is_blank);
+    if indent.chars().all(is_blank) && (rest.is_empty() || rest.starts_with('#')) {
+        let newline = if crlf { "\r\n" } else { "\n" };
+        let deeper = if nested { "  " } else { "" };
+        Edit {
+            span: Span::point(line_end),
+            content: items
+                .iter()
+                .map(|item| format!("{newline}{indent}{deeper}{item}"))
+                .collect(),
+        }
+    } else {
+        Edit {
+            span: Span::point(end),
+            content: items.iter().map(|item| format!(" {item}")).collect(),
+        }
+    }
+}
+
 /// Apply `fixes` to `text`, skipping a fix whose edits overlap one applied
 /// before it (each is applied whole or not at all). The fixes applied, in
 /// the order given, and the new text.
@@ -117,8 +234,10 @@ pub fn apply<'f>(text: &str, fixes: impl IntoIterator<Item = &'f Fix>) -> (Strin
         }
     }
     let mut edits: Vec<&Edit> = applied.iter().flat_map(|f| &f.edits).collect();
-    // Back to front, so no edit shifts the bytes of another.
-    edits.sort_by_key(|e| std::cmp::Reverse(e.span.start()));
+    // Back to front, so no edit shifts the bytes of another; an insertion
+    // (an empty span) at the start of a replacement goes after it, so it
+    // lands before the replaced bytes.
+    edits.sort_by_key(|e| std::cmp::Reverse((e.span.start(), e.span.end())));
     let mut out = text.to_string();
     for edit in edits {
         out.replace_range(edit.span.start()..edit.span.end(), &edit.content);
@@ -163,6 +282,50 @@ mod tests {
 
     fn fix_of(span: Span) -> Fix {
         fix(span.start(), span.end(), "")
+    }
+
+    #[test]
+    fn insertions_follow_the_layout_of_the_last_element() {
+        let insert = |text: &str, last: &str, nested: bool| {
+            let start = text.find(last).unwrap();
+            let span = Span::new(start, start + last.len());
+            let edit = insertion(text, span, nested, &["normal 0 1 0", "headup 0 0 -1"]);
+            apply(
+                text,
+                &[Fix {
+                    message: "m".to_string(),
+                    applicability: Applicability::Unsafe,
+                    edits: vec![edit],
+                }],
+            )
+            .0
+        };
+        assert_eq!(
+            insert(
+                "plane\n  center 0 0 -5 # c\r\nlight\n",
+                "center 0 0 -5",
+                false
+            ),
+            "plane\n  center 0 0 -5 # c\r\n  normal 0 1 0\r\n  headup 0 0 -1\r\nlight\n"
+        );
+        assert_eq!(
+            insert("\tplane", "plane", true),
+            "\tplane\n\t  normal 0 1 0\n\t  headup 0 0 -1"
+        );
+        assert_eq!(
+            insert("plane center 0 0 -5 light", "center 0 0 -5", false),
+            "plane center 0 0 -5 normal 0 1 0 headup 0 0 -1 light"
+        );
+    }
+
+    #[test]
+    fn an_insertion_at_the_start_of_a_replacement_goes_before_it() {
+        for fixes in [
+            [fix(0, 0, "camera 4\n"), fix(0, 5, "sphere")],
+            [fix(0, 5, "sphere"), fix(0, 0, "camera 4\n")],
+        ] {
+            assert_eq!(apply("sphre 1", &fixes).0, "camera 4\nsphere 1");
+        }
     }
 
     #[test]

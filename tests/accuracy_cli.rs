@@ -2,6 +2,8 @@
 //! numbers follow from the scene (an image without edges has no sampling
 //! error), assets are written when asked, and bad input gets its exit code.
 
+use std::process::Output;
+
 use crate::support::{run, write};
 
 const BALL: &str = "camera 16\nsphere dimension 1 center 0 0 -4 color .5 .5 .5\n\
@@ -9,7 +11,22 @@ const BALL: &str = "camera 16\nsphere dimension 1 center 0 0 -4 color .5 .5 .5\n
 /// The camera inside an ambient-lit sphere: one colour everywhere.
 const FLAT: &str = "camera 8\nsphere dimension 50 center 0 0 0 color .5 .3 .2\n";
 
-fn accuracy(scene: &str, extra: &[&str]) -> std::process::Output {
+/// The stdout of a run that must succeed (its stderr shown when not).
+fn succeeded(output: &Output) -> String {
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+/// Assert that `report` contains `part`, showing the report when not.
+fn says(report: &str, part: &str) {
+    assert!(report.contains(part), "no `{part}` in\n{report}");
+}
+
+fn accuracy(scene: &str, extra: &[&str]) -> Output {
     let mut args = vec!["accuracy", scene, "--reps", "1", "--reference-spp", "16"];
     args.extend_from_slice(extra);
     run(&args)
@@ -21,12 +38,7 @@ fn the_report_has_every_setting_and_its_findings() {
     let scene = write(dir.path(), "ball.txt", BALL);
     let assets = dir.path().join("assets");
     let output = accuracy(&scene, &["--assets", assets.to_str().unwrap()]);
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let stdout = succeeded(&output);
     for row in [
         "| default (f64, 1 spp, depth 8) | 1.00",
         "| f32 |",
@@ -36,17 +48,14 @@ fn the_report_has_every_setting_and_its_findings() {
         "| uniform 64 spp |",
         "| adaptive 16 spp |",
     ] {
-        assert!(stdout.contains(row), "no `{row}` in\n{stdout}");
+        says(&stdout, row);
     }
     assert!(
         stdout.contains("at 144×144 (9 × its own 16, the smallest odd multiple"),
         "a 16-px scene is measured at 144 px: {stdout}"
     );
-    assert!(
-        stdout.contains("**Sampling**: the RMSE falls as N^-"),
-        "{stdout}"
-    );
-    assert!(stdout.contains("**Adaptive**"), "{stdout}");
+    says(&stdout, "**Sampling**: the RMSE falls as N^-");
+    says(&stdout, "**Adaptive**");
     let sampling = std::fs::read_to_string(assets.join("ball.sampling.csv")).expect("csv");
     assert!(
         sampling.starts_with("series,spp,rmse\nuniform (slope -"),
@@ -73,17 +82,10 @@ fn an_image_without_edges_has_no_sampling_error() {
         &scene,
         &["--size", "6", "--assets", assets.to_str().unwrap()],
     );
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success());
-    assert!(
-        stdout.contains("at 6×6 (`--size`; its own is 8×8)"),
-        "{stdout}"
-    );
-    assert!(
-        stdout.contains("the RMSE is 0 at every jittered sample count"),
-        "{stdout}"
-    );
-    assert!(stdout.contains("**f32 is enough here**"), "{stdout}");
+    let stdout = succeeded(&output);
+    says(&stdout, "at 6×6 (`--size`; its own is 8×8)");
+    says(&stdout, "the RMSE is 0 at every jittered sample count");
+    says(&stdout, "**f32 is enough here**");
     let row = stdout
         .lines()
         .find(|line| line.starts_with("| adaptive 64 spp |"))
@@ -110,20 +112,15 @@ fn the_sampling_fit_and_the_references_are_stated() {
     let dir = tempfile::tempdir().expect("temp dir");
     let scene = write(dir.path(), "mirrors.txt", MIRRORS);
     let output = accuracy(&scene, &["--size", "16"]);
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let stdout = succeeded(&output);
     // The fit leaves out 1 spp, the pixel centre, and says so.
-    assert!(
-        stdout.contains("(least squares over 4–64 spp, jittered counts only)"),
-        "{stdout}"
+    says(
+        &stdout,
+        "(least squares over 4–64 spp, jittered counts only)",
     );
     // Depth truncation is its own source, against the depth-64 reference.
-    assert!(stdout.contains("at depth 8 ("), "{stdout}");
-    assert!(stdout.contains("**Depth truncation**, a source of its own: the depth-8 reference against the depth-64 one differs by RMSE "), "{stdout}");
+    says(&stdout, "at depth 8 (");
+    says(&stdout, "**Depth truncation**, a source of its own: the depth-8 reference against the depth-64 one differs by RMSE ");
     // The default renders at depth 8, as its reference does: its error is
     // sampling alone, and depth 8's truncation shows only in the split.
     let truncation: f64 = stdout
@@ -162,20 +159,9 @@ fn the_tuning_set_chooses_and_the_held_out_scenes_are_judged_apart() {
         "--assets",
         assets.to_str().unwrap(),
     ]);
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    assert!(
-        stdout.contains("## Choosing the threshold on the tuning set"),
-        "{stdout}"
-    );
-    assert!(
-        stdout.contains(&format!("The tuning set: `{ball}`, `{flat}`.")),
-        "{stdout}"
-    );
+    let stdout = succeeded(&output);
+    says(&stdout, "## Choosing the threshold on the tuning set");
+    says(&stdout, &format!("The tuning set: `{ball}`, `{flat}`."));
     let picked: f64 = stdout
         .split("It picks **")
         .nth(1)
@@ -185,43 +171,29 @@ fn the_tuning_set_chooses_and_the_held_out_scenes_are_judged_apart() {
     assert!([0.5, 2.0].contains(&picked), "{picked}");
     // Both candidates in the tuning table; the tuning scenes measured at
     // both, the held-out one at the pick only.
-    assert!(stdout.contains("| 0.5 | "), "{stdout}");
-    assert!(stdout.contains("| 2 | "), "{stdout}");
+    says(&stdout, "| 0.5 | ");
+    says(&stdout, "| 2 | ");
     let held_out = stdout
         .split("the held-out scenes\n")
         .nth(1)
         .expect("a held-out section");
-    assert!(
-        held_out.contains(&format!(
-            "measured after it at the chosen threshold only: `{held}`."
-        )),
-        "{held_out}"
+    says(
+        held_out,
+        &format!("measured after it at the chosen threshold only: `{held}`."),
     );
     for spp in [4, 16, 64] {
         let row = format!("| `{held}` | {spp} | ");
-        assert!(held_out.contains(&row), "no `{row}` in {held_out}");
+        says(held_out, &row);
     }
-    assert!(
-        stdout.contains("Meet the target (RMSE ≤ 1.25× uniform's in ≤ 0.5× its time"),
-        "{stdout}"
+    says(
+        &stdout,
+        "Meet the target (RMSE ≤ 1.25× uniform's in ≤ 0.5× its time",
     );
     let sections: Vec<&str> = stdout.split("\n### `").skip(1).collect();
     assert_eq!(sections.len(), 3, "{stdout}");
-    assert!(
-        sections[0].contains("| adaptive 16 spp, threshold 0.5 |"),
-        "{}",
-        sections[0]
-    );
-    assert!(
-        sections[0].contains("| adaptive 16 spp, threshold 2 |"),
-        "{}",
-        sections[0]
-    );
-    assert!(
-        sections[2].contains("| adaptive 16 spp |"),
-        "{}",
-        sections[2]
-    );
+    says(sections[0], "| adaptive 16 spp, threshold 0.5 |");
+    says(sections[0], "| adaptive 16 spp, threshold 2 |");
+    says(sections[2], "| adaptive 16 spp |");
     assert!(!sections[2].contains("threshold 2 |") || picked == 2.0);
     // Two scenes named ball: their assets are told apart by folder.
     assert!(assets.join("held-ball.sampling.csv").exists());
@@ -231,10 +203,7 @@ fn the_tuning_set_chooses_and_the_held_out_scenes_are_judged_apart() {
             dir.path().file_name().unwrap().to_string_lossy()
         ))
         .exists());
-    assert!(
-        stdout.contains("](assets/held-ball.f32_f64.png)"),
-        "{stdout}"
-    );
+    says(&stdout, "](assets/held-ball.f32_f64.png)");
 }
 
 #[test]

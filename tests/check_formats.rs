@@ -12,11 +12,13 @@ use serde_json::Value;
 
 use crate::support::command;
 
-/// Fixtures with one label, two labels, a warning, a JSON scene and an
-/// error without a scene: every path the two formats take (src/ci tests
-/// columns past multi-byte characters).
-const FILES: [&str; 5] = [
+/// Fixtures with one label, two labels, a warning, a fix that inserts
+/// (an empty region replaced), a JSON scene and an error without a scene:
+/// every path the two formats take (src/ci tests columns past multi-byte
+/// characters).
+const FILES: [&str; 6] = [
     "tests/ui/scene/unknown_attribute.txt",
+    "tests/ui/scene/missing_attribute.txt",
     "tests/ui/scene/duplicate_attribute.txt",
     "tests/ui/scene/headup_not_perpendicular.txt",
     "tests/ui/json/missing_field.json",

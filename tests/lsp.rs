@@ -408,6 +408,30 @@ fn quick_fixes_and_fix_all() {
             .len(),
         1
     );
+    // A missing attribute: an unsafe fix that inserts the registry's
+    // example lines, an empty range replaced after the section's last line.
+    let plane_uri = uri_of(&dir.path().join("plane.txt"));
+    let plane = "camera 4\nplane\n  dimension 4 4\n  center 0 -1 -5\n";
+    let plane_diagnostics = client.open(&plane_uri, "raytracer", plane);
+    let actions = client.request(
+        "textDocument/codeAction",
+        json!({"textDocument": {"uri": plane_uri},
+               "range": {"start": {"line": 1, "character": 0}, "end": {"line": 1, "character": 0}},
+               "context": {"diagnostics": plane_diagnostics}}),
+    );
+    assert_eq!(actions.as_array().unwrap().len(), 1, "{actions}");
+    assert_eq!(
+        actions[0]["title"],
+        "add `normal 0 1 0` and `headup 0 0 -1`, the example values"
+    );
+    assert_eq!(actions[0]["isPreferred"], false);
+    let edit = &actions[0]["edit"]["changes"][&plane_uri][0];
+    let end_of_center = json!({"line": 3, "character": 16});
+    assert_eq!(
+        edit["range"],
+        json!({"start": end_of_center, "end": end_of_center})
+    );
+    assert_eq!(edit["newText"], "\n  normal 0 1 0\n  headup 0 0 -1");
     assert_eq!(client.shut_down(), Some(0));
 }
 

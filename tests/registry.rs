@@ -1,9 +1,10 @@
 //! The rule registry (src/language.rs) drives the check pass: for every
 //! row whose rule a value can break, a scene that breaks it gets a
 //! diagnostic on that line carrying a fix, whose message is the help line,
-//! and applying the fixes leaves no error. Scenes are built from the
-//! registry's own example lines, so a new row is covered without a new
-//! test.
+//! and applying the fixes leaves no error. The same holds for every row's
+//! wrong value counts and missing lines that have a mechanical remedy.
+//! Scenes are built from the registry's own example lines, so a new row is
+//! covered without a new test.
 
 use std::path::Path;
 use std::time::Instant;
@@ -11,7 +12,7 @@ use std::time::Instant;
 use raytracer::ast::SectionKind;
 use raytracer::fix::{self, Applicability};
 use raytracer::frontend::{load_bytes, Loaded};
-use raytracer::language::{attributes_of, rows, AttrSpec, Constraint, Key};
+use raytracer::language::{attributes_of, rows, Arity, AttrSpec, Constraint, Key};
 
 fn load(text: &str) -> Loaded {
     load_bytes("t.txt", Path::new("."), text.as_bytes(), Instant::now())
@@ -37,15 +38,14 @@ fn breaking(spec: &AttrSpec) -> Vec<Vec<f64>> {
 
 /// A valid scene whose line for `spec` in a `kind` section says `values`.
 fn scene_with(kind: &SectionKind, spec: &AttrSpec, values: &[f64]) -> (String, usize) {
-    let line = format!(
-        "{} {}",
-        spec.name.as_str(),
-        values
-            .iter()
-            .map(f64::to_string)
-            .collect::<Vec<_>>()
-            .join(" ")
-    );
+    let values: Vec<String> = values.iter().map(f64::to_string).collect();
+    let line = format!("{} {}", spec.name.as_str(), values.join(" "));
+    scene_with_line(kind, spec, &line)
+}
+
+/// A valid scene whose line for `spec` in a `kind` section is `line`
+/// (none when empty), and the number of that line.
+fn scene_with_line(kind: &SectionKind, spec: &AttrSpec, line: &str) -> (String, usize) {
     let mut text = String::new();
     if spec.name != Key::Resolution {
         text.push_str("camera 4\n");
@@ -53,8 +53,10 @@ fn scene_with(kind: &SectionKind, spec: &AttrSpec, values: &[f64]) -> (String, u
         text.push('\n');
     }
     let line_number = text.lines().count() + 1;
-    text.push_str(&line);
-    text.push('\n');
+    if !line.is_empty() {
+        text.push_str(line);
+        text.push('\n');
+    }
     for other in attributes_of(kind) {
         if other.required && other.name != spec.name {
             text.push_str(other.example);
@@ -128,4 +130,99 @@ fn fixes_write_numbers_short() {
         help,
         "to keep the hue without clipping, write `color 1 0.333 0.333`"
     );
+}
+
+/// The fixes of `text` applied, unsafe ones too; the fixed text and its
+/// check.
+fn fixed(text: &str) -> (String, Loaded) {
+    let loaded = load(text);
+    let (fixed, _) = fix::apply(text, loaded.report.fixes_up_to(Applicability::Unsafe));
+    let again = load(&fixed);
+    (fixed, again)
+}
+
+/// For every row, the ways a line can have the wrong number of values or be
+/// missing that have a mechanical remedy: a surplus value (dropped), a line
+/// with no values (the row's example values written) and, for a required
+/// row, no line at all (the row's example line added). Each is reported
+/// with a fix, and the fixed scene no longer reports it and has no errors.
+#[test]
+fn every_row_fixes_wrong_counts_and_missing_lines() {
+    let mut checked = 0;
+    for (kind, spec) in rows() {
+        let name = spec.name.as_str();
+        let mut cases = vec![("scene::wrong_value_count", format!("{} 7", spec.example))];
+        if spec.arity != Arity::Path {
+            cases.push(("scene::wrong_value_count", name.to_string()));
+        }
+        if spec.required && spec.name != Key::Resolution {
+            cases.push(("scene::missing_attribute", String::new()));
+        }
+        if spec.name == Key::Resolution {
+            cases.push(("scene::missing_camera", String::new()));
+        }
+        for (code, line) in cases {
+            let (text, _) = scene_with_line(&kind, spec, &line);
+            let loaded = load(&text);
+            let diagnostic = loaded
+                .report
+                .entries()
+                .find(|e| e.code == code)
+                .unwrap_or_else(|| panic!("`{code}` for:\n{text}"));
+            assert!(
+                diagnostic.fix.is_some(),
+                "`{code}` carries no fix for:\n{text}"
+            );
+            let (fixed, again) = fixed(&text);
+            assert!(
+                !again.report.entries().any(|e| e.code == code),
+                "`{code}` is reported again after its fix:\n{fixed}"
+            );
+            // A texture line keeps a path no test file answers to.
+            let errors_left = if spec.arity == Arity::Path { 1 } else { 0 };
+            assert_eq!(
+                again.report.error_count(),
+                errors_left,
+                "`{code}`: the fixed scene has errors:\n{fixed}\n{}",
+                again.report.render_short()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 30, "only {checked} cases were tried");
+}
+
+/// Attributes that belong to another section, values after a section
+/// keyword and numbers in quotes are fixed too.
+#[test]
+fn misplaced_lines_section_values_and_quoted_numbers_are_fixed() {
+    for (code, scene, expected) in [
+        (
+            "scene::misplaced_attribute",
+            "camera 4\nsphere\n  dimension 1\n  normal 0 1 0\n  center 0 0 -5\n",
+            "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\n",
+        ),
+        (
+            "scene::section_values",
+            "camera 4\nsphere 1 2 # values\n  dimension 1 center 0 0 -5\n",
+            "camera 4\nsphere # values\n  dimension 1 center 0 0 -5\n",
+        ),
+        (
+            "scene::not_a_number",
+            "camera 4\nsphere dimension \"-.5e1\" center 0 0 -5\n",
+            "camera 4\nsphere dimension -.5e1 center 0 0 -5\n",
+        ),
+    ] {
+        let loaded = load(scene);
+        assert!(
+            loaded
+                .report
+                .entries()
+                .any(|e| e.code == code && e.fix.is_some()),
+            "`{code}` with a fix for:\n{scene}"
+        );
+        let (text, again) = fixed(scene);
+        assert_eq!(text, expected);
+        assert!(!again.report.entries().any(|e| e.code == code), "{text}");
+    }
 }

@@ -16,9 +16,6 @@ use serde_json::{json, Value};
 /// light without its required colour.
 const SCENE: &str = "# scène 😀\ncamera 40\nsphere center 0 0 -5 # ball\n  dimension 1 texture \"é😀.ppm\" color 1 1 1\n  cölor 0.5 0.5 0.5\nlight location 0 5 0\n";
 
-/// A token as `(line, column, length, type, modifiers)`.
-type Token = (u32, u32, u32, String, Vec<String>);
-
 struct Session {
     client: Connection,
     server: Option<std::thread::JoinHandle<()>>,
@@ -87,8 +84,19 @@ impl Session {
         }
     }
 
-    /// The tokens of a `full` or `range` answer, decoded with the legend.
-    fn decode(&self, answer: &Value) -> Vec<Token> {
+    /// The answer to a `full` request for the document `name`.
+    fn full(&mut self, name: &str) -> Value {
+        let uri = self.uri(name);
+        self.request(
+            "textDocument/semanticTokens/full",
+            json!({"textDocument": {"uri": uri}}),
+        )
+    }
+
+    /// The tokens of a `full` or `range` answer, decoded with the legend,
+    /// each as `line:column:length type` and its modifiers, separated by
+    /// commas.
+    fn decode(&self, answer: &Value) -> String {
         let data: Vec<u32> = serde_json::from_value(answer["data"].clone()).unwrap();
         assert_eq!(data.len() % 5, 0, "{data:?}");
         let name = |list: &str, i: usize| self.legend[list][i].as_str().unwrap().to_string();
@@ -100,19 +108,15 @@ impl Session {
                 }
                 line += t[0];
                 column += t[1];
-                let modifiers = (0..32)
+                let modifiers: String = (0..32)
                     .filter(|bit| t[4] & (1 << bit) != 0)
-                    .map(|bit| name("tokenModifiers", bit))
+                    .map(|bit| format!(" {}", name("tokenModifiers", bit)))
                     .collect();
-                (
-                    line,
-                    column,
-                    t[2],
-                    name("tokenTypes", t[3] as usize),
-                    modifiers,
-                )
+                let kind = name("tokenTypes", t[3] as usize);
+                format!("{line}:{column}:{} {kind}{modifiers}", t[2])
             })
-            .collect()
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 
     fn shut_down(mut self) {
@@ -120,11 +124,6 @@ impl Session {
         self.notify("exit", Value::Null);
         self.server.take().unwrap().join().unwrap();
     }
-}
-
-fn token(line: u32, column: u32, length: u32, kind: &str, modifiers: &[&str]) -> Token {
-    let modifiers = modifiers.iter().map(|m| m.to_string()).collect();
-    (line, column, length, kind.to_string(), modifiers)
 }
 
 #[test]
@@ -143,45 +142,24 @@ fn the_legend_uses_the_standard_token_types() {
 #[test]
 fn every_token_at_its_utf16_position_with_errors_marked() {
     let mut session = Session::start();
-    let answer = session.request(
-        "textDocument/semanticTokens/full",
-        json!({"textDocument": {"uri": session.uri("scene.txt")}}),
-    );
+    let answer = session.full("scene.txt");
     let found = session.decode(&answer);
     let expected = [
         // `😀` is two UTF-16 units: the comment is 10 long, not 9 chars.
-        token(0, 0, 10, "comment", &[]),
-        token(1, 0, 6, "keyword", &[]),
-        token(1, 7, 2, "number", &[]),
-        token(2, 0, 6, "keyword", &[]),
-        token(2, 7, 6, "property", &[]),
-        token(2, 14, 1, "number", &[]),
-        token(2, 16, 1, "number", &[]),
-        token(2, 18, 2, "number", &[]),
-        token(2, 21, 6, "comment", &[]),
-        token(3, 2, 9, "property", &[]),
-        token(3, 12, 1, "number", &[]),
-        token(3, 14, 7, "property", &[]),
-        // The texture is missing: an error labels its path.
-        token(3, 22, 9, "string", &["invalid"]),
-        // After `"é😀.ppm"` (12 bytes, 9 UTF-16 units): column 32, byte 35.
-        token(3, 32, 5, "property", &[]),
-        token(3, 38, 1, "number", &[]),
-        token(3, 40, 1, "number", &[]),
-        token(3, 42, 1, "number", &[]),
+        "0:0:10 comment",
+        "1:0:6 keyword, 1:7:2 number",
+        "2:0:6 keyword, 2:7:6 property, 2:14:1 number, 2:16:1 number, 2:18:2 number, \
+         2:21:6 comment",
+        // The texture is missing: an error labels its path. After
+        // `"é😀.ppm"` (12 bytes, 9 UTF-16 units) comes column 32, byte 35.
+        "3:2:9 property, 3:12:1 number, 3:14:7 property, 3:22:9 string invalid, \
+         3:32:5 property, 3:38:1 number, 3:40:1 number, 3:42:1 number",
         // An unknown attribute is an error; its values are not.
-        token(4, 2, 5, "property", &["invalid"]),
-        token(4, 8, 3, "number", &[]),
-        token(4, 12, 3, "number", &[]),
-        token(4, 16, 3, "number", &[]),
+        "4:2:5 property invalid, 4:8:3 number, 4:12:3 number, 4:16:3 number",
         // A light needs a `color`: the error labels its keyword.
-        token(5, 0, 5, "keyword", &["invalid"]),
-        token(5, 6, 8, "property", &[]),
-        token(5, 15, 1, "number", &[]),
-        token(5, 17, 1, "number", &[]),
-        token(5, 19, 1, "number", &[]),
+        "5:0:5 keyword invalid, 5:6:8 property, 5:15:1 number, 5:17:1 number, 5:19:1 number",
     ];
-    assert_eq!(found, expected);
+    assert_eq!(found, expected.join(", "));
     session.shut_down();
 }
 
@@ -197,14 +175,8 @@ fn a_range_request_answers_the_tokens_in_it() {
     );
     assert_eq!(
         session.decode(&answer),
-        [
-            token(3, 22, 9, "string", &["invalid"]),
-            token(3, 32, 5, "property", &[]),
-            token(3, 38, 1, "number", &[]),
-            token(3, 40, 1, "number", &[]),
-            token(3, 42, 1, "number", &[]),
-            token(4, 2, 5, "property", &["invalid"]),
-        ]
+        "3:22:9 string invalid, 3:32:5 property, 3:38:1 number, 3:40:1 number, 3:42:1 number, \
+         4:2:5 property invalid"
     );
     session.shut_down();
 }
@@ -212,10 +184,6 @@ fn a_range_request_answers_the_tokens_in_it() {
 #[test]
 fn an_unknown_document_has_no_tokens() {
     let mut session = Session::start();
-    let answer = session.request(
-        "textDocument/semanticTokens/full",
-        json!({"textDocument": {"uri": session.uri("other.txt")}}),
-    );
-    assert_eq!(answer, Value::Null);
+    assert_eq!(session.full("other.txt"), Value::Null);
     session.shut_down();
 }

@@ -6,12 +6,15 @@
 //! Coverage cannot drift: every code of the diagnostic enums (derived from
 //! their variant names, `codes()`) must have a fixture that produces it,
 //! every fixture must be named after a code, and docs/diagnostics.md must
-//! have a section per code showing the fixture's current output.
+//! have a section per code showing the fixture's current output. Every code
+//! either carries a fix in its fixture (snapshotted as JSON) or is on
+//! [`raytracer::fix::WITHOUT_FIX`], whose reason its section states.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use raytracer::check::CheckError;
+use raytracer::fix::WITHOUT_FIX;
 use raytracer::frontend::Loaded;
 use raytracer::json::JsonError;
 use raytracer::syntax::SyntaxError;
@@ -169,28 +172,46 @@ fn fixes_show_in_the_json_format() {
             insta::assert_snapshot!(format!("{}-fix", code_of(&fixture).replace("::", "-")), json);
         });
     }
-    assert_eq!(
-        with_fixes,
-        [
-            "scene::color_out_of_range",
-            "scene::color_with_texture",
-            "scene::dimension_not_positive",
-            "scene::duplicate_attribute",
-            "scene::headup_not_perpendicular",
-            "scene::headup_parallel_to_normal",
-            "scene::light_color_above_one",
-            "scene::negative_light_color",
-            "scene::object_behind_camera",
-            "scene::reflectivity_out_of_range",
-            "scene::repeated_camera",
-            "scene::resolution_not_integer",
-            "scene::resolution_out_of_range",
-            "scene::unknown_attribute",
-            "scene::unknown_section",
-            "scene::zero_headup",
-            "scene::zero_normal",
-            "syntax::comma_separated_values",
-            "syntax::decimal_comma"
-        ]
+    // Every code either carries a fix in its fixture or is on the list of
+    // codes without one, with its reason, and not both.
+    let without: BTreeSet<&str> = WITHOUT_FIX.iter().map(|(code, _)| *code).collect();
+    for code in listed_codes() {
+        let fixed = with_fixes.contains(&code);
+        let listed = without.contains(code.as_str());
+        assert!(
+            fixed != listed,
+            "`{code}`: {}",
+            if fixed {
+                "its fixture carries a fix, yet it is on fix::WITHOUT_FIX"
+            } else {
+                "its fixture carries no fix and it is not on fix::WITHOUT_FIX with a reason"
+            }
+        );
+    }
+    let stale: Vec<_> = without
+        .iter()
+        .filter(|code| !listed_codes().contains(**code))
+        .collect();
+    assert!(
+        stale.is_empty(),
+        "fix::WITHOUT_FIX names no code: {stale:?}"
     );
+}
+
+#[test]
+fn docs_give_the_reason_a_code_has_no_fix() {
+    let docs =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostics.md"))
+            .expect("read docs/diagnostics.md");
+    for (code, reason) in WITHOUT_FIX {
+        let heading = format!("\n## `{code}`\n");
+        let start = docs.find(&heading).expect("a section per code") + heading.len();
+        let section = &docs[start..];
+        let section = &section[..section.find("\n## ").unwrap_or(section.len())];
+        let line = format!("No structured fix: {reason}.");
+        assert!(
+            section.contains(&line),
+            "the section of `{code}` in docs/diagnostics.md should say `{line}`"
+        );
+    }
 }

@@ -293,6 +293,19 @@ impl Verdict {
         self.rmse_met() && self.time_met()
     }
 
+    /// Adaptive's time over uniform's, the median and the range:
+    /// `1.23 (1.10–1.40)`.
+    pub fn time_spread(&self) -> String {
+        let t = &self.time;
+        format!("{:.2} ({:.2}–{:.2})", t.median, t.min, t.max)
+    }
+
+    /// The shares of pixels that took all samples, and 4, as percentages:
+    /// `["12.5%", "3.0%"]`.
+    pub fn refined_shares(&self) -> [String; 2] {
+        [self.refined, self.partly_refined].map(|share| format!("{:.1}%", 100.0 * share))
+    }
+
     /// "meets", or "misses" with what missed.
     pub fn outcome(&self) -> String {
         match (self.rmse_met(), self.time_met()) {
@@ -359,15 +372,12 @@ pub fn findings(m: &Measurement) -> Vec<String> {
             .iter()
             .map(|&n| {
                 let v = Verdict::of(m, n, t);
+                let [all, four] = v.refined_shares();
                 format!(
-                    "{n} spp: RMSE ×{:.2}, time ×{:.2} ({:.2}–{:.2}), {:.1}% of pixels took all \
-                     {n} samples and {:.1}% took 4 ({})",
+                    "{n} spp: RMSE ×{:.2}, time ×{}, {all} of pixels took all {n} samples and \
+                     {four} took 4 ({})",
                     v.rmse,
-                    v.time.median,
-                    v.time.min,
-                    v.time.max,
-                    100.0 * v.refined,
-                    100.0 * v.partly_refined,
+                    v.time_spread(),
                     v.outcome()
                 )
             })

@@ -94,18 +94,14 @@ pub fn verdict_table(scenes: &[Measured], threshold: impl Fn(&Measurement) -> us
         for (k, spp) in SPPS.into_iter().enumerate() {
             let v = Verdict::of(m, spp, threshold(m));
             counts[k] += usize::from(v.meets());
+            let [all, four] = v.refined_shares();
             let _ = writeln!(
                 out,
-                "| `{name}` | {spp} | {:.3} | {:.3} | {:.2} | {:.2} ({:.2}–{:.2}) | \
-                 {:.1}%, {:.1}% | {} |",
+                "| `{name}` | {spp} | {:.3} | {:.3} | {:.2} | {} | {all}, {four} | {} |",
                 v.uniform_rmse,
                 v.adaptive_rmse,
                 v.rmse,
-                v.time.median,
-                v.time.min,
-                v.time.max,
-                100.0 * v.refined,
-                100.0 * v.partly_refined,
+                v.time_spread(),
                 v.outcome(),
             );
         }

@@ -8,12 +8,12 @@
 use arrayvec::ArrayVec;
 
 use crate::ast::{AttrName, Attribute, Section, SectionKind, Value};
-use crate::fix::{Applicability, Fix};
+use crate::fix::{self, Applicability, Fix};
 use crate::span::{Span, Spanned};
 use crate::suggest;
 
 use super::errors::CheckError;
-use super::{rules, Checker, Problems};
+use super::{rules, Checker};
 use crate::language::{self as schema, Arity, AttrSpec};
 
 /// The most numbers an attribute takes (a vector's three); the language
@@ -91,7 +91,7 @@ pub fn collect<'a>(section: &'a Section, cx: &mut Checker<'_>) -> Attributes<'a>
     let mut suggested: Vec<&'static str> = Vec::new();
     for attribute in &section.attributes {
         let Some(spec) = schema::find(kind, &attribute.name) else {
-            let problem = not_taken(kind, attribute);
+            let problem = not_taken(kind, attribute, cx);
             if let CheckError::UnknownAttribute { found, .. } = &problem {
                 suggested.extend(replacement(kind, found).map(|(name, _)| name));
             }
@@ -113,15 +113,10 @@ pub fn collect<'a>(section: &'a Section, cx: &mut Checker<'_>) -> Attributes<'a>
             });
             continue;
         }
-        let read = read_values(
-            spec,
-            attribute.name.span,
-            &attribute.values,
-            &mut cx.problems,
-        );
+        let read = read_values(spec, attribute.name.span, &attribute.values, cx);
         given.push(Given { attribute, read });
     }
-    report_missing(section, &given, &suggested, &mut cx.problems);
+    report_missing(section, &given, &suggested, cx);
     let mut attributes = Attributes { given };
     attributes.apply_rules(kind, cx);
     attributes
@@ -158,8 +153,7 @@ pub fn camera_values(
     cx: &mut Checker<'_>,
 ) -> Option<f64> {
     let spec = &schema::CAMERA;
-    let Some(Read::Numbers(numbers)) = read_values(spec, keyword.span, values, &mut cx.problems)
-    else {
+    let Some(Read::Numbers(numbers)) = read_values(spec, keyword.span, values, cx) else {
         return None;
     };
     let nothing = |_: &AttrName| None;
@@ -167,7 +161,7 @@ pub fn camera_values(
 }
 
 /// The diagnostic for an attribute `kind` does not take.
-fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
+fn not_taken(kind: &SectionKind, attribute: &Attribute, cx: &Checker<'_>) -> CheckError {
     let section = kind.as_str().to_string();
     let takes = names_taken(kind);
     let takes_line = if takes.is_empty() {
@@ -214,7 +208,19 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute) -> CheckError {
         }
         name => {
             let owners = schema::sections_taking(name);
+            // Under the camera, the line more likely lacks its section
+            // keyword (which one is the author's call) than is misplaced.
+            let fix = if takes.is_empty() {
+                None
+            } else {
+                cx.removal(
+                    &format!("remove the `{}` line", name.as_str()),
+                    Applicability::Unsafe,
+                    attribute.span,
+                )
+            };
             CheckError::MisplacedAttribute {
+                fix,
                 name: name.as_str().to_string(),
                 belongs: format!("only {} take `{}`", plural_list(&owners), name.as_str()),
                 section,
@@ -274,7 +280,7 @@ fn read_values<'a>(
     spec: &AttrSpec,
     name_span: Span,
     values: &'a [Spanned<Value>],
-    problems: &mut Problems,
+    cx: &mut Checker<'_>,
 ) -> Option<Read<'a>> {
     let name = spec.name.as_str();
     let expected_count = spec.count();
@@ -287,18 +293,11 @@ fn read_values<'a>(
             Arity::Numbers(n) => format!("{n} values"),
             Arity::Path => "1 path".to_string(),
         };
-        if let Some(problem) = count_problem(
-            name,
-            &expected,
-            expected_count,
-            name_span,
-            values,
-            &format!("write `{name} {}`", spec.placeholder),
-        ) {
-            problems.push(problem);
-            ok = false;
-        }
+        cx.problems
+            .push(count_problem(spec, &expected, name_span, values, cx));
+        ok = false;
     }
+    let problems = &mut cx.problems;
     if values.iter().any(|v| v.value == Value::Invalid) {
         problems.mark_incomplete();
         ok = false;
@@ -313,10 +312,20 @@ fn read_values<'a>(
                     Value::Number(n) if ok => numbers.push(Spanned::new(value.span, *n)),
                     Value::Number(_) => {}
                     Value::Text(text) => {
+                        // A number in quotes has one right reading.
+                        let fix = crate::syntax::is_number(text.trim()).then(|| {
+                            Fix::boxed(
+                                format!("remove the quotes around `{}`", text.trim()),
+                                Applicability::Safe,
+                                value.span,
+                                text.trim(),
+                            )
+                        });
                         problems.push(CheckError::NotANumber {
                             name: name.to_string(),
                             found: text.to_string(),
                             span: value.span.into(),
+                            fix,
                         });
                         ok = false;
                     }
@@ -332,40 +341,63 @@ fn read_values<'a>(
     }
 }
 
-/// The wrong-count diagnostic for `values` after `name_span`, if the count
-/// is not `expected_count`.
+/// The wrong-count diagnostic for `values` after `name_span` (whose count
+/// is not `spec`'s). Surplus values get a fix that drops them, and a line
+/// with no values one that writes the registry's example values (scene
+/// text only); both unsafe: the values dropped or written are a guess. A
+/// line short of some values gets none: which one is missing is unknown.
 fn count_problem(
-    name: &str,
+    spec: &AttrSpec,
     expected: &str,
-    expected_count: usize,
     name_span: Span,
     values: &[Spanned<Value>],
-    help: &str,
-) -> Option<CheckError> {
+    cx: &Checker<'_>,
+) -> CheckError {
+    let name = spec.name.as_str();
+    let expected_count = spec.count();
     let found = values.len();
-    if found == expected_count {
-        return None;
-    }
-    let (span, label) = if found > expected_count {
+    let placeholder = format!("write `{name} {}`", spec.placeholder);
+    let (span, label, fix) = if found > expected_count {
         let extra = &values[expected_count..];
         let span = extra[0].span.join(extra[extra.len() - 1].span);
         let n = extra.len();
-        (
-            span,
-            format!("{n} extra value{}", if n == 1 { "" } else { "s" }),
-        )
+        // From the end of the last value kept, so a JSON array keeps its
+        // commas right.
+        let kept = values[..expected_count]
+            .last()
+            .map_or(name_span, |v| v.span);
+        let kept_line = cx.text(name_span.join(kept));
+        let fix = Fix::boxed(
+            format!("write `{kept_line}`"),
+            Applicability::Unsafe,
+            Span::new(kept.end(), span.end()),
+            "",
+        );
+        let values = if n == 1 { "value" } else { "values" };
+        (span, format!("{n} extra {values}"), Some(fix))
     } else {
         let span = values.last().map_or(name_span, |v| name_span.join(v.span));
-        (span, format!("{found} of {expected_count}"))
+        let example = &spec.example[spec.example.find(' ').unwrap_or(0)..];
+        let numbers = matches!(spec.arity, Arity::Numbers(_));
+        let fix = (found == 0 && numbers && cx.scene_text).then(|| {
+            Fix::boxed(
+                format!("write `{name}{example}`, the example values"),
+                Applicability::Unsafe,
+                Span::point(name_span.end()),
+                example,
+            )
+        });
+        (span, format!("{found} of {expected_count}"), fix)
     };
-    Some(CheckError::WrongValueCount {
+    CheckError::WrongValueCount {
         name: name.to_string(),
         expected: expected.to_string(),
         found,
         span: span.into(),
         label,
-        help: help.to_string(),
-    })
+        help: fix.as_ref().map_or(placeholder, |f| f.message.clone()),
+        fix,
+    }
 }
 
 /// One diagnostic listing every required attribute `section` lacks.
@@ -374,7 +406,7 @@ fn report_missing(
     section: &Section,
     given: &[Given<'_>],
     suggested: &[&str],
-    problems: &mut Problems,
+    cx: &mut Checker<'_>,
 ) {
     let missing: Vec<&AttrSpec> = schema::attributes_of(&section.kind)
         .iter()
@@ -395,11 +427,28 @@ fn report_missing(
     } else {
         format!("add these lines to this {kind}:\n{}", lines.join("\n"))
     };
-    problems.push(CheckError::MissingAttribute {
+    let fix = cx.scene_text.then(|| {
+        let examples: Vec<&str> = missing.iter().map(|s| s.example).collect();
+        let last = section.attributes.last().map(|a| a.span);
+        let last_value = section.args.last().map(|v| v.span);
+        let after = last.or(last_value).unwrap_or(section.kind.span);
+        Box::new(Fix {
+            message: format!("add {}, the example values", schema::list(&examples)),
+            applicability: Applicability::Unsafe,
+            edits: vec![fix::insertion(
+                &cx.source.text,
+                after,
+                last.is_none(),
+                &examples,
+            )],
+        })
+    });
+    cx.problems.push(CheckError::MissingAttribute {
         section: kind,
         names: schema::list(&names),
         span: section.kind.span.into(),
         help,
+        fix,
     });
 }
 

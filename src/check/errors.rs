@@ -57,6 +57,9 @@ pub enum CheckError {
         belongs: String,
         #[help]
         help: String,
+        /// Removing the line, in scene text, when the section is not the
+        /// camera (unsafe: the author may have meant another section).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when an attribute (or the camera line) has more or fewer values
@@ -73,6 +76,9 @@ pub enum CheckError {
         label: String,
         #[help]
         help: String,
+        /// Dropping surplus values, or writing the registry's example
+        /// values on a line that has none (unsafe).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires on a quoted string where a number is expected.
@@ -86,6 +92,9 @@ pub enum CheckError {
         found: String,
         #[label("not a number")]
         span: SourceSpan,
+        /// Removing the quotes, when what they hold is a number (safe: it
+        /// has one reading).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a section gives the same attribute twice.
@@ -118,6 +127,9 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// Adding the registry's example line of each, in scene text
+        /// (unsafe: the values are placeholders).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when the file has no `camera` line.
@@ -129,6 +141,9 @@ pub enum CheckError {
     MissingCamera {
         #[label("expected `camera N` in this file")]
         span: SourceSpan,
+        /// Adding `camera 400` before the first section, in scene text
+        /// (unsafe: the resolution is a guess).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires on every `camera` after the first.
@@ -181,6 +196,9 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// Removing the values (unsafe: they may be meant for an
+        /// attribute).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a sphere radius or a plane width or height is not > 0.
@@ -430,6 +448,9 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// Deleting the control (unsafe: inside a texture path it changes
+        /// the path).
+        fix: Option<Box<Fix>>,
     },
 }
 
@@ -453,8 +474,20 @@ impl CheckError {
             | CheckError::ObjectBehindCamera { fix, .. }
             | CheckError::DuplicateAttribute { fix, .. }
             | CheckError::RepeatedCamera { fix, .. }
-            | CheckError::ColorWithTexture { fix, .. } => fix.as_deref(),
-            _ => None,
+            | CheckError::ColorWithTexture { fix, .. }
+            | CheckError::MisplacedAttribute { fix, .. }
+            | CheckError::WrongValueCount { fix, .. }
+            | CheckError::NotANumber { fix, .. }
+            | CheckError::MissingAttribute { fix, .. }
+            | CheckError::MissingCamera { fix, .. }
+            | CheckError::SectionValues { fix, .. }
+            | CheckError::TextDirectionControl { fix, .. } => fix.as_deref(),
+            CheckError::TextureNotFound { .. }
+            | CheckError::TextureNotAFile { .. }
+            | CheckError::TextureNotAnImage { .. }
+            | CheckError::TextureTooLarge { .. }
+            | CheckError::TooManyObjects { .. }
+            | CheckError::LightInsideSphere { .. } => None,
         }
     }
 

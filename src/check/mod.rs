@@ -66,6 +66,8 @@ pub struct SceneCheck<'a, S: Sink = Collect> {
     cx: Checker<'a>,
     /// The first camera's keyword and its resolution, if valid.
     camera: Option<(Span, Option<u32>)>,
+    /// Where the first section starts: a missing camera goes before it.
+    first_section: Option<Span>,
     objects: S,
     /// Whether every object so far was valid.
     objects_valid: bool,
@@ -111,6 +113,7 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
         SceneCheck {
             cx: Checker::new(source, textures),
             camera: None,
+            first_section: None,
             objects,
             objects_valid: true,
             lights: Vec::new(),
@@ -135,6 +138,7 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
     /// Check the next section of the file.
     pub fn section(&mut self, section: &ast::Section) {
         let cx = &mut self.cx;
+        self.first_section.get_or_insert(section.kind.span);
         for count in &mut self.counts {
             if count.kinds.contains(&*section.kind) {
                 if count.found == count.limit {
@@ -188,14 +192,35 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
         let SceneCheck {
             mut cx,
             camera,
+            first_section,
             objects,
             objects_valid,
             lights,
             counts,
         } = self;
         if camera.is_none() {
+            let fix = cx.scene_text.then(|| {
+                let at = first_section.map_or(0, |s| s.start());
+                let line = &cx.source.text[..at];
+                let starts_line = line[line.rfind('\n').map_or(0, |i| i + 1)..]
+                    .chars()
+                    .all(|c| c == ' ' || c == '\t');
+                let camera = language::CAMERA.example;
+                let content = if starts_line {
+                    format!("{camera}\n")
+                } else {
+                    format!("{camera} ")
+                };
+                Fix::boxed(
+                    format!("add `{camera}`"),
+                    Applicability::Unsafe,
+                    Span::point(at),
+                    &content,
+                )
+            });
             cx.problems.push(CheckError::MissingCamera {
                 span: Span::point(0).into(),
+                fix,
             });
         }
         let inside = std::mem::take(&mut cx.inside);

@@ -115,23 +115,15 @@ impl Line<'_> {
             }
         };
         let found = cx.text(self.span());
+        let (min, max) = (format::short(min), format::short(max));
+        let (span, help) = (span.into(), fix.message.clone());
+        let fix = Some(Box::new(fix));
+        // One line a variant: the two carry the same fields.
+        #[rustfmt::skip]
         let problem = match self.spec.name {
-            Key::Attribute(AttrName::Reflectivity) => CheckError::ReflectivityOutOfRange {
-                min: format::short(min),
-                max: format::short(max),
-                found,
-                span: span.into(),
-                help: fix.message.clone(),
-                fix: Some(Box::new(fix)),
-            },
-            _ => CheckError::ColorOutOfRange {
-                min: format::short(min),
-                max: format::short(max),
-                found,
-                span: span.into(),
-                help: fix.message.clone(),
-                fix: Some(Box::new(fix)),
-            },
+            Key::Attribute(AttrName::Reflectivity) =>
+                CheckError::ReflectivityOutOfRange { min, max, found, span, help, fix },
+            _ => CheckError::ColorOutOfRange { min, max, found, span, help, fix },
         };
         cx.problems.push(problem);
         false

@@ -8,7 +8,7 @@
 use crate::ast::{AttrName, Section};
 use crate::fix::{Applicability, Edit, Fix};
 use crate::model;
-use crate::span::Spanned;
+use crate::span::{Span, Spanned};
 
 use super::attributes::{self, Attributes};
 use super::errors::CheckError;
@@ -123,10 +123,17 @@ fn no_positional_values(section: &Section, example: &str, cx: &mut Checker<'_>) 
     let (Some(first), Some(last)) = (section.args.first(), section.args.last()) else {
         return;
     };
+    let fix = Fix::boxed(
+        format!("remove the values after `{}`", section.kind.as_str()),
+        Applicability::Unsafe,
+        Span::new(section.kind.span.end(), last.span.end()),
+        "",
+    );
     cx.problems.push(CheckError::SectionValues {
         section: section.kind.as_str().to_string(),
         span: first.span.join(last.span).into(),
         help: format!("write values after an attribute name, such as `{example}`"),
+        fix: cx.scene_text.then_some(fix),
     });
 }
 
@@ -225,7 +232,7 @@ fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option
     if let Some(path) = attrs.path(&AttrName::Texture) {
         if let Err(problem) = cx.textures.load(path) {
             ok = false;
-            cx.problems.push(problem);
+            cx.problems.push(*problem);
         }
         material.texture = Some(path.value.to_string());
     } else if attrs.line(&AttrName::Texture).is_some() {

@@ -5,6 +5,7 @@
 //! renderer reads ("Trojan Source", CVE-2021-42574).
 
 use crate::escape::is_text_direction_control;
+use crate::fix::{Applicability, Fix};
 use crate::span::Span;
 
 use super::errors::CheckError;
@@ -16,12 +17,21 @@ pub fn warnings(text: &str) -> impl Iterator<Item = CheckError> + '_ {
     // large scene to a fraction of the time a byte loop takes.
     memchr::memchr_iter(0xE2, text.as_bytes()).filter_map(move |at| {
         let control = text.get(at..)?.chars().next()?;
-        is_text_direction_control(control).then(|| CheckError::TextDirectionControl {
-            name: name(control),
-            span: Span::new(at, at + control.len_utf8()).into(),
-            help: "delete it: editors and terminals that obey it show the scene in another \
+        is_text_direction_control(control).then(|| {
+            let span = Span::new(at, at + control.len_utf8());
+            CheckError::TextDirectionControl {
+                name: name(control),
+                span: span.into(),
+                help: "delete it: editors and terminals that obey it show the scene in another \
                        order than it is read"
-                .to_string(),
+                    .to_string(),
+                fix: Some(Fix::boxed(
+                    format!("delete the {}", name(control)),
+                    Applicability::Unsafe,
+                    span,
+                    "",
+                )),
+            }
         })
     })
 }

@@ -55,8 +55,8 @@ impl<'a> Textures<'a> {
     }
 
     /// Load `path` (as written) unless already done; the diagnostic when it
-    /// does not load.
-    pub fn load(&mut self, path: Spanned<&str>) -> Result<(), CheckError> {
+    /// does not load (boxed: it is a large value on a path taken rarely).
+    pub fn load(&mut self, path: Spanned<&str>) -> Result<(), Box<CheckError>> {
         let written = path.value;
         if self.loaded.contains_key(written) {
             return Ok(());
@@ -98,7 +98,7 @@ impl<'a> Textures<'a> {
         let shown = resolved.display();
         let span = path.span.into();
         let path = written.to_string();
-        Err(match failure {
+        Err(Box::new(match failure {
             Failure::Unreadable(reason) => CheckError::TextureNotFound {
                 path,
                 reason,
@@ -142,7 +142,7 @@ impl<'a> Textures<'a> {
                      ({MAX_TEXTURE_TEXELS} texels)"
                 ),
             },
-        })
+        }))
     }
 
     /// The header of every texture that loaded, keyed by its path as

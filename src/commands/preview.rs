@@ -32,14 +32,14 @@ pub fn run(args: PreviewArgs) -> Result<Outcome, BoxedDiagnostic> {
     if args.scene == Path::new("-") {
         return Err(Box::new(PreviewStdin));
     }
-    Options::square_spp(args.spp, "--spp")?;
+    Options::square_spp(args.sampling.spp, "--spp")?;
     // A scene that cannot be read at all is refused now, before serving,
     // as `render` refuses it; later reads that fail show on the page.
     read_scene(&args.scene)?;
     let settings = Settings {
         options: Options {
-            spp: args.spp,
-            antialias: match args.aa {
+            spp: args.sampling.spp,
+            antialias: match args.sampling.aa {
                 Antialias::Uniform => render::Antialias::Uniform,
                 Antialias::Adaptive => render::Antialias::Adaptive {
                     threshold: DEFAULT_THRESHOLD,
@@ -47,9 +47,9 @@ pub fn run(args: PreviewArgs) -> Result<Outcome, BoxedDiagnostic> {
             },
             ..Options::default()
         },
-        precision: args.precision,
+        precision: args.sampling.precision,
         max_size: args.max_size,
-        pool: thread_pool(args.threads)?,
+        pool: thread_pool(args.sampling.threads)?,
     };
     let preview = Preview::bind(
         args.scene.clone(),

@@ -102,8 +102,8 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
     // the tracer's own (docs/performance.md).
     drop(report);
     let options = Options {
-        spp: args.spp,
-        antialias: match args.aa {
+        spp: args.sampling.spp,
+        antialias: match args.sampling.aa {
             Antialias::Uniform => render::Antialias::Uniform,
             Antialias::Adaptive => render::Antialias::Adaptive {
                 threshold: args.aa_threshold,
@@ -114,7 +114,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
         accel: args.accel.into(),
         seed: 0,
     };
-    let precision = args.precision;
+    let precision = args.sampling.precision;
     let tile = match args.tile {
         Some(band) => Some(tile_info(band, &checked, &options, precision)?),
         None => None,
@@ -126,7 +126,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
     let rows = tile.as_ref().map_or(0..scene.resolution, TileInfo::rows);
     let rendering = Instant::now();
     let (rgb, counters) =
-        pool.install(|| trace(&scene, &options, args.precision, args.quiet, rows));
+        pool.install(|| trace(&scene, &options, args.sampling.precision, args.quiet, rows));
     let render = rendering.elapsed().as_secs_f64();
 
     let writing = Instant::now();
@@ -145,8 +145,8 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
         },
         threads,
         precision,
-        spp: args.spp,
-        antialias: match args.aa {
+        spp: args.sampling.spp,
+        antialias: match args.sampling.aa {
             Antialias::Uniform => "uniform",
             Antialias::Adaptive => "adaptive",
         },
@@ -193,8 +193,8 @@ fn preflight(args: &RenderArgs) -> Result<(Format, rayon::ThreadPool), BoxedDiag
         output::check_not_input(out, scene)?;
         output::check_writable(out)?;
     }
-    Options::square_spp(args.spp, "--spp")?;
-    Ok((format, thread_pool(args.threads)?))
+    Options::square_spp(args.sampling.spp, "--spp")?;
+    Ok((format, thread_pool(args.sampling.threads)?))
 }
 
 /// The render pool of `--threads` (all cores without it).

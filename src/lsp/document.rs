@@ -24,6 +24,19 @@ pub struct Document {
     pub language: Language,
     /// The document's folder: texture paths resolve from here.
     pub dir: PathBuf,
+    /// The last check and the version it was of: code actions, semantic
+    /// tokens and the published diagnostics of one version share it.
+    checked: Option<Checked>,
+    /// How many times this document was checked: what tests count to see
+    /// that a request was answered from the last check.
+    #[cfg(test)]
+    pub checks: usize,
+}
+
+/// The diagnostics of one version of a document, each with its fix.
+struct Checked {
+    version: i32,
+    diagnostics: Vec<(Diagnostic, Option<Fix>)>,
 }
 
 impl Document {
@@ -48,6 +61,9 @@ impl Document {
             version,
             language,
             dir,
+            checked: None,
+            #[cfg(test)]
+            checks: 0,
         }
     }
 
@@ -67,6 +83,8 @@ impl Document {
             }
         }
         self.version = version;
+        // Also when a client repeats a version: the text is new.
+        self.checked = None;
     }
 
     /// The name diagnostics and `check` show for this document.
@@ -77,10 +95,33 @@ impl Document {
         }
     }
 
+    /// Check this version, unless the last check was of it. `docs` is the
+    /// address of docs/diagnostics.md, each code's section linked from its
+    /// diagnostic.
+    pub fn check_if_changed(&mut self, docs: Option<&Url>) {
+        let version = self.version;
+        if self.checked.as_ref().is_none_or(|c| c.version != version) {
+            #[cfg(test)]
+            {
+                self.checks += 1;
+            }
+            let diagnostics = self.check(docs);
+            self.checked = Some(Checked {
+                version,
+                diagnostics,
+            });
+        }
+    }
+
+    /// The diagnostics of the last check, each with the fix it carries
+    /// (none before [`Document::check_if_changed`]).
+    pub fn diagnostics(&self) -> &[(Diagnostic, Option<Fix>)] {
+        self.checked.as_ref().map_or(&[], |c| &c.diagnostics)
+    }
+
     /// Every diagnostic of the front end, as the protocol's diagnostics,
-    /// each with the fix it carries. `docs` is the address of
-    /// docs/diagnostics.md, each code's section linked from its diagnostic.
-    pub fn diagnostics(&self, docs: Option<&Url>) -> Vec<(Diagnostic, Option<Fix>)> {
+    /// each with the fix it carries.
+    fn check(&self, docs: Option<&Url>) -> Vec<(Diagnostic, Option<Fix>)> {
         let loaded = check_bytes_as(self.language, &self.name(), &self.dir, self.text.as_bytes());
         let index = LineIndex::new(&self.text);
         let report = loaded.report;

@@ -258,9 +258,9 @@ impl Server<'_> {
             }
             request::CodeActionRequest::METHOD => {
                 let p: lsp_types::CodeActionParams = params(request)?;
-                let found = self.documents.get(&p.text_document.uri).map(|d| {
-                    let fixed = d.diagnostics(self.docs.as_ref());
-                    actions::actions(&d.uri, &d.text, &fixed, p.range, p.context.only.as_deref())
+                let found = self.checked(&p.text_document.uri).map(|d| {
+                    let fixed = d.diagnostics();
+                    actions::actions(&d.uri, &d.text, fixed, p.range, p.context.only.as_deref())
                 });
                 Ok(serde_json::to_value(found.unwrap_or_default()).unwrap_or_default())
             }
@@ -302,16 +302,16 @@ impl Server<'_> {
     /// The document's semantic tokens (all, or those in `within`), each
     /// marked `invalid` where an error of its diagnostics points; none for
     /// JSON, which its client colours itself.
-    fn semantic_tokens(&self, uri: &Url, within: Option<lsp_types::Range>) -> Value {
-        let Some(document) = self.documents.get(uri) else {
+    fn semantic_tokens(&mut self, uri: &Url, within: Option<lsp_types::Range>) -> Value {
+        let Some(document) = self.checked(uri) else {
             return Value::Null;
         };
         if document.language != crate::frontend::Language::Text {
             return Value::Null;
         }
         let errors: Vec<lsp_types::Range> = document
-            .diagnostics(None)
-            .into_iter()
+            .diagnostics()
+            .iter()
             .filter(|(d, _)| d.severity == Some(lsp_types::DiagnosticSeverity::ERROR))
             .map(|(d, _)| d.range)
             .collect();
@@ -366,16 +366,24 @@ impl Server<'_> {
             .collect();
         for uri in ready {
             self.due.remove(&uri);
-            if let Some(document) = self.documents.get(&uri) {
+            if let Some(document) = self.checked(&uri) {
                 let diagnostics = document
-                    .diagnostics(self.docs.as_ref())
-                    .into_iter()
-                    .map(|(d, _)| d)
+                    .diagnostics()
+                    .iter()
+                    .map(|(d, _)| d.clone())
                     .collect();
                 let version = Some(document.version);
                 self.publish(uri, diagnostics, version);
             }
         }
+    }
+
+    /// The open document at `uri`, checked unless its last check was of
+    /// this version.
+    fn checked(&mut self, uri: &Url) -> Option<&Document> {
+        let document = self.documents.get_mut(uri)?;
+        document.check_if_changed(self.docs.as_ref());
+        Some(document)
     }
 
     fn publish(&self, uri: Url, diagnostics: Vec<lsp_types::Diagnostic>, version: Option<i32>) {
@@ -389,4 +397,74 @@ impl Server<'_> {
 fn params<P: DeserializeOwned>(request: &Request) -> Result<P, (ErrorCode, String)> {
     serde_json::from_value(request.params.clone())
         .map_err(|e| (ErrorCode::InvalidParams, format!("invalid parameters: {e}")))
+}
+
+#[cfg(test)]
+mod tests {
+    use serde_json::json;
+
+    use super::*;
+
+    fn notification(method: &str, params: Value) -> Notification {
+        Notification::new(method.to_string(), params)
+    }
+
+    /// Code actions (and semantic tokens) of a version already checked
+    /// are answered from that check; a change makes the next request check
+    /// once more.
+    #[test]
+    fn requests_answer_from_the_last_check_of_a_version() {
+        let (server_side, _client) = Connection::memory();
+        let mut server = Server {
+            connection: &server_side,
+            options: Options {
+                debounce: Duration::ZERO,
+            },
+            docs: None,
+            documents: HashMap::new(),
+            due: HashMap::new(),
+        };
+        let uri = Url::parse("file:///scenes/ball.txt").expect("a URI");
+        let text = "camera 4\nsphere dimension 1 center 0 0 -5 colour 1 0 0\n";
+        server.notified(notification(
+            notification::DidOpenTextDocument::METHOD,
+            json!({"textDocument": {"uri": uri, "languageId": "raytracer", "version": 1, "text": text}}),
+        ));
+        server.publish_due();
+        let checks = |server: &Server<'_>| server.documents[&uri].checks;
+        assert_eq!(checks(&server), 1);
+        let actions = Request::new(
+            RequestId::from(1),
+            request::CodeActionRequest::METHOD.to_string(),
+            json!({
+                "textDocument": {"uri": uri},
+                "range": {"start": {"line": 1, "character": 0}, "end": {"line": 1, "character": 0}},
+                "context": {"diagnostics": []},
+            }),
+        );
+        let tokens = Request::new(
+            RequestId::from(2),
+            request::SemanticTokensFullRequest::METHOD.to_string(),
+            json!({"textDocument": {"uri": uri}}),
+        );
+        let first = server.answer(&actions).expect("code actions");
+        assert_eq!(
+            first[0]["title"], "replaced `colour` with `color`",
+            "{first}"
+        );
+        assert_eq!(server.answer(&actions).expect("code actions"), first);
+        server.answer(&tokens).expect("semantic tokens");
+        assert_eq!(
+            checks(&server),
+            1,
+            "a request re-checked an unchanged version"
+        );
+        server.notified(notification(
+            notification::DidChangeTextDocument::METHOD,
+            json!({"textDocument": {"uri": uri, "version": 2}, "contentChanges": [{"text": "camera 4\nsphere dimension 1 center 0 0 -5\n"}]}),
+        ));
+        assert_eq!(server.answer(&actions).expect("code actions"), json!([]));
+        server.answer(&actions).expect("code actions");
+        assert_eq!(checks(&server), 2);
+    }
 }

@@ -125,11 +125,12 @@ fn classify(text: &str) -> Vec<(Span, Kind)> {
 mod tests {
     use super::*;
 
-    /// The tokens as absolute `(line, column, length, type, modifiers)`.
-    fn decoded(text: &str, errors: &[Range]) -> Vec<(u32, u32, u32, u32, u32)> {
+    /// The tokens as absolute `line:column:length type`, with ` invalid`
+    /// where the modifier is set, separated by commas.
+    fn listed(text: &str, errors: &[Range]) -> String {
         let mut line = 0;
         let mut column = 0;
-        tokens(text, errors, None)
+        let listed: Vec<String> = tokens(text, errors, None)
             .data
             .iter()
             .map(|t| {
@@ -138,35 +139,26 @@ mod tests {
                 }
                 line += t.delta_line;
                 column += t.delta_start;
-                (
-                    line,
-                    column,
-                    t.length,
-                    t.token_type,
-                    t.token_modifiers_bitset,
-                )
+                let kind = &TYPES[t.token_type as usize];
+                let invalid = if t.token_modifiers_bitset == 1 {
+                    " invalid"
+                } else {
+                    ""
+                };
+                format!("{line}:{column}:{} {}{invalid}", t.length, kind.as_str())
             })
-            .collect()
+            .collect();
+        listed.join(", ")
     }
 
     #[test]
     fn keywords_properties_values_and_comments_in_order() {
         let text = "# top\nsphere center 0 0 -5 # c\n  texture \"a b.ppm\" texture wood.ppm\n";
         assert_eq!(
-            decoded(text, &[]),
-            [
-                (0, 0, 5, Kind::Comment as u32, 0),
-                (1, 0, 6, Kind::Keyword as u32, 0),
-                (1, 7, 6, Kind::Property as u32, 0),
-                (1, 14, 1, Kind::Number as u32, 0),
-                (1, 16, 1, Kind::Number as u32, 0),
-                (1, 18, 2, Kind::Number as u32, 0),
-                (1, 21, 3, Kind::Comment as u32, 0),
-                (2, 2, 7, Kind::Property as u32, 0),
-                (2, 10, 9, Kind::Str as u32, 0),
-                (2, 20, 7, Kind::Property as u32, 0),
-                (2, 28, 8, Kind::Str as u32, 0),
-            ]
+            listed(text, &[]),
+            "0:0:5 comment, 1:0:6 keyword, 1:7:6 property, 1:14:1 number, 1:16:1 number, \
+             1:18:2 number, 1:21:3 comment, 2:2:7 property, 2:10:9 string, 2:20:7 property, \
+             2:28:8 string"
         );
     }
 
@@ -175,13 +167,8 @@ mod tests {
         let text = "sphere center 1e999 \"open\n";
         let error = Range::new(Position::new(0, 14), Position::new(0, 19));
         assert_eq!(
-            decoded(text, &[error]),
-            [
-                (0, 0, 6, Kind::Keyword as u32, 0),
-                (0, 7, 6, Kind::Property as u32, 0),
-                (0, 14, 5, Kind::Number as u32, 1),
-                (0, 20, 5, Kind::Str as u32, 0),
-            ]
+            listed(text, &[error]),
+            "0:0:6 keyword, 0:7:6 property, 0:14:5 number invalid, 0:20:5 string"
         );
     }
 

@@ -221,6 +221,12 @@ fn number(i: &str) -> Res<'_, &str> {
     recognize((opt(one_of("+-")), mantissa, opt(exponent))).parse(i)
 }
 
+/// True when `word` is, whole, a finite number of the scene language
+/// (`1`, `-.5`, `1e3`).
+pub fn is_number(word: &str) -> bool {
+    matches!(number(word), Ok(("", _))) && word.parse::<f64>().is_ok_and(f64::is_finite)
+}
+
 /// True for a word that starts like a number: a digit, a sign or a `.`.
 fn looks_numeric(word: &str) -> bool {
     word.starts_with(|c: char| c.is_ascii_digit() || matches!(c, '+' | '-' | '.'))
