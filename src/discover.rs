@@ -31,7 +31,7 @@ const SNIFF_BYTES: u64 = 64 * 1024;
 pub enum Found {
     /// A scene to work on: a file named on the command line (or `-`), or
     /// a file a walk classified as a scene.
-    Scene(PathBuf),
+    Scene { path: PathBuf, named: bool },
     /// A file a walk found that is not a scene, and why.
     Skipped { path: PathBuf, reason: String },
     /// A folder entry a walk could not read.
@@ -66,7 +66,10 @@ pub fn discover(args: &[PathBuf]) -> Discovered {
             discovered.walked = true;
             walk(arg, &mut discovered.found);
         } else {
-            discovered.found.push(Found::Scene(arg.clone()));
+            discovered.found.push(Found::Scene {
+                path: arg.clone(),
+                named: true,
+            });
         }
     }
     discovered
@@ -96,7 +99,7 @@ fn walk(folder: &Path, found: &mut Vec<Found>) {
         // A file that cannot be read is a scene: working on it says why.
         let verdict = sniff(&path).map_or(Verdict::Scene, |head| classify(kind, &head));
         found.push(match verdict {
-            Verdict::Scene => Found::Scene(path),
+            Verdict::Scene => Found::Scene { path, named: false },
             Verdict::Skip(reason) => Found::Skipped { path, reason },
         });
     }

@@ -38,6 +38,29 @@ fn exit_codes_follow_the_spec() {
 }
 
 #[test]
+fn a_folder_with_a_scene_that_cannot_be_read_exits_1_and_names_it() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "clean.txt", CLEAN);
+    // Over the size limit (sparse, so nothing is written): found by the
+    // walk, it cannot be read as a scene.
+    let big = std::fs::File::create(dir.path().join("big.txt")).unwrap();
+    big.set_len(raytracer::limits::MAX_SCENE_BYTES + 1).unwrap();
+    let folder = dir.path().display().to_string();
+    for command in ["check", "fmt"] {
+        let output = run(&[command, &folder]);
+        assert_eq!(output.status.code(), Some(1), "{command}: {output:?}");
+        let said = String::from_utf8_lossy(&output.stderr);
+        assert!(said.contains("big.txt"), "{command}: {said}");
+    }
+    let output = check(&["--format", "json", &folder]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stdout(&output).contains("big.txt"), "{output:?}");
+    // Named on the command line, the same file is the caller's mistake.
+    let named = dir.path().join("big.txt").display().to_string();
+    assert_eq!(check(&[&named]).status.code(), Some(2));
+}
+
+#[test]
 fn human_output_ends_with_a_summary_and_the_effects_used() {
     let dir = tempfile::tempdir().unwrap();
     let clean = write(dir.path(), "clean.txt", CLEAN);

@@ -50,6 +50,7 @@ fuzz_target!(|bytes: &[u8]| {
         assert_eq!(document.text, expected, "the text after version {version}");
     }
 
+    document.check_if_changed(None);
     let text = &document.text;
     let loaded = load_bytes_as(
         Language::Text,
@@ -58,7 +59,7 @@ fuzz_target!(|bytes: &[u8]| {
         text.as_bytes(),
         Instant::now(),
     );
-    let published = document.diagnostics(None);
+    let published = document.diagnostics();
     let entries: Vec<_> = loaded.report.entries().collect();
     assert_eq!(published.len(), entries.len(), "diagnostic count");
     let units: Vec<u16> = text.encode_utf16().collect();

@@ -42,10 +42,12 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
     let mut out = Output::new(args.format, max_problems);
     let mut totals = Totals::default();
     let mut failed = false;
+    // A file named on the command line that cannot be read: exit 2.
+    let mut named_unreadable = false;
     let several = discovered.walked || discovered.found.len() > 1;
     for found in &discovered.found {
-        let path = match found {
-            Found::Scene(path) => path,
+        let (path, named) = match found {
+            Found::Scene { path, named } => (path, *named),
             Found::Skipped { path, reason } => {
                 totals.skipped += 1;
                 out.skipped(path, reason)?;
@@ -53,6 +55,7 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
             }
             Found::Unreadable(error) => {
                 totals.unreadable += 1;
+                failed = true;
                 out.unreadable(Path::new(&error.path), error)?;
                 continue;
             }
@@ -67,6 +70,8 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
                 Ok(fixed) => out.fixed(&fixed)?,
                 Err(error) => {
                     totals.unreadable += 1;
+                    failed = true;
+                    named_unreadable |= named;
                     sayln!("error: {}", escape(&error.to_string()));
                 }
             }
@@ -81,6 +86,8 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
             }
             Err(error) => {
                 totals.unreadable += 1;
+                failed = true;
+                named_unreadable |= named;
                 out.unreadable(path, &error)?;
             }
         }
@@ -89,7 +96,7 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
         out.total(&totals)?;
     }
     out.finish()?;
-    if totals.unreadable > 0 {
+    if named_unreadable {
         // The reasons are already printed; exit 2 without another message.
         return Ok(Outcome::InputErrors);
     }

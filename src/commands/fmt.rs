@@ -54,10 +54,11 @@ enum Formatted {
 /// Run `raytracer fmt`.
 pub fn run(args: FmtArgs) -> Result<Outcome, BoxedDiagnostic> {
     let mut failed = false;
-    let mut unreadable = false;
+    // A file named on the command line that cannot be read: exit 2.
+    let mut named_unreadable = false;
     for found in discover(&args.paths).found {
-        let path = match found {
-            Found::Scene(path) => path,
+        let (path, named) = match found {
+            Found::Scene { path, named } => (path, named),
             Found::Skipped { path, reason } => {
                 sayln!(
                     "{}: skipped, not a scene: {}",
@@ -67,14 +68,14 @@ pub fn run(args: FmtArgs) -> Result<Outcome, BoxedDiagnostic> {
                 continue;
             }
             Found::Unreadable(error) => {
-                unreadable = true;
+                failed = true;
                 sayln!("{:?}", miette::Report::new(error));
                 continue;
             }
         };
         // A JSON scene a walk found has no layout of ours; one named on
         // the command line is refused below.
-        if !args.paths.contains(&path) && Kind::of(&path) == Some(Kind::Json) {
+        if !named && Kind::of(&path) == Some(Kind::Json) {
             sayln!(
                 "{}: skipped, a JSON scene (`fmt` lays out scene text)",
                 shown(&path)
@@ -91,12 +92,13 @@ pub fn run(args: FmtArgs) -> Result<Outcome, BoxedDiagnostic> {
             }
             Ok(Formatted::SyntaxErrors) => failed = true,
             Err(error) => {
-                unreadable = true;
+                failed = true;
+                named_unreadable |= named;
                 sayln!("{:?}", miette::Report::new(error));
             }
         }
     }
-    Ok(if unreadable {
+    Ok(if named_unreadable {
         Outcome::InputErrors
     } else if failed {
         Outcome::SceneErrors
