@@ -11,7 +11,6 @@
 use crate::support;
 
 use std::path::Path;
-use std::process::Command;
 
 use serde_json::Value;
 
@@ -23,73 +22,27 @@ light location -1 2 0 color 1 .8 .8
 ";
 const TEXTURE: &str = "P3 2 2 255\n255 0 0  0 255 0\n0 0 255  250 250 250\n";
 
-/// True when `parallel` runs; under CI its absence is a failure.
-fn parallel_available() -> bool {
-    let found = Command::new("parallel")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        assert!(
-            !support::under_ci(),
-            "GNU `parallel` is not installed, and CI must run the distributed recipe: \
-             .ci/run installs it (`apt-get install -y parallel`)"
-        );
-        support::skipped(
-            "distributed recipe: GNU `parallel` is not installed (`apt-get install parallel`)",
-        );
-    }
-    found
-}
-
-/// The first `sh` block after `heading` in docs/distributed.md.
-fn recipe(heading: &str) -> String {
-    let docs =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/distributed.md"))
-            .expect("read docs/distributed.md");
-    let section = &docs[docs
-        .find(&format!("\n## {heading}\n"))
-        .unwrap_or_else(|| panic!("docs/distributed.md has no `## {heading}`"))..];
-    let block = &section[section.find("```sh\n").expect("an sh block") + 6..];
-    block[..block.find("```").expect("closing fence")].to_string()
-}
-
 fn json(path: &Path) -> Value {
     serde_json::from_slice(&std::fs::read(path).expect("read JSON")).expect("JSON")
 }
 
 #[test]
 fn the_parallel_recipe_stitches_the_whole_render() {
-    if !parallel_available() {
+    if !support::tool_available(
+        "parallel",
+        "the distributed recipe",
+        "apt-get install parallel",
+    ) {
         return;
     }
-    let recipe = recipe("GNU parallel on one machine");
+    let recipe = support::doc_recipe("docs/distributed.md", "## GNU parallel on one machine");
     assert!(recipe.contains("N=8\n"), "the recipe sets N: {recipe}");
-    // The folder of the binary under test goes first on PATH, so the
-    // recipe's `raytracer` is this build.
-    let bin_dir = Path::new(support::bin()).parent().expect("bin folder");
-    let path = std::env::join_paths(std::iter::once(bin_dir.to_path_buf()).chain(
-        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),
-    ))
-    .expect("PATH");
-
     for n in [8, 21] {
         let dir = tempfile::tempdir().expect("temp dir");
         let d = dir.path();
         std::fs::write(d.join("scene.txt"), SCENE).unwrap();
         std::fs::write(d.join("wood_tex.ppm"), TEXTURE).unwrap();
-        let output = Command::new("bash")
-            .args([
-                "-euo",
-                "pipefail",
-                "-c",
-                &recipe.replace("N=8\n", &format!("N={n}\n")),
-            ])
-            .current_dir(d)
-            .env("PATH", &path)
-            .env_remove("COLUMNS")
-            .output()
-            .expect("run bash");
+        let output = support::run_recipe(d, &recipe.replace("N=8\n", &format!("N={n}\n")));
         assert!(
             output.status.success(),
             "the recipe failed for N = {n}:\n{}{}",

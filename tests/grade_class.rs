@@ -14,7 +14,6 @@
 
 use std::os::unix::fs::PermissionsExt;
 use std::path::Path;
-use std::process::Command;
 
 use percent_encoding::percent_decode_str;
 use serde_json::Value;
@@ -261,57 +260,19 @@ fn bad_student_folders_and_merges_are_clear_errors() {
     assert_eq!(output.status.code(), Some(2));
 }
 
-/// True when `parallel` runs; under CI its absence is a failure.
-fn parallel_available() -> bool {
-    let found = Command::new("parallel")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        assert!(
-            !support::under_ci(),
-            "GNU `parallel` is not installed, and CI must run docs/grading.md's class \
-             recipe: .ci/run installs it (`apt-get install -y parallel`)"
-        );
-        support::skipped(
-            "grading recipe: GNU `parallel` is not installed (`apt-get install parallel`)",
-        );
-    }
-    found
-}
-
-/// The first `sh` block after the heading `heading` in docs/grading.md.
-fn recipe(heading: &str) -> String {
-    let docs = read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/grading.md"));
-    let section = &docs[docs
-        .find(&format!("\n{heading}\n"))
-        .unwrap_or_else(|| panic!("docs/grading.md has no `{heading}`"))..];
-    let block = &section[section.find("```sh\n").expect("an sh block") + 6..];
-    block[..block.find("```").expect("closing fence")].to_string()
-}
-
 #[test]
 fn the_parallel_recipe_grades_the_class_as_class_does() {
-    if !parallel_available() {
+    if !support::tool_available(
+        "parallel",
+        "docs/grading.md's class recipe",
+        "apt-get install parallel",
+    ) {
         return;
     }
-    let recipe = recipe("### GNU parallel on one machine");
+    let recipe = support::doc_recipe("docs/grading.md", "### GNU parallel on one machine");
     let dir = class_folder();
     let d = dir.path();
-    // The folder of the binary under test goes first on PATH, so the
-    // recipe's `raytracer` is this build.
-    let bin_dir = Path::new(support::bin()).parent().expect("bin folder");
-    let path = std::env::join_paths(std::iter::once(bin_dir.to_path_buf()).chain(
-        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),
-    ))
-    .expect("PATH");
-    let output = Command::new("bash")
-        .args(["-euo", "pipefail", "-c", &recipe])
-        .current_dir(d)
-        .env("PATH", &path)
-        .env_remove("COLUMNS")
-        .output()
-        .expect("run bash");
+    let output = support::run_recipe(d, &recipe);
     assert!(
         output.status.success(),
         "the recipe failed:\n{}{}",

@@ -17,25 +17,13 @@ const SCENE: &str = "camera 40\nsphere dimension 1 center 0 0 -5   # the ball\n 
 
 const EXPECTED: &str = "camera 40\n\nsphere\n  dimension 1\n  center 0 0 -5 # the ball\n  colr .5 .5 .5\n\nplane\n  dimension 4 4\n  center 0 -1 -5\n  normal 0 1 0\n  headup 0 0 1\n\nlight\n  location 0 5 0\n  color 1 1 1\n";
 
-fn nvim_available() -> bool {
-    Command::new("nvim")
-        .arg("--version")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
-}
-
 #[test]
 fn neovim_shows_diagnostics_applies_a_quick_fix_and_formats() {
-    if !nvim_available() {
-        assert!(
-            !support::under_ci(),
-            "nvim is not installed, and CI must run this test (.ci/run installs neovim)"
-        );
-        support::skipped(
-            "neovim end-to-end test: nvim is not installed (`apt-get install neovim`)",
-        );
+    if !support::tool_available(
+        "nvim",
+        "the neovim end-to-end test",
+        "apt-get install neovim",
+    ) {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -80,12 +68,7 @@ fn neovim_shows_diagnostics_applies_a_quick_fix_and_formats() {
 /// attaches the server to a scene under `scenes/`: its diagnostics arrive.
 #[test]
 fn the_neovim_0_7_recipe_in_the_docs_attaches_the_server() {
-    if !nvim_available() {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "nvim is not installed, and CI must run this test (.ci/run installs neovim)"
-        );
-        eprintln!("SKIPPED neovim recipe test: nvim is not installed (apt-get install neovim)");
+    if !support::tool_available("nvim", "the neovim recipe test", "apt-get install neovim") {
         return;
     }
     let docs = include_str!("../docs/editors.md");

@@ -34,26 +34,6 @@ const SIZE: u32 = 96;
 /// A covered pixel is 26/255 and the background 0: split halfway.
 const COVERED: u8 = 13;
 
-/// True when `povray` runs. Without it, `test` fails under CI and
-/// otherwise says it was skipped where `cargo test` shows it.
-fn povray_available(test: &str) -> bool {
-    let found = Command::new("povray")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        assert!(
-            !support::under_ci(),
-            "`povray` is not installed, and CI must run the POV-Ray comparison: \
-             .ci/run installs it (`apt-get install -y povray`)"
-        );
-        support::skipped(&format!(
-            "{test}: `povray` is not installed (`apt-get install povray`)"
-        ));
-    }
-    found
-}
-
 fn run(command: &mut Command) {
     let output = command.output().expect("start the command");
     assert!(
@@ -164,7 +144,11 @@ fn on_silhouette(mask: &[bool], i: usize) -> bool {
 
 #[test]
 fn povray_covers_the_same_pixels_as_our_renderer() {
-    if !povray_available("povray_covers_the_same_pixels_as_our_renderer") {
+    if !support::tool_available(
+        "povray",
+        "povray_covers_the_same_pixels_as_our_renderer",
+        "apt-get install povray",
+    ) {
         return;
     }
     let scenes = scenes();
@@ -207,7 +191,11 @@ fn povray_covers_the_same_pixels_as_our_renderer() {
 
 #[test]
 fn povray_renders_the_same_picture_but_for_a_few_pixels() {
-    if !povray_available("povray_renders_the_same_picture_but_for_a_few_pixels") {
+    if !support::tool_available(
+        "povray",
+        "povray_renders_the_same_picture_but_for_a_few_pixels",
+        "apt-get install povray",
+    ) {
         return;
     }
     let mut report = Vec::new();

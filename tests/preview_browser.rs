@@ -27,32 +27,9 @@ use crate::preview::{http, save, Server, PATIENCE};
 const SAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sample.txt");
 const WOOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/wood_tex.ppm");
 
-/// Whether the tests run under CI: `CI` set, and not to a false value.
-fn under_ci() -> bool {
-    std::env::var("CI").is_ok_and(|ci| !matches!(ci.trim(), "" | "0" | "false" | "FALSE"))
-}
-
-/// True when `chromium` runs. Without it, `test` fails under CI and
-/// otherwise says it was skipped where `cargo test` shows it.
+/// True when `chromium` runs; under CI its absence is a failure.
 pub(crate) fn chromium_available(test: &str) -> bool {
-    let found = Command::new("chromium")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        assert!(
-            !under_ci(),
-            "`chromium` is not installed, and CI must run the browser tests \
-             (`raytracer preview`, `grade`'s reports): .ci/run installs it \
-             (`apt-get install -y chromium`)"
-        );
-        use std::io::Write;
-        let _ = writeln!(
-            std::io::stderr(),
-            "SKIPPED {test}: `chromium` is not installed (`apt-get install chromium`)"
-        );
-    }
-    found
+    crate::support::tool_available("chromium", test, "apt-get install chromium")
 }
 
 /// A headless Chromium with one page, driven over the DevTools protocol;

@@ -21,10 +21,10 @@ fn peak_kb(args: &[&str]) -> Option<(bool, i64)> {
     let gnu_time = std::path::Path::new("/usr/bin/time");
     if !gnu_time.exists() {
         assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
+            !crate::support::under_ci(),
             "/usr/bin/time (GNU time) is missing; .ci/run installs it"
         );
-        eprintln!("not measured: /usr/bin/time (GNU time) is missing");
+        crate::support::skipped("the peak memory check: /usr/bin/time (GNU time) is missing");
         return None;
     }
     let dir = tempfile::tempdir().unwrap();

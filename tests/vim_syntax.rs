@@ -8,7 +8,7 @@
 //! the standard group ends (`synIDattr(synIDtrans(synID(…)))`).
 //!
 //! Without the editor on PATH a test prints that it was skipped, and fails
-//! under `CI=true` (.ci/run installs Debian's `neovim` and `vim`).
+//! under CI (`support::under_ci`) (.ci/run installs Debian's `neovim` and `vim`).
 
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -40,15 +40,6 @@ const EXPECTED: [&str; 11] = [
     "7:1 - - -",
     "7:9 - - -",
 ];
-
-fn available(editor: &str) -> bool {
-    Command::new(editor)
-        .arg("--version")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
-}
 
 /// Run the script in `editor` (with `args` before it) and return its report.
 fn report(editor: &str, args: &[&str], dir: &Path) -> String {
@@ -92,12 +83,8 @@ fn report(editor: &str, args: &[&str], dir: &Path) -> String {
 }
 
 fn check(editor: &str, args: &[&str]) {
-    if !available(editor) {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "{editor} is not installed, and CI must run this test (.ci/run installs it)"
-        );
-        eprintln!("SKIPPED {editor} syntax test: {editor} is not installed");
+    let test = format!("the {editor} syntax test");
+    if !support::tool_available(editor, &test, &format!("apt-get install {editor}")) {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

@@ -7,10 +7,12 @@
 //!
 //! The npm packages come from `npm ci` in `editors/vscode/` (.ci/run and
 //! `make vsix` run it). Without npm, or without those packages, the test
-//! prints that it was skipped, and fails under `CI=true`.
+//! prints that it was skipped, and fails under CI (`support::under_ci`).
 
 use std::path::Path;
 use std::process::{Command, Output};
+
+use crate::support;
 
 const EXTENSION: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/editors/vscode");
 
@@ -29,10 +31,10 @@ fn ready() -> bool {
         (true, true) => return true,
     };
     assert!(
-        std::env::var("CI").as_deref() != Ok("true"),
+        !support::under_ci(),
         "{missing}, and CI must run this test (.ci/run installs them)"
     );
-    eprintln!("SKIPPED VS Code extension test: {missing}");
+    support::skipped(&format!("VS Code extension test: {missing}"));
     false
 }
 

@@ -30,6 +30,54 @@ pub fn skipped(why: &str) {
     let _ = writeln!(std::io::stderr(), "SKIPPED {why}");
 }
 
+/// Whether `program --version` runs. When it does not, the test that asked
+/// (`test`) fails under CI, which installs every program the tests drive
+/// (`.ci/run`, with `install`), and otherwise says it was skipped.
+pub fn tool_available(program: &str, test: &str, install: &str) -> bool {
+    let found = Command::new(program)
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !found {
+        assert!(
+            !under_ci(),
+            "`{program}` is not installed, and CI must run {test}: .ci/run installs it ({install})"
+        );
+        skipped(&format!("{test}: `{program}` is not installed ({install})"));
+    }
+    found
+}
+
+/// The first `sh` block after the heading line `heading` (with its `#`s)
+/// in `doc`, a path under docs/.
+pub fn doc_recipe(doc: &str, heading: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(doc);
+    let docs = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("read {doc}: {e}"));
+    let section = &docs[docs
+        .find(&format!("\n{heading}\n"))
+        .unwrap_or_else(|| panic!("{doc} has no `{heading}`"))..];
+    let block = &section[section.find("```sh\n").expect("an sh block") + 6..];
+    block[..block.find("```").expect("closing fence")].to_string()
+}
+
+/// Run `script` (a recipe from the docs) with bash in `dir`, the folder of
+/// the binary under test first on PATH so the recipe's `raytracer` is this
+/// build.
+pub fn run_recipe(dir: &Path, script: &str) -> Output {
+    let bin_dir = Path::new(bin()).parent().expect("bin folder");
+    let path = std::env::join_paths(std::iter::once(bin_dir.to_path_buf()).chain(
+        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),
+    ))
+    .expect("PATH");
+    Command::new("bash")
+        .args(["-euo", "pipefail", "-c", script])
+        .current_dir(dir)
+        .env("PATH", &path)
+        .env_remove("COLUMNS")
+        .output()
+        .expect("run bash")
+}
+
 /// The `raytracer` binary under test.
 pub fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_raytracer")
