@@ -118,7 +118,7 @@ vsix:
 # as headless Chromium draws it in the browser test (tests/preview_browser.rs).
 preview-screenshot:
 	RAYTRACER_PREVIEW_SCREENSHOT=$(CURDIR)/docs/preview.png \
-	  $(CARGO) test --locked --test integration preview_browser::chromium_shows
+	  $(CARGO) test --release --locked --test integration preview_browser::chromium_shows
 
 # docs/grading-report.png: a student's report of `raytracer grade` as
 # headless Chromium draws it in the browser test (tests/grade_browser.rs).
