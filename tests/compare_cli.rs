@@ -28,6 +28,11 @@ fn save(image: &RgbImage, path: &Path, format: ImageFormat) -> String {
     path.display().to_string()
 }
 
+/// `image` saved as PNG to `dir/name`.
+fn png(dir: &Path, name: &str, image: &RgbImage) -> String {
+    save(image, &dir.join(name), ImageFormat::Png)
+}
+
 /// A P3 file with maxval 65535 of `image`.
 fn p3_16bit(image: &RgbImage, path: &Path) -> String {
     let mut text = format!("P3\n{} {}\n65535\n", image.width(), image.height());
@@ -78,21 +83,9 @@ fn the_same_picture_in_three_encodings_matches_exactly() {
 #[test]
 fn a_shift_is_a_geometry_difference_and_a_darker_image_an_appearance_one() {
     let dir = tempfile::tempdir().unwrap();
-    let reference = save(
-        &disc(64, 0, 1.0),
-        &dir.path().join("r.png"),
-        ImageFormat::Png,
-    );
-    let shifted = save(
-        &disc(64, 4, 1.0),
-        &dir.path().join("s.png"),
-        ImageFormat::Png,
-    );
-    let darker = save(
-        &disc(64, 0, 0.5),
-        &dir.path().join("d.png"),
-        ImageFormat::Png,
-    );
+    let reference = png(dir.path(), "r.png", &disc(64, 0, 1.0));
+    let shifted = png(dir.path(), "s.png", &disc(64, 4, 1.0));
+    let darker = png(dir.path(), "d.png", &disc(64, 0, 0.5));
 
     let (code, value) = json(&[&reference, &shifted]);
     assert_eq!(code, 1);
@@ -119,16 +112,8 @@ fn a_shift_is_a_geometry_difference_and_a_darker_image_an_appearance_one() {
 #[test]
 fn the_heat_map_is_the_inputs_size_and_black_where_they_agree() {
     let dir = tempfile::tempdir().unwrap();
-    let reference = save(
-        &disc(64, 0, 1.0),
-        &dir.path().join("r.png"),
-        ImageFormat::Png,
-    );
-    let shifted = save(
-        &disc(64, 4, 1.0),
-        &dir.path().join("s.png"),
-        ImageFormat::Png,
-    );
+    let reference = png(dir.path(), "r.png", &disc(64, 0, 1.0));
+    let shifted = png(dir.path(), "s.png", &disc(64, 4, 1.0));
     let heat = dir.path().join("heat.png");
     let (code, value) = json(&["--heatmap", heat.to_str().unwrap(), &reference, &shifted]);
     assert_eq!(code, 1);
@@ -149,11 +134,7 @@ fn the_heat_map_is_the_inputs_size_and_black_where_they_agree() {
 #[test]
 fn another_size_is_a_verdict_not_an_error() {
     let dir = tempfile::tempdir().unwrap();
-    let reference = save(
-        &disc(64, 0, 1.0),
-        &dir.path().join("r.png"),
-        ImageFormat::Png,
-    );
+    let reference = png(dir.path(), "r.png", &disc(64, 0, 1.0));
     let small = save(
         &disc(48, 0, 1.0),
         &dir.path().join("small.ppm"),
@@ -176,11 +157,7 @@ fn another_size_is_a_verdict_not_an_error() {
 #[test]
 fn unreadable_files_exit_2_with_the_reason() {
     let dir = tempfile::tempdir().unwrap();
-    let reference = save(
-        &disc(64, 0, 1.0),
-        &dir.path().join("r.png"),
-        ImageFormat::Png,
-    );
+    let reference = png(dir.path(), "r.png", &disc(64, 0, 1.0));
     let full = std::fs::read(save(
         &disc(64, 0, 1.0),
         &dir.path().join("full.ppm"),

@@ -89,13 +89,10 @@ fn describe_section(kind: &SectionKind) -> String {
         SectionKind::Camera => {
             let spec = &language::CAMERA;
             format!(
-                "**camera** `{}`: {}; at the origin, looking down −z\n\n{}, {}; {}.\n\n```\n{}\n```",
+                "**camera** `{}`: {}; at the origin, looking down −z\n\n{}",
                 spec.placeholder,
                 spec.description,
-                values_of(spec),
-                need(kind, spec),
-                spec.rule(),
-                spec.example,
+                values_and_example(kind, spec),
             )
         }
         SectionKind::Unknown(_) => format!(
@@ -124,15 +121,25 @@ fn describe_section(kind: &SectionKind) -> String {
 fn describe_attribute(kind: &SectionKind, name: &AttrName, spec: &AttrSpec) -> String {
     let sections = language::sections_taking(name);
     format!(
-        "**{}** `{}`: {}\n\n{}, {}; {}.\n\n```\n{}\n```\n\nTaken by {}.",
+        "**{}** `{}`: {}\n\n{}\n\nTaken by {}.",
         spec.name.as_str(),
         spec.placeholder,
         spec.description,
+        values_and_example(kind, spec),
+        language::list(&sections)
+    )
+}
+
+/// What an attribute's values are, whether `kind` needs it, its rule and
+/// an example line: the part of the camera's and every attribute's hover
+/// they share.
+fn values_and_example(kind: &SectionKind, spec: &AttrSpec) -> String {
+    format!(
+        "{}, {}; {}.\n\n```\n{}\n```",
         values_of(spec),
         need(kind, spec),
         spec.rule(),
         spec.example,
-        language::list(&sections)
     )
 }
 
