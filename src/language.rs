@@ -446,6 +446,15 @@ pub fn path_attribute(kind: &SectionKind) -> Option<&'static AttrSpec> {
     attributes_of(kind).iter().find(|s| s.arity == Arity::Path)
 }
 
+/// Whether `name` takes a path in some section: the parser reads such a
+/// line's first value as a path wherever the line stands, so a misplaced
+/// `texture` still reads as one line.
+pub fn takes_path_somewhere(name: &AttrName) -> bool {
+    WITH_ATTRIBUTES
+        .iter()
+        .any(|kind| path_attribute(kind).is_some_and(|spec| spec.name == *name))
+}
+
 /// The attribute of `kind` a JSON field name stands for in scene text,
 /// when the field is named otherwise there: `radius` is a sphere's
 /// `dimension`.

@@ -35,6 +35,8 @@ pub enum Read<'a> {
 #[derive(Debug)]
 pub struct Given<'a> {
     pub attribute: &'a Attribute,
+    /// Its row in the registry.
+    spec: &'static AttrSpec,
     /// `None` when the values had a problem (already reported).
     pub read: Option<Read<'a>>,
 }
@@ -85,8 +87,12 @@ impl<'a> Attributes<'a> {
 pub fn collect<'a>(section: &'a Section, cx: &mut Checker<'_>) -> Attributes<'a> {
     let kind = &*section.kind;
     // At most one line per known name: unknown and repeated names are
-    // reported and left out.
-    let mut given = ArrayVec::<Given<'a>, MAX_GIVEN>::new();
+    // reported and left out. Filled where it is returned from: it is
+    // large, and a large scene has millions of sections.
+    let mut attributes = Attributes {
+        given: ArrayVec::new(),
+    };
+    let given = &mut attributes.given;
     // Names that "did you mean" already offered: not reported missing too.
     let mut suggested: Vec<&'static str> = Vec::new();
     for attribute in &section.attributes {
@@ -114,27 +120,28 @@ pub fn collect<'a>(section: &'a Section, cx: &mut Checker<'_>) -> Attributes<'a>
             continue;
         }
         let read = read_values(spec, attribute.name.span, &attribute.values, cx);
-        given.push(Given { attribute, read });
+        given.push(Given {
+            attribute,
+            spec,
+            read,
+        });
     }
-    report_missing(section, &given, &suggested, cx);
-    let mut attributes = Attributes { given };
-    attributes.apply_rules(kind, cx);
+    report_missing(section, given, &suggested, cx);
+    attributes.apply_rules(cx);
     attributes
 }
 
 impl Attributes<'_> {
     /// Hold each line's numbers to its row's rule; a line that breaks it
     /// keeps no values.
-    fn apply_rules(&mut self, kind: &SectionKind, cx: &mut Checker<'_>) {
+    fn apply_rules(&mut self, cx: &mut Checker<'_>) {
         let mut broken = ArrayVec::<usize, MAX_GIVEN>::new();
         for (i, given) in self.given.iter().enumerate() {
-            let (Some(spec), Some(Read::Numbers(numbers))) =
-                (schema::find(kind, &given.attribute.name), &given.read)
-            else {
+            let Some(Read::Numbers(numbers)) = &given.read else {
                 continue;
             };
             let sibling = |name: &AttrName| self.vector(name).map(|v| v.value);
-            if !rules::check(spec, numbers, &sibling, cx) {
+            if !rules::check(given.spec, numbers, &sibling, cx) {
                 broken.push(i);
             }
         }

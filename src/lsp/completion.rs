@@ -101,9 +101,7 @@ pub fn complete(document: &Document, offset: usize) -> Vec<CompletionItem> {
 
 /// Whether `word` is an attribute that takes a path in some section.
 fn takes_path(word: &str) -> bool {
-    AttrName::known(word).is_some_and(|name| {
-        language::rows().any(|(_, spec)| spec.name == name && spec.arity == Arity::Path)
-    })
+    AttrName::known(word).is_some_and(|name| language::takes_path_somewhere(&name))
 }
 
 /// The texture files in the document's folder, sorted.

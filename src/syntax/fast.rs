@@ -78,28 +78,13 @@ pub fn ascii_trivia(text: &[u8]) -> usize {
     at
 }
 
-/// An all-ASCII `word` found by [`ascii_word`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct AsciiWord {
-    pub len: usize,
-    /// True when the word may be a plain decimal: a sign, digit or point,
-    /// then only digits and points. Only such a word is worth giving to
-    /// [`plain_decimal_value`], which decides; false says nothing (the
-    /// word may still be a number with an exponent, or no number at all).
-    pub maybe_plain_decimal: bool,
-}
-
-/// The `word` at the start of `text` when it is all ASCII and ends at an
-/// ASCII byte (or the input), read in one pass that also tells whether it
-/// may be a plain decimal; `None` when it is empty or meets a non-ASCII
-/// byte, which may be a word or a space character.
-pub fn ascii_word(text: &[u8]) -> Option<AsciiWord> {
-    let first = class(*text.first()?);
-    if first & WORD_END != 0 {
+/// The length of the `word` at the start of `text` when it is all ASCII
+/// and ends at an ASCII byte (or the input); `None` when it is empty or
+/// meets a non-ASCII byte, which may be a word or a space character.
+pub fn ascii_word(text: &[u8]) -> Option<usize> {
+    if class(*text.first()?) & WORD_END != 0 {
         return None;
     }
-    // The classes seen after the first byte.
-    let mut after_first = 0;
     let mut len = 1;
     while let Some(&b) = text.get(len) {
         let class = class(b);
@@ -109,15 +94,9 @@ pub fn ascii_word(text: &[u8]) -> Option<AsciiWord> {
             }
             break;
         }
-        after_first |= class;
         len += 1;
     }
-    let maybe_plain_decimal =
-        first & (DIGIT | POINT | SIGN) != 0 && after_first & !(DIGIT | POINT) == 0;
-    Some(AsciiWord {
-        len,
-        maybe_plain_decimal,
-    })
+    Some(len)
 }
 
 /// The most digits whose value is exact in an `f64` mantissa whatever
@@ -129,68 +108,71 @@ const POWERS_OF_TEN: [f64; EXACT_DIGITS + 1] = [
     1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
 ];
 
-/// The value of `word` when it is a plain decimal number, `[sign] digits
-/// [. digits]` with either digit run possibly empty but not both (the
-/// common case of the `number` rule, without an exponent), of finite
-/// value. `None` for any other word, and for a plain decimal beyond
-/// `f64`'s range (over 308 digits): the caller then asks the grammar and
-/// `str::parse`, and reports why it is not a number.
+/// The word at the start of `text` when it is a plain decimal number,
+/// `[sign] digits [. digits]` with either digit run possibly empty but not
+/// both (the common case of the `number` rule, without an exponent), of
+/// finite value, ending where an ASCII word ends (an ASCII space, `#`, `"`
+/// or the input): its length and value, read in one pass. `None` for any
+/// other word, and for a plain decimal beyond `f64`'s range (over 308
+/// digits): the caller then reads the word by the general rules, which
+/// say why it is not a number.
 ///
-/// The digits are read once, into an integer. Up to 15 of them, the value
-/// is that integer divided by a power of ten, both exact in an `f64`, so
-/// the one division rounds correctly (Clinger's fast path, which
-/// `str::parse` takes for these too): bit for bit `str::parse`'s value,
-/// at a fraction of its cost, since the digits were scanned already. A
-/// longer number goes to `fast_float2`, the algorithm `str::parse` is
-/// built on without its checks of forms a plain decimal cannot take.
-pub fn plain_decimal_value(word: &[u8]) -> Option<f64> {
-    let (negative, unsigned) = match word {
-        [b'-', rest @ ..] => (true, rest),
-        [b'+', rest @ ..] => (false, rest),
-        _ => (false, word),
+/// The digits are read into an integer as they are scanned. Up to 15 of
+/// them, the value is that integer divided by a power of ten, both exact
+/// in an `f64`, so the one division rounds correctly (Clinger's fast path,
+/// which `str::parse` takes for these too): bit for bit `str::parse`'s
+/// value. A longer number goes to `fast_float2`, the algorithm
+/// `str::parse` is built on without its checks of forms a plain decimal
+/// cannot take.
+pub fn plain_decimal(text: &[u8]) -> Option<(usize, f64)> {
+    let (negative, mut len) = match text.first() {
+        Some(b'-') => (true, 1),
+        Some(b'+') => (false, 1),
+        _ => (false, 0),
     };
     let mut mantissa: u64 = 0;
+    let mut digits = 0;
+    // How many digits came before the point, once it came.
     let mut point = None;
-    for (at, &b) in unsigned.iter().enumerate() {
+    while let Some(&b) = text.get(len) {
         let digit = b.wrapping_sub(b'0');
         if digit < 10 {
             // Wraps only past 19 digits, which take the general path.
             mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(digit));
+            digits += 1;
         } else if b == b'.' && point.is_none() {
-            point = Some(at);
+            point = Some(digits);
+        } else if class(b) & (SPACE | DELIMITER) != 0 {
+            break;
         } else {
             return None;
         }
+        len += 1;
     }
-    let digits = unsigned.len() - usize::from(point.is_some());
     if digits == 0 {
         return None;
     }
     if digits > EXACT_DIGITS {
-        return fast_float2::parse(word)
+        return fast_float2::parse(&text[..len])
             .ok()
-            .filter(|value: &f64| value.is_finite());
+            .filter(|value: &f64| value.is_finite())
+            .map(|value| (len, value));
     }
-    // Every byte after the point is a digit: at most 15 of them.
-    let fraction_digits = point.map_or(0, |at| unsigned.len() - at - 1);
+    let fraction_digits = point.map_or(0, |before| digits - before);
     // Exact integer over exact power: one correctly rounded division.
     let magnitude = mantissa as f64 / POWERS_OF_TEN[fraction_digits];
-    Some(if negative { -magnitude } else { magnitude })
+    Some((len, if negative { -magnitude } else { magnitude }))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// True when all of `word` is one word the scanner may call a plain
-    /// decimal and that has a plain decimal's value.
-    fn is_plain_decimal(word: &[u8]) -> bool {
-        ascii_word(word).is_some_and(|found| found.len == word.len() && found.maybe_plain_decimal)
-            && plain_decimal_value(word).is_some()
-    }
-
-    fn word_len(text: &[u8]) -> Option<usize> {
-        ascii_word(text).map(|word| word.len)
+    /// The value of `word` when all of it is one plain decimal.
+    fn plain_decimal_value(word: &[u8]) -> Option<f64> {
+        plain_decimal(word)
+            .filter(|&(len, _)| len == word.len())
+            .map(|(_, value)| value)
     }
 
     #[test]
@@ -204,12 +186,24 @@ mod tests {
 
     #[test]
     fn words_end_at_ascii_delimiters_only() {
-        assert_eq!(word_len(b"center 0"), Some(6));
-        assert_eq!(word_len(b"a#b"), Some(1));
-        assert_eq!(word_len(b"x\"y"), Some(1));
-        assert_eq!(word_len(b"tex"), Some(3));
-        assert_eq!(word_len(b"caf\xc3\xa9 x"), None);
-        assert_eq!(word_len(b" x"), None);
+        assert_eq!(ascii_word(b"center 0"), Some(6));
+        assert_eq!(ascii_word(b"a#b"), Some(1));
+        assert_eq!(ascii_word(b"x\"y"), Some(1));
+        assert_eq!(ascii_word(b"tex"), Some(3));
+        assert_eq!(ascii_word(b"caf\xc3\xa9 x"), None);
+        assert_eq!(ascii_word(b" x"), None);
+    }
+
+    #[test]
+    fn plain_decimals_end_where_ascii_words_end() {
+        assert_eq!(plain_decimal(b"1.5 2"), Some((3, 1.5)));
+        assert_eq!(plain_decimal(b"-2\n"), Some((2, -2.0)));
+        assert_eq!(plain_decimal(b"7#note"), Some((1, 7.0)));
+        assert_eq!(plain_decimal(b"3\"x\""), Some((1, 3.0)));
+        assert_eq!(plain_decimal(b"1e3 "), None);
+        assert_eq!(plain_decimal(b"12x"), None);
+        assert_eq!(plain_decimal(b"1\xc2\xa0"), None);
+        assert_eq!(plain_decimal(b"1,2"), None);
     }
 
     proptest::proptest! {
@@ -271,19 +265,18 @@ mod tests {
             );
         }
         let past_the_range = format!("1{}", "0".repeat(400));
-        assert!(ascii_word(past_the_range.as_bytes()).is_some_and(|w| w.maybe_plain_decimal));
         assert_eq!(plain_decimal_value(past_the_range.as_bytes()), None);
     }
 
     #[test]
     fn plain_decimals() {
         for yes in ["0", "-1", "+2", ".5", "-.5", "1.", "12.25"] {
-            assert!(is_plain_decimal(yes.as_bytes()), "{yes}");
+            assert!(plain_decimal_value(yes.as_bytes()).is_some(), "{yes}");
         }
         for no in [
             "", "+", ".", "-.", "1e3", "1.2.3", "1-", "inf", "0x1", "+-1", "1+", "..5", "-1.5x",
         ] {
-            assert!(!is_plain_decimal(no.as_bytes()), "{no}");
+            assert_eq!(plain_decimal_value(no.as_bytes()), None, "{no}");
         }
     }
 }

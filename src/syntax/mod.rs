@@ -31,7 +31,7 @@ use nom::sequence::preceded;
 use nom::{IResult, Offset, Parser};
 
 use crate::ast::{AttrName, Attribute, File, Section, SectionKind, Value, Values};
-use crate::language::{self, Arity};
+use crate::language;
 use crate::span::{Span, Spanned};
 use crate::suggest;
 pub use errors::SyntaxError;
@@ -318,9 +318,9 @@ impl<'a> Cursor<'a> {
     fn word(&self) -> Option<(&'a str, &'a str)> {
         let rest = self.rest;
         if self.route == Route::Fast {
-            if let Some(word) = fast::ascii_word(rest.as_bytes()) {
+            if let Some(len) = fast::ascii_word(rest.as_bytes()) {
                 // All ASCII: `len` is a character boundary.
-                let (text, after) = rest.split_at(word.len);
+                let (text, after) = rest.split_at(len);
                 return Some((after, text));
             }
         }
@@ -390,7 +390,8 @@ impl<'a> Cursor<'a> {
                 }
                 // A number or string: `values` consumes at least this token.
                 _ => {
-                    let stray = self.values(false, None);
+                    let mut stray = Values::new();
+                    self.values(&mut stray, false, None);
                     // A run of only malformed values was reported already.
                     let reported = stray.iter().all(|v| v.value == Value::Invalid);
                     if let Some(last) = stray.last().filter(|_| !reported) {
@@ -414,7 +415,8 @@ impl<'a> Cursor<'a> {
         self.rest = rest;
         let kind = Spanned::new(kw_span, SectionKind::from_word(keyword));
         let camera = (*kind == SectionKind::Camera).then(|| language::CAMERA.count());
-        let args = self.values(false, camera);
+        let mut args = Values::new();
+        self.values(&mut args, false, camera);
         let mut span = args.last().map_or(kw_span, |v| kw_span.join(v.span));
         let mut attributes = Vec::new();
         while let Some((Token::Word(w), _, _)) = self.peek() {
@@ -425,9 +427,7 @@ impl<'a> Cursor<'a> {
                 None if starts_section(w) => break,
                 None => AttrName::Unknown(w.into()),
             };
-            let attribute = self.attribute(&kind, name);
-            span = span.join(attribute.span);
-            attributes.push(attribute);
+            span = span.join(self.attribute(&kind, name, &mut attributes));
         }
         Section {
             kind,
@@ -440,19 +440,34 @@ impl<'a> Cursor<'a> {
     /// `attribute = attribute_name , { value } | "texture" , path ;`
     ///
     /// `name` is the next word, already looked up; `kind` is the section's.
-    fn attribute(&mut self, kind: &SectionKind, name: AttrName) -> Attribute {
+    /// The attribute is read in its place at the end of `attributes` (it
+    /// is large, and a large scene has millions: moving each from the
+    /// stack to the vector cost more than reading it); its span is
+    /// returned.
+    fn attribute(
+        &mut self,
+        kind: &SectionKind,
+        name: AttrName,
+        attributes: &mut Vec<Attribute>,
+    ) -> Span {
         let Some((Token::Word(..), name_span, rest)) = self.peek() else {
             unreachable!("attribute() is only called on a word");
         };
         self.rest = rest;
-        let name = Spanned::new(name_span, name);
-        // A path where any section's row of this name takes one, so a
-        // misplaced `texture` still reads as one line.
-        let takes_path = language::rows().any(|(_, s)| s.name == *name && s.arity == Arity::Path);
+        let takes_path = language::takes_path_somewhere(&name);
         let expected = language::find(kind, &name).map(|spec| spec.count());
-        let values = self.values(takes_path, expected);
-        let span = values.last().map_or(name_span, |v| name_span.join(v.span));
-        Attribute { name, values, span }
+        let index = attributes.len();
+        attributes.push(Attribute {
+            name: Spanned::new(name_span, name),
+            values: Values::new(),
+            span: name_span,
+        });
+        let attribute = &mut attributes[index];
+        self.values(&mut attribute.values, takes_path, expected);
+        if let Some(last) = attribute.values.last() {
+            attribute.span = name_span.join(last.span);
+        }
+        attribute.span
     }
 
     /// `values = { value } ;`
@@ -462,9 +477,9 @@ impl<'a> Cursor<'a> {
     /// Bad numbers and unterminated strings are reported and kept as
     /// [`Value::Invalid`]; the run of values ends at the first word that is neither a number nor a
     /// path. `expected` is how many values the registry says the line
-    /// takes, which tells what commas in its numbers meant.
-    fn values(&mut self, path_allowed: bool, expected: Option<usize>) -> Values {
-        let mut values = Values::new();
+    /// takes, which tells what commas in its numbers meant. The values are
+    /// pushed onto `values`, which starts empty.
+    fn values(&mut self, values: &mut Values, path_allowed: bool, expected: Option<usize>) {
         let mut with_commas = Vec::new();
         loop {
             // A path comes first, whatever it looks like.
@@ -516,7 +531,7 @@ impl<'a> Cursor<'a> {
             // Each token stands for its pieces, so the count is right and
             // the check pass reports nothing more about it.
             let mut expanded = Values::new();
-            for (i, value) in values.into_iter().enumerate() {
+            for (i, value) in values.drain(..).enumerate() {
                 let copies = with_commas
                     .iter()
                     .find(|t| t.index == i)
@@ -525,9 +540,8 @@ impl<'a> Cursor<'a> {
                     expanded.push(value.clone());
                 }
             }
-            return expanded;
+            *values = expanded;
         }
-        values
     }
 
     /// The common case of a value on the fast route, read in one pass:
@@ -538,30 +552,25 @@ impl<'a> Cursor<'a> {
     fn plain_number(&mut self) -> Option<(Span, f64)> {
         let bytes = self.rest.as_bytes();
         let trivia = fast::ascii_trivia(bytes);
-        let found = fast::ascii_word(&bytes[trivia..])?;
-        let end = trivia + found.len;
         let start = self.offset() + trivia;
-        let span = Span::new(start, start + found.len);
-        // Only ASCII bytes were read: `trivia` and `end` are character
-        // boundaries.
-        let (text, after) = (&self.rest[trivia..end], &self.rest[end..]);
-        let value = found
-            .maybe_plain_decimal
-            .then(|| fast::plain_decimal_value(&bytes[trivia..end]))
-            .flatten();
-        if value.is_some() {
-            self.rest = after;
-        } else {
-            // Trivia means nothing: skipped, whatever comes next.
-            self.rest = &self.rest[trivia..];
+        // Only ASCII bytes were read: `trivia` and every length below are
+        // character boundaries.
+        if let Some((len, value)) = fast::plain_decimal(&bytes[trivia..]) {
+            self.rest = &self.rest[trivia + len..];
+            return Some((Span::new(start, start + len), value));
+        }
+        // Trivia means nothing: skipped, whatever comes next.
+        self.rest = &self.rest[trivia..];
+        if let Some(len) = fast::ascii_word(self.rest.as_bytes()) {
+            let (text, after) = self.rest.split_at(len);
             self.last_word = Some(PeekedWord {
                 start,
                 text,
-                span,
+                span: Span::new(start, start + len),
                 rest: after,
             });
         }
-        value.map(|value| (span, value))
+        None
     }
 
     /// Convert a numeric-looking word, reporting why it is not a number.

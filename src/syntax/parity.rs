@@ -154,21 +154,18 @@ proptest! {
     #[test]
     fn plain_decimals_are_numbers_of_the_grammar(word in "[-+]?[0-9]{0,4}(\\.[0-9]{0,4})?") {
         let grammar = matches!(number(&word), Ok(("", _)));
-        let scanned = fast::ascii_word(word.as_bytes());
-        prop_assert!(!grammar || scanned.is_some_and(|w| w.len == word.len() && w.maybe_plain_decimal), "{}", word);
-        prop_assert_eq!(fast::plain_decimal_value(word.as_bytes()).is_some(), grammar, "{}", word);
+        let read = fast::plain_decimal(word.as_bytes());
+        prop_assert_eq!(read.is_some_and(|(len, _)| len == word.len()), grammar, "{}", word);
     }
 
     /// Whatever the word, the fast route reads a value only when the
     /// grammar reads all of it as a number without an exponent.
     #[test]
     fn the_fast_route_reads_plain_decimals_only(word in "[-+.0-9eEa-z]{1,8}") {
-        if let Some(scanned) = fast::ascii_word(word.as_bytes()).filter(|w| w.maybe_plain_decimal) {
-            let text = &word[..scanned.len];
-            if fast::plain_decimal_value(text.as_bytes()).is_some() {
-                prop_assert!(matches!(number(text), Ok(("", _))), "{}", text);
-                prop_assert!(!text.contains(['e', 'E']), "{}", text);
-            }
+        if let Some((len, _)) = fast::plain_decimal(word.as_bytes()) {
+            let text = &word[..len];
+            prop_assert!(matches!(number(text), Ok(("", _))), "{}", text);
+            prop_assert!(!text.contains(['e', 'E']), "{}", text);
         }
     }
 }
