@@ -9,6 +9,7 @@ mod support;
 
 mod accuracy_cli;
 mod adaptive;
+mod build_profile;
 mod bvh_exact;
 mod check_cli;
 mod check_corpus;
