@@ -24,7 +24,7 @@ fn adaptive(threshold: f64) -> Options {
 
 /// The scenes of `scenes/` (textures and all) at a small size.
 fn scenes() -> Vec<(String, raytracer::ir::Scene)> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let root = Path::new(env!("REPOSITORY")).join("scenes");
     let mut scenes: Vec<_> = std::fs::read_dir(&root)
         .expect("scenes/")
         .map(|entry| entry.expect("entry").path())

@@ -18,7 +18,7 @@ use raytracer::render::world::BRUTE_FORCE_MAX;
 use raytracer::render::{render, Accel, Counters, Options};
 
 fn lower(text: &str) -> ir::Scene {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let dir = Path::new(env!("REPOSITORY")).join("scenes");
     let loaded = load_bytes("test.txt", &dir, text.as_bytes(), Instant::now());
     let checked = loaded.checked.expect("the test scene checks");
     ir::lower(checked)
@@ -83,7 +83,7 @@ fn assert_same(name: &str, text: &str) {
 #[test]
 fn the_statistics_name_the_acceleration_that_ran() {
     let dir = tempfile::tempdir().unwrap();
-    let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sample.txt");
+    let sample = concat!(env!("REPOSITORY"), "/scenes/sample.txt");
     let out = dir.path().join("out.png");
     let json = dir.path().join("stats.json");
     for (accel, used) in [("auto", "brute"), ("brute", "brute"), ("bvh", "bvh")] {
@@ -138,7 +138,7 @@ fn sphere(c: [f64; 3], r: f64, k: f64, color: [f64; 3]) -> String {
 
 #[test]
 fn sample_scene() {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sample.txt"))
+    let text = std::fs::read_to_string(concat!(env!("REPOSITORY"), "/scenes/sample.txt"))
         .unwrap()
         .replace("camera 400", "camera 96");
     assert_same("sample", &text);

@@ -29,7 +29,7 @@ fn check(format: &str) -> Output {
     let mut args = vec!["check", "--format", format];
     args.extend(FILES);
     command(&args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(env!("REPOSITORY"))
         .output()
         .expect("run raytracer")
 }
@@ -53,8 +53,7 @@ fn sarif() -> Value {
 
 #[test]
 fn sarif_validates_against_the_official_schema() {
-    let schema_path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/sarif/sarif-schema-2.1.0.json");
+    let schema_path = Path::new(env!("REPOSITORY")).join("tests/sarif/sarif-schema-2.1.0.json");
     let schema: Value =
         serde_json::from_str(&std::fs::read_to_string(schema_path).expect("vendored schema"))
             .expect("schema is JSON");
@@ -89,7 +88,13 @@ fn sarif_carries_what_json_carries() {
     let run = &log["runs"][0];
     let driver = &run["tool"]["driver"];
     assert_eq!(driver["name"], "raytracer");
-    assert_eq!(driver["version"], env!("CARGO_PKG_VERSION"));
+    // The version the binary reports (this package has its own).
+    let version = command(&["--version"]).output().expect("runs");
+    let version = String::from_utf8(version.stdout).expect("UTF-8");
+    assert_eq!(
+        Some(driver["version"].as_str().expect("a string")),
+        version.trim().strip_prefix("raytracer ")
+    );
     assert_eq!(run["columnKind"], "unicodeCodePoints");
     let rules = driver["rules"].as_array().unwrap();
     let results = run["results"].as_array().unwrap();
@@ -97,8 +102,7 @@ fn sarif_carries_what_json_carries() {
     assert_eq!(results.len(), entries.len());
 
     let docs =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostics.md"))
-            .unwrap();
+        std::fs::read_to_string(Path::new(env!("REPOSITORY")).join("docs/diagnostics.md")).unwrap();
     for rule in rules {
         let id = rule["id"].as_str().unwrap();
         let uri = rule["helpUri"].as_str().unwrap();
@@ -323,7 +327,7 @@ fn github_commands_carry_what_json_carries() {
 
 #[test]
 fn snapshots_of_both_formats() {
-    let root = concat!("file://", env!("CARGO_MANIFEST_DIR"));
+    let root = concat!("file://", env!("REPOSITORY"));
     let log = stdout(&check("sarif")).replace(root, "file://[repository]");
     insta::assert_snapshot!("sarif", log);
     insta::assert_snapshot!("github", stdout(&check("github")));

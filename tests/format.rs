@@ -20,9 +20,9 @@ use raytracer::format::format;
 use raytracer::frontend::load_bytes;
 use raytracer::syntax::{self, trivia};
 
-const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/format");
-const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");
-const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
+const FIXTURES: &str = concat!(env!("REPOSITORY"), "/tests/format");
+const CORPUS: &str = concat!(env!("REPOSITORY"), "/tests/corpus/field");
+const SCENES: &str = concat!(env!("REPOSITORY"), "/scenes");
 
 fn scene_files(dir: &str) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)

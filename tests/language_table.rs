@@ -14,7 +14,7 @@ const END: &str = "<!-- end of attribute table -->";
 
 #[test]
 fn the_docs_table_is_the_generated_one() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/language.md");
+    let path = Path::new(env!("REPOSITORY")).join("docs/language.md");
     let page = std::fs::read_to_string(&path).expect("read docs/language.md");
     let start = page
         .find(BEGIN)
@@ -29,14 +29,14 @@ fn the_docs_table_is_the_generated_one() {
         assert!(
             page[start..end] == generated,
             "the attribute table in docs/language.md is stale; regenerate it with \
-             `UPDATE_DOCS=1 cargo test --test language_table`"
+             `UPDATE_DOCS=1 cargo test --release --test integration language_table::`"
         );
     }
 }
 
 #[test]
 fn every_example_is_valid_scene_text() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let dir = Path::new(env!("REPOSITORY")).join("scenes");
     for kind in [SectionKind::Sphere, SectionKind::Plane, SectionKind::Light] {
         let lines: Vec<&str> = attributes_of(&kind).iter().map(|s| s.example).collect();
         let text = format!("camera 4\n{}\n  {}\n", kind.as_str(), lines.join("\n  "));

@@ -60,7 +60,7 @@ const INTERESTING: &[char] = &[
 
 /// Run everything the `check` command runs on `bytes`.
 fn front_end(bytes: &[u8]) {
-    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ui/scene"));
+    let dir = Path::new(concat!(env!("REPOSITORY"), "/tests/ui/scene"));
     let loaded = load_bytes("fuzz.txt", dir, bytes, Instant::now());
     let report = &loaded.report;
     let (fixed, _) = fix::apply(
@@ -89,7 +89,7 @@ const JSON_SEEDS: [&str; 4] = [
 /// Read `bytes` as a JSON scene, check it, fix it, and convert it when it
 /// checks.
 fn json_front_end(bytes: &[u8]) {
-    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ui/scene"));
+    let dir = Path::new(concat!(env!("REPOSITORY"), "/tests/ui/scene"));
     let loaded = load_bytes("fuzz.json", dir, bytes, Instant::now());
     let report = &loaded.report;
     let _ = fix::apply(

@@ -26,8 +26,8 @@ use raytracer::convert::scene_text::to_scene_text;
 use raytracer::frontend::load;
 use raytracer::model::{Material, Scene};
 
-const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");
-const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
+const CORPUS: &str = concat!(env!("REPOSITORY"), "/tests/corpus/field");
+const SCENES: &str = concat!(env!("REPOSITORY"), "/scenes");
 const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";
 /// The coverage images' width and height.
 const SIZE: u32 = 96;
@@ -87,7 +87,7 @@ fn small_scene(scene: &Path, dir: &Path) -> Scene {
 /// Render `model` with our renderer and with POV-Ray (through `convert
 /// --to pov`) in `dir`; the two images' paths.
 fn render_both(model: &Scene, dir: &Path) -> (PathBuf, PathBuf) {
-    let bin = env!("CARGO_BIN_EXE_raytracer");
+    let bin = support::bin();
     let text = dir.join("compare.txt");
     std::fs::write(&text, to_scene_text(model).unwrap()).unwrap();
     let ours = dir.join("ours.png");

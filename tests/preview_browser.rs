@@ -24,8 +24,8 @@ use tungstenite::{Message, WebSocket};
 
 use crate::preview::{http, save, Server, PATIENCE};
 
-const SAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sample.txt");
-const WOOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/wood_tex.ppm");
+const SAMPLE: &str = concat!(env!("REPOSITORY"), "/scenes/sample.txt");
+const WOOD: &str = concat!(env!("REPOSITORY"), "/scenes/wood_tex.ppm");
 
 /// True when `chromium` runs; under CI its absence is a failure.
 pub(crate) fn chromium_available(test: &str) -> bool {

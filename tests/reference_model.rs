@@ -17,7 +17,7 @@ use raytracer::render::Options;
 fn corpus_and_project_scenes_match_the_reference_model() {
     let (_dir, mut scenes) = corpus_copy();
     scenes.retain(|s| !s.ends_with("reflection_91b7c2f_headup010.txt"));
-    let project = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let project = Path::new(env!("REPOSITORY")).join("scenes");
     for entry in std::fs::read_dir(project).expect("scenes/") {
         let path = entry.expect("entry").path();
         if path.extension().is_some_and(|e| e == "txt") {

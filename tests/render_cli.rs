@@ -62,7 +62,7 @@ fn stats_count_only_the_effects_the_scene_calls_for() {
 
 #[test]
 fn textures_are_read_only_where_a_textured_object_is_hit() {
-    let wood = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/wood_tex.ppm");
+    let wood = Path::new(env!("REPOSITORY")).join("scenes/wood_tex.ppm");
     let scene = format!(
         "{SPHERE}{PLANE}texture \"{}\"\n",
         wood.display().to_string().replace('\\', "\\\\")

@@ -18,8 +18,8 @@ use raytracer::frontend::load;
 use raytracer::geometry;
 use raytracer::model::{self, Camera, Light, Material, Object, Scene, Shape};
 
-const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");
-const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
+const CORPUS: &str = concat!(env!("REPOSITORY"), "/tests/corpus/field");
+const SCENES: &str = concat!(env!("REPOSITORY"), "/scenes");
 /// An error by docs/language.md: its headup is parallel to its normal.
 const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";
 /// A 2 × 2 texture for scenes that name `wood_tex.ppm`.
@@ -140,7 +140,7 @@ fn canonical_text_of_the_sample() {
 
 #[test]
 fn committed_schema_is_the_generated_one() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scene.schema.json");
+    let path = Path::new(env!("REPOSITORY")).join("docs/scene.schema.json");
     let generated = schema();
     if std::env::var_os("UPDATE_SCHEMA").is_some() {
         std::fs::write(&path, &generated).unwrap();
@@ -149,7 +149,7 @@ fn committed_schema_is_the_generated_one() {
     assert!(
         committed == generated,
         "docs/scene.schema.json is stale; regenerate it with \
-         `UPDATE_SCHEMA=1 cargo test --test round_trip committed_schema`"
+         `UPDATE_SCHEMA=1 cargo test --release --test integration round_trip::committed_schema`"
     );
     let schema: serde_json::Value = serde_json::from_str(&committed).unwrap();
     assert_eq!(schema["title"], "Scene");
@@ -245,15 +245,33 @@ fn scene() -> impl Strategy<Value = Scene> {
         })
 }
 
-proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
-
-    #[test]
-    fn generated_scenes_round_trip(scene in scene()) {
-        let dir = tempfile::tempdir().unwrap();
-        for name in TEXTURES {
-            std::fs::write(dir.path().join(name), WOOD).unwrap();
+/// Run on a thread with a large stack: the strategy's value trees (a
+/// scene of tuples of tuples) are large values, and the tests are built
+/// without optimisation, which moves them through the stack whole.
+#[test]
+fn generated_scenes_round_trip() {
+    let run = || {
+        let config = ProptestConfig {
+            cases: 256,
+            source_file: Some(file!()),
+            ..ProptestConfig::default()
+        };
+        let result = proptest::test_runner::TestRunner::new(config).run(&scene(), |scene| {
+            let dir = tempfile::tempdir().unwrap();
+            for name in TEXTURES {
+                std::fs::write(dir.path().join(name), WOOD).unwrap();
+            }
+            round_trip(&scene, dir.path(), "generated");
+            Ok(())
+        });
+        if let Err(failure) = result {
+            panic!("{failure}");
         }
-        round_trip(&scene, dir.path(), "generated");
-    }
+    };
+    std::thread::Builder::new()
+        .stack_size(64 << 20)
+        .spawn(run)
+        .expect("a thread")
+        .join()
+        .expect("every generated scene round-trips");
 }

@@ -30,7 +30,7 @@ use crate::reference::{assert_renders_match_reference, Expected, Reference};
 
 /// Load and lower a scene of scenes/hard/.
 fn hard_scene(name: &str) -> ir::Scene {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard");
+    let dir = Path::new(env!("REPOSITORY")).join("scenes/hard");
     let bytes = std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
     let loaded = raytracer::frontend::load_bytes(name, &dir, &bytes, Instant::now());
     let checked = loaded.checked.unwrap_or_else(|| {

@@ -23,10 +23,10 @@ use raytracer::syntax::SyntaxError;
 const NAMESPACES: [(&str, &str); 3] = [("syntax", "txt"), ("scene", "txt"), ("json", "json")];
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(env!("REPOSITORY"))
 }
 
-/// Every fixture, as a path relative to the crate root (so rendered file
+/// Every fixture, as a path relative to the repository (so rendered file
 /// names and texture paths do not depend on where the repository is).
 fn fixtures() -> Vec<PathBuf> {
     let mut fixtures = Vec::new();
@@ -44,16 +44,17 @@ fn fixtures() -> Vec<PathBuf> {
     fixtures
 }
 
-/// A fixture checked as `check` would, by its path relative to the crate
-/// root: cargo runs test binaries in the package root, and no test of this
-/// binary changes the working directory, so rendered file names and texture
-/// paths are the same wherever the repository is.
+/// A fixture checked as `check` would, by its path relative to the
+/// repository, so rendered file names and texture paths are the same
+/// wherever the repository is. Cargo starts the suite in its package's
+/// folder (`tests/`); the first fixture loaded moves the process to the
+/// repository's, once (no other test of this binary reads files by
+/// relative paths, and the commands the tests spawn are given theirs).
 fn load(fixture: &Path) -> Loaded {
-    assert_eq!(
-        std::env::current_dir().expect("working directory"),
-        root(),
-        "the UI tests run in the crate root"
-    );
+    static IN_REPOSITORY: std::sync::OnceLock<()> = std::sync::OnceLock::new();
+    IN_REPOSITORY.get_or_init(|| {
+        std::env::set_current_dir(root()).expect("the repository is a folder");
+    });
     raytracer::frontend::load(fixture).expect("fixture readable")
 }
 
@@ -124,9 +125,8 @@ fn normalized(text: &str) -> String {
 
 #[test]
 fn docs_show_every_code_as_rendered() {
-    let docs =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostics.md"))
-            .expect("read docs/diagnostics.md");
+    let docs = std::fs::read_to_string(Path::new(env!("REPOSITORY")).join("docs/diagnostics.md"))
+        .expect("read docs/diagnostics.md");
     for fixture in fixtures() {
         let code = code_of(&fixture);
         let heading = format!("\n## `{code}`\n");
@@ -200,9 +200,8 @@ fn fixes_show_in_the_json_format() {
 
 #[test]
 fn docs_give_the_reason_a_code_has_no_fix() {
-    let docs =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostics.md"))
-            .expect("read docs/diagnostics.md");
+    let docs = std::fs::read_to_string(Path::new(env!("REPOSITORY")).join("docs/diagnostics.md"))
+        .expect("read docs/diagnostics.md");
     for (code, reason) in WITHOUT_FIX {
         let heading = format!("\n## `{code}`\n");
         let start = docs.find(&heading).expect("a section per code") + heading.len();

@@ -123,7 +123,9 @@ const POWERS_OF_TEN: [f64; EXACT_DIGITS + 1] = [
 /// which `str::parse` takes for these too): bit for bit `str::parse`'s
 /// value. A longer number goes to `fast_float2`, the algorithm
 /// `str::parse` is built on without its checks of forms a plain decimal
-/// cannot take.
+/// cannot take. Inlined into the cursor's loop over values, its one
+/// caller: most of a large scene's bytes pass through it.
+#[inline]
 pub fn plain_decimal(text: &[u8]) -> Option<(usize, f64)> {
     let (negative, mut len) = match text.first() {
         Some(b'-') => (true, 1),

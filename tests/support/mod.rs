@@ -51,7 +51,7 @@ pub fn tool_available(program: &str, test: &str, install: &str) -> bool {
 /// The first `sh` block after the heading line `heading` (with its `#`s)
 /// in `doc`, a path under docs/.
 pub fn doc_recipe(doc: &str, heading: &str) -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(doc);
+    let path = Path::new(env!("REPOSITORY")).join(doc);
     let docs = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("read {doc}: {e}"));
     let section = &docs[docs
         .find(&format!("\n{heading}\n"))
@@ -78,9 +78,53 @@ pub fn run_recipe(dir: &Path, script: &str) -> Output {
         .expect("run bash")
 }
 
-/// The `raytracer` binary under test.
+/// The `raytracer` binary under test: the one the root package built in
+/// this test binary's profile folder (`target/release/raytracer`). This
+/// package does not build it, so a run after a change to `src/` that did
+/// not build it again would test an old binary: that fails here, naming
+/// the command that builds it.
 pub fn bin() -> &'static str {
-    env!("CARGO_BIN_EXE_raytracer")
+    static BIN: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    BIN.get_or_init(|| {
+        let test = std::env::current_exe().expect("the test binary has a path");
+        // target/<profile>/deps/integration-<hash>
+        let profile = test
+            .parent()
+            .and_then(Path::parent)
+            .expect("the test binary is in target/<profile>/deps");
+        let bin = profile.join(format!("raytracer{}", std::env::consts::EXE_SUFFIX));
+        let build = "build it with `cargo build --release` (`make test` does)";
+        let built = std::fs::metadata(&bin)
+            .and_then(|m| m.modified())
+            .unwrap_or_else(|_| panic!("{} is missing: {build}", bin.display()));
+        if let Some(newer) = newer_source(Path::new(env!("REPOSITORY")).join("src"), built) {
+            panic!(
+                "{} is older than {}: {build}",
+                bin.display(),
+                newer.display()
+            );
+        }
+        bin.to_str()
+            .expect("the binary's path is UTF-8")
+            .to_string()
+    })
+}
+
+/// A file under `dir` modified after `than`, if any.
+fn newer_source(dir: PathBuf, than: std::time::SystemTime) -> Option<PathBuf> {
+    let mut folders = vec![dir];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).ok()?.flatten() {
+            let path = entry.path();
+            let Ok(meta) = entry.metadata() else { continue };
+            if meta.is_dir() {
+                folders.push(path);
+            } else if meta.modified().is_ok_and(|modified| modified > than) {
+                return Some(path);
+            }
+        }
+    }
+    None
 }
 
 /// The binary with `args`, diagnostics at their default width (no
@@ -156,7 +200,7 @@ pub fn quantized(c: [f64; 3]) -> [u8; 3] {
 /// The course corpus, kept in the repository (`tests/corpus/field`, whose
 /// `SOURCE.txt` says where each file comes from).
 pub fn corpus_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus/field")
+    Path::new(env!("REPOSITORY")).join("tests/corpus/field")
 }
 
 /// The corpus scene files copied into a temporary folder with the
