@@ -19,11 +19,13 @@ build:
 	$(CARGO) build --release --locked $(CARGO_FLAGS)
 
 # Everything CI checks: formatting, lints, unit, integration and snapshot
-# tests. Clippy and the suite run in the release profile, reusing what
-# `make` built (the procedural macros and build scripts clippy needs, the
-# dependencies the tests link); the examples are not built again here
-# (clippy --all-targets checks them); and the library built without the
-# command line.
+# tests (the workspace's default members: the crate and tests/, the
+# integration tests' package). Clippy and the suite run in the release
+# profile, reusing what `make` built (the procedural macros and build
+# scripts clippy needs, the library, binary and dependencies the tests
+# link and spawn); the examples are not built again here (clippy
+# --all-targets checks them); and the library built without the command
+# line.
 test: raytracer
 	$(CARGO) fmt --check
 	$(CARGO) clippy --release --locked --all-targets -- -D warnings

@@ -33,7 +33,11 @@ fn locked_packages(lock: &str) -> Vec<&str> {
 #[test]
 fn the_lock_files_keep_the_heavy_crates_out() {
     let root = env!("REPOSITORY");
-    for lock in ["Cargo.lock", "tests/library-user/Cargo.lock"] {
+    for lock in [
+        "Cargo.lock",
+        "tests/library-user/Cargo.lock",
+        "fuzz/Cargo.lock",
+    ] {
         let text = std::fs::read_to_string(format!("{root}/{lock}")).expect("the lock file reads");
         let packages = locked_packages(&text);
         assert!(packages.contains(&"miette"), "{lock} lists no packages");

@@ -11,18 +11,15 @@
 //! defined by the nom rules alone, and the tests in `parity.rs` check that
 //! both routes give the same tree, spans and errors.
 
-/// What kind of byte each byte is, as bits ([`CLASSES`]): the word and
-/// trivia scanners look a byte up once and learn everything they ask.
+/// What kind of byte each byte is, as bits ([`CLASSES`]): the word,
+/// number and trivia scanners look a byte up once and learn what they ask.
 const SPACE: u8 = 1;
 /// `#` and `"`: not word characters, and not trivia either.
 const DELIMITER: u8 = 2;
 /// Any byte of a non-ASCII character: the general rule decides.
 const WIDE: u8 = 4;
-const DIGIT: u8 = 8;
-const POINT: u8 = 16;
-const SIGN: u8 = 32;
-/// Every other ASCII word character.
-const OTHER: u8 = 64;
+/// Every ASCII word character.
+const WORD: u8 = 8;
 /// The classes that end an ASCII word.
 const WORD_END: u8 = SPACE | DELIMITER | WIDE;
 
@@ -30,17 +27,14 @@ const WORD_END: u8 = SPACE | DELIMITER | WIDE;
 /// `char::is_whitespace` on ASCII: tab, line feed, vertical tab, form feed,
 /// carriage return and space.
 static CLASSES: [u8; 256] = {
-    let mut classes = [OTHER; 256];
+    let mut classes = [WORD; 256];
     let mut b = 0;
     while b < 256 {
         classes[b] = match b as u8 {
             b'\t' | b'\n' | 0x0b | 0x0c | b'\r' | b' ' => SPACE,
             b'#' | b'"' => DELIMITER,
-            b'0'..=b'9' => DIGIT,
-            b'.' => POINT,
-            b'+' | b'-' => SIGN,
             0x80..=0xff => WIDE,
-            _ => OTHER,
+            _ => WORD,
         };
         b += 1;
     }
