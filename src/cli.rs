@@ -10,7 +10,7 @@ use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::render::adaptive::DEFAULT_THRESHOLD;
-use crate::render::Accel;
+use crate::render::{self, Accel};
 use crate::tile::Band;
 
 /// Render and check scenes of the raytracer scene language.
@@ -89,6 +89,16 @@ pub enum Antialias {
     /// Corner samples first, four more where they disagree, all of them
     /// where those four do.
     Adaptive,
+}
+
+impl Antialias {
+    /// The renderer's setting, refining at `threshold` when adaptive.
+    pub fn with_threshold(self, threshold: f64) -> render::Antialias {
+        match self {
+            Antialias::Uniform => render::Antialias::Uniform,
+            Antialias::Adaptive => render::Antialias::Adaptive { threshold },
+        }
+    }
 }
 
 /// The options `render` and `preview` share: how each pixel is sampled and

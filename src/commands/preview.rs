@@ -12,11 +12,11 @@ use miette::Diagnostic;
 use super::render::thread_pool;
 use super::{Outcome, WriteStdoutError};
 use crate::ci::sarif::docs_uri;
-use crate::cli::{Antialias, PreviewArgs};
+use crate::cli::PreviewArgs;
 use crate::diagnostic::BoxedDiagnostic;
 use crate::frontend::read_scene;
 use crate::preview::{Preview, Settings};
-use crate::render::{self, adaptive::DEFAULT_THRESHOLD, Options};
+use crate::render::{adaptive::DEFAULT_THRESHOLD, Options};
 
 /// The scene cannot be previewed from stdin.
 #[derive(Debug, thiserror::Error, Diagnostic)]
@@ -39,12 +39,7 @@ pub fn run(args: PreviewArgs) -> Result<Outcome, BoxedDiagnostic> {
     let settings = Settings {
         options: Options {
             spp: args.sampling.spp,
-            antialias: match args.sampling.aa {
-                Antialias::Uniform => render::Antialias::Uniform,
-                Antialias::Adaptive => render::Antialias::Adaptive {
-                    threshold: DEFAULT_THRESHOLD,
-                },
-            },
+            antialias: args.sampling.aa.with_threshold(DEFAULT_THRESHOLD),
             ..Options::default()
         },
         precision: args.sampling.precision,

@@ -103,12 +103,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
     drop(report);
     let options = Options {
         spp: args.sampling.spp,
-        antialias: match args.sampling.aa {
-            Antialias::Uniform => render::Antialias::Uniform,
-            Antialias::Adaptive => render::Antialias::Adaptive {
-                threshold: args.aa_threshold,
-            },
-        },
+        antialias: args.sampling.aa.with_threshold(args.aa_threshold),
         max_depth: args.max_depth,
         skip: !args.no_skip,
         accel: args.accel.into(),
@@ -125,8 +120,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
 
     let rows = tile.as_ref().map_or(0..scene.resolution, TileInfo::rows);
     let rendering = Instant::now();
-    let (rgb, counters) =
-        pool.install(|| trace(&scene, &options, args.sampling.precision, args.quiet, rows));
+    let (rgb, counters) = pool.install(|| trace(&scene, &options, precision, args.quiet, rows));
     let render = rendering.elapsed().as_secs_f64();
 
     let writing = Instant::now();
