@@ -12,7 +12,7 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::support::{bin, listing, run, write};
+use crate::support::{self, bin, listing, run, write};
 
 const SCENE: &str =
     "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  reflectivity .5\nlight location 0 5 0 color 1 1 1\n";
@@ -71,7 +71,7 @@ fn ppm_size(path: &Path) -> usize {
 /// folder, is opened to others so `nobody` reaches the files in it.
 #[cfg(unix)]
 fn run_unprivileged(dir: &Path, args: &[&str]) -> Output {
-    if !is_root() {
+    if !support::is_root() {
         return run(args);
     }
     use std::os::unix::fs::PermissionsExt;
@@ -88,13 +88,6 @@ fn run_unprivileged(dir: &Path, args: &[&str]) -> Output {
         "setpriv could not drop to nobody: {output:?}"
     );
     output
-}
-
-fn is_root() -> bool {
-    Command::new("id")
-        .arg("-u")
-        .output()
-        .is_ok_and(|o| o.stdout.trim_ascii() == b"0")
 }
 
 #[test]

@@ -23,6 +23,7 @@ mod format;
 mod grade_browser;
 mod grade_class;
 mod grade_cli;
+mod grade_sandbox;
 mod hostile_inputs;
 mod hostile_text;
 mod intersection;

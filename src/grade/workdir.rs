@@ -3,12 +3,19 @@
 //! Each scene gets a fresh temporary folder holding a copy of the scene
 //! and its textures at their paths inside the suite, so `../wood_tex.ppm`
 //! still resolves; the program starts in the scene's own folder there.
-//! When the program runs as another user, the folder is given to it.
+//! When the program runs as another user, the folder is given to it, and
+//! the order of that matters: the folder is created by the grader with
+//! mode 0700, so until its own owner changes no other user can enter it,
+//! rename an entry or put a link in its place. Everything under it is
+//! therefore given away first, without following links, and the folder
+//! itself last; after that the grader changes nothing in it by path.
 //! The command template is split into words like a shell would split it
 //! (quotes, backslashes) and `{scene}` and `{out}` are replaced inside
 //! each word, so no file name can add a word or run a command.
 
 use std::ffi::OsString;
+use std::fs::Permissions;
+use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 
 use tempfile::TempDir;
@@ -39,6 +46,7 @@ impl Workdir {
 pub fn prepare(scene: &SuiteScene, user: Option<u32>) -> std::io::Result<Workdir> {
     let temp = tempfile::Builder::new()
         .prefix("raytracer-grade-")
+        .permissions(Permissions::from_mode(0o700))
         .tempdir()?;
     for file in &scene.files {
         let to = temp.path().join(file);
@@ -66,13 +74,24 @@ pub fn prepare(scene: &SuiteScene, user: Option<u32>) -> std::io::Result<Workdir
     })
 }
 
-/// Give `path` and everything under it to user and group `id`.
-fn give(path: &Path, id: u32) -> std::io::Result<()> {
-    std::os::unix::fs::chown(path, Some(id), Some(id))?;
-    if path.is_dir() {
-        for entry in std::fs::read_dir(path)? {
-            give(&entry?.path(), id)?;
+/// Give `dir`, and everything under it, to user and group `id`: the
+/// entries first, while `dir` is still the grader's own and closed to
+/// everyone else, and `dir` itself last. No link is followed: an entry is
+/// given as what it is, and a folder is walked only when it is one.
+fn give(dir: &Path, id: u32) -> std::io::Result<()> {
+    give_entries(dir, id)?;
+    std::os::unix::fs::lchown(dir, Some(id), Some(id))
+}
+
+/// Give everything under the folder `dir` to `id`, deepest first.
+fn give_entries(dir: &Path, id: u32) -> std::io::Result<()> {
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let path = entry.path();
+        if entry.file_type()?.is_dir() {
+            give_entries(&path, id)?;
         }
+        std::os::unix::fs::lchown(&path, Some(id), Some(id))?;
     }
     Ok(())
 }

@@ -23,6 +23,14 @@ pub fn under_ci() -> bool {
     })
 }
 
+/// Whether the tests run as root.
+pub fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| o.stdout.trim_ascii() == b"0")
+}
+
 /// Say a test was skipped where `cargo test` shows it: libtest captures
 /// `eprintln!` of a passing test, not a write to the stderr handle.
 pub fn skipped(why: &str) {
