@@ -24,6 +24,6 @@ fuzz_target!(|bytes: &[u8]| {
         let _ = convert::pov::to_pov(&checked);
         let mut scene = ir::lower(checked);
         scene.resolution = scene.resolution.min(4);
-        let _ = render::render(Precision::F64, &scene, &render::Options::default(), &|| {});
+        let _ = render::render(render::Precision::F64, &scene, &render::Options::default(), &|| {});
     }
 });

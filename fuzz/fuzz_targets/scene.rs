@@ -25,7 +25,7 @@ fuzz_target!(|bytes: &[u8]| {
         let mut scene = ir::lower(checked);
         scene.resolution = scene.resolution.min(4);
         let options = render::Options::default();
-        let _ = render::render(Precision::F64, &scene, &options, &|| {});
-        let _ = render::render(Precision::F32, &scene, &options, &|| {});
+        let _ = render::render(render::Precision::F64, &scene, &options, &|| {});
+        let _ = render::render(render::Precision::F32, &scene, &options, &|| {});
     }
 });
