@@ -18,20 +18,18 @@ raytracer: build
 build:
 	$(CARGO) build --release --locked $(CARGO_FLAGS)
 
-# Everything CI checks: formatting, lints, unit, integration and snapshot
-# tests (the workspace's default members: the crate and tests/, the
-# integration tests' package). Clippy and the suite run in the release
-# profile, reusing what `make` built (the procedural macros and build
-# scripts clippy needs, the library, binary and dependencies the tests
-# link and spawn); the examples are not built again here (clippy
-# --all-targets checks them); and the library built without the command
-# line.
+# Everything CI checks, over the whole workspace: formatting, lints, each
+# crate's unit tests, the integration and snapshot tests of tests/ (which
+# include the tidy checks of the layering), and the doc tests. Clippy and
+# the suite run in the release profile, reusing what `make` built (the
+# procedural macros and build scripts clippy needs, the crates and
+# dependencies the tests link, the binary they spawn); the examples are not
+# built again here (clippy --all-targets checks them).
 test: raytracer
-	$(CARGO) fmt --check
-	$(CARGO) clippy --release --locked --all-targets -- -D warnings
-	$(CARGO) test --release --locked --lib --tests $(CARGO_FLAGS)
-	$(CARGO) test --release --locked --doc
-	CARGO="$(CARGO)" scripts/library_user.sh
+	$(CARGO) fmt --all --check
+	$(CARGO) clippy --release --locked --workspace --all-targets -- -D warnings
+	$(CARGO) test --release --locked --workspace --lib --tests $(CARGO_FLAGS)
+	$(CARGO) test --release --locked --workspace --doc
 
 # The cold times in README.md, measured from bare clones of HEAD
 # (scripts/cold-times.sh; 15 to 20 minutes on 2 cores).

@@ -18,14 +18,14 @@
 //! error of both sphere forms over random far spheres.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use glam::DVec3;
-use raytracer::ir::{self, Shape};
-use raytracer::render::geometry::{self, Ray};
-use raytracer::render::real::{Real, Vector};
-use raytracer::render::trace::{sphere_uv, texel, AMBIENT};
-use raytracer::render::{camera_ray, render, Image, Options};
+use raytracer_render::ir::{self, Shape};
+use raytracer_render::render::geometry::{self, Ray};
+use raytracer_render::render::real::{Real, Vector};
+use raytracer_render::render::trace::{sphere_uv, texel, AMBIENT};
+use raytracer_render::render::Precision;
+use raytracer_render::render::{camera_ray, render, Image, Options};
 
 /// How the naive tracer spawns shadow and reflection rays: from the hit
 /// point itself, accepting any hit beyond `epsilon`.
@@ -68,7 +68,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 fn hard_scene(name: &str) -> ir::Scene {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard");
     let bytes = std::fs::read(dir.join(name)).expect("scenes/hard/ is part of the repository");
-    let loaded = raytracer::frontend::load_bytes(name, &dir, &bytes, Instant::now());
+    let loaded = raytracer_scene::frontend::load_bytes(name, &dir, &bytes);
     ir::lower(loaded.checked.expect("the hard scenes check clean"))
 }
 
@@ -90,7 +90,8 @@ fn far_sphere(out: &Path, exponent: i32) -> Result<(), Box<dyn std::error::Error
                 let color = match naive {
                     Some(naive) => trace(&scene, naive, ray, 0),
                     None => {
-                        let tracer = raytracer::render::trace::Tracer::<f32>::new(&scene, 8, true);
+                        let tracer =
+                            raytracer_render::render::trace::Tracer::<f32>::new(&scene, 8, true);
                         tracer.radiance(ray, &mut Default::default())
                     }
                 };
@@ -137,8 +138,8 @@ fn spawn_case(
 ) -> Result<(), Box<dyn std::error::Error>> {
     let scene = hard_scene(name);
     let options = Options::default();
-    let (truth, _) = render::<f64>(&scene, &options, &|| {});
-    let (product, _) = render::<f32>(&scene, &options, &|| {});
+    let (truth, _) = render(Precision::F64, &scene, &options, &|| {});
+    let (product, _) = render(Precision::F32, &scene, &options, &|| {});
     let n = scene.resolution;
     let mut rgb = Vec::new();
     for j in 0..n {
@@ -184,8 +185,8 @@ fn spawn_case(
 fn precision_case(out: &Path, name: &str) -> Result<(), Box<dyn std::error::Error>> {
     let scene = hard_scene(name);
     let options = Options::default();
-    let (wide, _) = render::<f64>(&scene, &options, &|| {});
-    let (narrow, _) = render::<f32>(&scene, &options, &|| {});
+    let (wide, _) = render(Precision::F64, &scene, &options, &|| {});
+    let (narrow, _) = render(Precision::F32, &scene, &options, &|| {});
     let off = narrow
         .rgb
         .chunks(3)

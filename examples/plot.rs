@@ -1,6 +1,6 @@
 //! Draws a CSV of `series,x,y[,label]` rows as a PNG chart with the
 //! charting the product uses for `raytracer accuracy --assets`
-//! ([`raytracer::plot`]); `make bench-scaling` plots docs/scaling.png
+//! ([`raytracer_app::plot`]); `make bench-scaling` plots docs/scaling.png
 //! with it.
 //!
 //! ```text
@@ -13,7 +13,7 @@
 use std::path::PathBuf;
 
 use clap::Parser;
-use raytracer::plot::{draw, parse_csv, Chart, Corner};
+use raytracer_app::plot::{draw, parse_csv, Chart, Corner};
 
 #[derive(Parser)]
 #[command(about = "Plot `series,x,y[,label]` rows of a CSV file as a PNG chart")]
@@ -92,7 +92,7 @@ fn run(args: Args) -> Result<(), String> {
             drawn.left_out
         );
     }
-    raytracer::output::write_atomically(&args.out, |out| out.write_all(&drawn.png))
+    raytracer_render::output::write_atomically(&args.out, |out| out.write_all(&drawn.png))
         .map_err(|e| format!("cannot write `{}`: {e}", args.out.display()))
 }
 

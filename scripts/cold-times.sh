@@ -26,7 +26,7 @@ WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 mkdir -p "$OUT"
 grep -q '^<!-- cold-times:begin' "$DOC" || { echo "cold-times: $DOC has no cold-times:begin marker" >&2; exit 2; }
-if ! git diff --quiet HEAD -- src tests Cargo.toml Cargo.lock Makefile; then
+if ! git diff --quiet HEAD -- src crates tests Cargo.toml Cargo.lock Makefile; then
   echo "cold-times: commit first; the clones measure HEAD ($COMMIT), not the working tree" >&2
   exit 2
 fi
@@ -68,8 +68,8 @@ RUN=$(cd "$WORK/run" && timed make-run make run CARGO_FLAGS=--timings)
 RUN_TOP=$(top_units "$WORK/run")
 TEST=$(cd "$WORK/test" && timed make-test make test CARGO_FLAGS=--timings)
 TEST_TOP=$(top_units "$WORK/test")
-sed -i 's/^pub fn unit(v: \[f64; 3\]) -> Option<DVec3> {$/&\n    std::hint::black_box(());/' "$WORK/test/src/geometry.rs"
-grep -q 'black_box' "$WORK/test/src/geometry.rs" || { echo "cold-times: src/geometry.rs has no \`pub fn unit\` to edit" >&2; exit 2; }
+sed -i 's/^pub fn unit(v: \[f64; 3\]) -> Option<DVec3> {$/&\n    std::hint::black_box(());/' "$WORK/test/crates/scene/src/geometry.rs"
+grep -q 'black_box' "$WORK/test/crates/scene/src/geometry.rs" || { echo "cold-times: crates/scene/src/geometry.rs has no \`pub fn unit\` to edit" >&2; exit 2; }
 REBUILD=$(cd "$WORK/test" && timed make-test-touched make test)
 cp -r "$WORK/run/target/cargo-timings" "$OUT/make-run-timings"
 cp -r "$WORK/test/target/cargo-timings" "$OUT/make-test-timings"

@@ -4,9 +4,9 @@
 
 use std::process::ExitCode;
 
-use raytracer::cli;
-use raytracer::commands;
-use raytracer::escape;
+use raytracer_app::cli;
+use raytracer_app::commands;
+use raytracer_scene::escape;
 
 fn main() -> ExitCode {
     // Without the handler a signal still stops the process; only the

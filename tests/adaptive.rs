@@ -8,7 +8,8 @@ use crate::support;
 use std::path::Path;
 
 use crate::support::{lower, lower_in, run};
-use raytracer::render::{
+use raytracer_render::render::Precision;
+use raytracer_render::render::{
     adaptive::DEFAULT_THRESHOLD, render, render_radiance, Antialias, Counters, Image, Options,
 };
 
@@ -23,8 +24,8 @@ fn adaptive(threshold: f64) -> Options {
 }
 
 /// The scenes of `scenes/` (textures and all) at a small size.
-fn scenes() -> Vec<(String, raytracer::ir::Scene)> {
-    let root = Path::new(env!("REPOSITORY")).join("scenes");
+fn scenes() -> Vec<(String, raytracer_render::ir::Scene)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     let mut scenes: Vec<_> = std::fs::read_dir(&root)
         .expect("scenes/")
         .map(|entry| entry.expect("entry").path())
@@ -52,8 +53,8 @@ fn in_pool<T: Send>(threads: usize, work: impl FnOnce() -> T + Send) -> T {
 fn adaptive_images_are_the_same_for_any_thread_count() {
     for (name, scene) in scenes() {
         let options = adaptive(DEFAULT_THRESHOLD);
-        let one = in_pool(1, || render::<f64>(&scene, &options, &|| {}));
-        let three = in_pool(3, || render::<f64>(&scene, &options, &|| {}));
+        let one = in_pool(1, || render(Precision::F64, &scene, &options, &|| {}));
+        let three = in_pool(3, || render(Precision::F64, &scene, &options, &|| {}));
         assert!(one.0 == three.0, "{name}: the image depends on threads");
         assert_eq!(one.1, three.1, "{name}: the counts depend on threads");
     }
@@ -66,8 +67,8 @@ fn refining_every_pixel_gives_the_uniform_image_bit_for_bit() {
         ..Options::default()
     };
     for (name, scene) in scenes() {
-        let (all, all_counters) = render_radiance::<f64>(&scene, &adaptive(0.0), &|| {});
-        let (same, counters) = render_radiance::<f64>(&scene, &uniform, &|| {});
+        let (all, all_counters) = render_radiance(Precision::F64, &scene, &adaptive(0.0), &|| {});
+        let (same, counters) = render_radiance(Precision::F64, &scene, &uniform, &|| {});
         assert!(all == same, "{name}: refined radiance differs from uniform");
         let pixels = u64::from(scene.resolution).pow(2);
         assert_eq!(all_counters.pixels_refined, pixels, "{name}");
@@ -77,8 +78,8 @@ fn refining_every_pixel_gives_the_uniform_image_bit_for_bit() {
             "{name}: the corners and every pixel's samples"
         );
         assert!(
-            render::<f32>(&scene, &adaptive(0.0), &|| {}).0
-                == render::<f32>(&scene, &uniform, &|| {}).0,
+            render(Precision::F32, &scene, &adaptive(0.0), &|| {}).0
+                == render(Precision::F32, &scene, &uniform, &|| {}).0,
             "{name}: f32 differs"
         );
     }
@@ -116,7 +117,7 @@ fn adaptive_never_takes_more_than_spp_samples() {
     let mut refined_some = false;
     for (name, scene) in scenes() {
         for threshold in [0.0, 0.25, 1.0, DEFAULT_THRESHOLD, 64.0] {
-            let (_, counters) = render::<f64>(&scene, &adaptive(threshold), &|| {});
+            let (_, counters) = render(Precision::F64, &scene, &adaptive(threshold), &|| {});
             assert_samples_bounded(&name, scene.resolution, &counters);
             let pixels = u64::from(scene.resolution).pow(2);
             refined_some |= (1..pixels).contains(&counters.pixels_refined);
@@ -132,11 +133,11 @@ const FLAT: &str = "camera 32\nsphere dimension 50 center 0 0 0 color .5 .3 .2\n
 #[test]
 fn a_flat_image_takes_only_its_corner_samples() {
     let scene = lower(FLAT);
-    let (image, counters) = render::<f64>(&scene, &adaptive(DEFAULT_THRESHOLD), &|| {});
+    let (image, counters) = render(Precision::F64, &scene, &adaptive(DEFAULT_THRESHOLD), &|| {});
     assert_eq!(counters.pixels_refined, 0);
     assert_eq!(counters.pixels_partly_refined, 0);
     assert_eq!(counters.primary_rays, corners(32));
-    let (one, _) = render::<f64>(&scene, &Options::default(), &|| {});
+    let (one, _) = render(Precision::F64, &scene, &Options::default(), &|| {});
     assert!(image == one, "a flat image is its 1-spp image");
 }
 
@@ -179,7 +180,7 @@ fn pixels_on_the_ball_edge(size: u32) -> u64 {
 fn only_pixels_the_edge_crosses_are_refined() {
     // A small ball inside the flat sphere: its silhouette has contrast.
     let scene = lower(&format!("{FLAT}{BALL}"));
-    let (image, counters) = render::<f64>(&scene, &adaptive(DEFAULT_THRESHOLD), &|| {});
+    let (image, counters) = render(Precision::F64, &scene, &adaptive(DEFAULT_THRESHOLD), &|| {});
     assert_samples_bounded("ball", 32, &counters);
     // A pixel whose corners straddle the silhouette disagrees and bends
     // (two flat colours: its step differs from both sides' flat steps).

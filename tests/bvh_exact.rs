@@ -10,16 +10,16 @@
 use crate::support;
 
 use std::path::Path;
-use std::time::Instant;
 
-use raytracer::frontend::load_bytes;
-use raytracer::ir;
-use raytracer::render::world::BRUTE_FORCE_MAX;
-use raytracer::render::{render, Accel, Counters, Options};
+use raytracer_render::ir;
+use raytracer_render::render::world::BRUTE_FORCE_MAX;
+use raytracer_render::render::Precision;
+use raytracer_render::render::{render, Accel, Counters, Options};
+use raytracer_scene::frontend::load_bytes;
 
 fn lower(text: &str) -> ir::Scene {
-    let dir = Path::new(env!("REPOSITORY")).join("scenes");
-    let loaded = load_bytes("test.txt", &dir, text.as_bytes(), Instant::now());
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let loaded = load_bytes("test.txt", &dir, text.as_bytes());
     let checked = loaded.checked.expect("the test scene checks");
     ir::lower(checked)
 }
@@ -41,15 +41,15 @@ fn assert_same(name: &str, text: &str) {
         accel,
         ..Options::default()
     };
-    let brute = render::<f64>(&scene, &options(Accel::Brute), &|| {});
+    let brute = render(Precision::F64, &scene, &options(Accel::Brute), &|| {});
     assert_eq!(
         brute.1.bvh_nodes, 0,
         "{name}: brute force built a hierarchy"
     );
-    let brute32 = render::<f32>(&scene, &options(Accel::Brute), &|| {});
+    let brute32 = render(Precision::F32, &scene, &options(Accel::Brute), &|| {});
     let mut compared = 0;
     for accel in [Accel::Bvh, Accel::Auto] {
-        let fast = render::<f64>(&scene, &options(accel), &|| {});
+        let fast = render(Precision::F64, &scene, &options(accel), &|| {});
         let hierarchy = accel == Accel::Bvh || scene.objects.len() > BRUTE_FORCE_MAX;
         assert_eq!(
             fast.1.bvh_nodes > 0,
@@ -67,7 +67,7 @@ fn assert_same(name: &str, text: &str) {
             "{name}: f64 {accel:?} ray counts differ"
         );
         assert!(brute.0 == fast.0, "{name}: f64 {accel:?} image differs");
-        let fast = render::<f32>(&scene, &options(accel), &|| {});
+        let fast = render(Precision::F32, &scene, &options(accel), &|| {});
         assert!(
             fast.1.bvh_nodes > 0,
             "{name}: f32 {accel:?} ran brute force"
@@ -83,7 +83,7 @@ fn assert_same(name: &str, text: &str) {
 #[test]
 fn the_statistics_name_the_acceleration_that_ran() {
     let dir = tempfile::tempdir().unwrap();
-    let sample = concat!(env!("REPOSITORY"), "/scenes/sample.txt");
+    let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sample.txt");
     let out = dir.path().join("out.png");
     let json = dir.path().join("stats.json");
     for (accel, used) in [("auto", "brute"), ("brute", "brute"), ("bvh", "bvh")] {
@@ -138,7 +138,7 @@ fn sphere(c: [f64; 3], r: f64, k: f64, color: [f64; 3]) -> String {
 
 #[test]
 fn sample_scene() {
-    let text = std::fs::read_to_string(concat!(env!("REPOSITORY"), "/scenes/sample.txt"))
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sample.txt"))
         .unwrap()
         .replace("camera 400", "camera 96");
     assert_same("sample", &text);

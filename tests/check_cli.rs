@@ -44,7 +44,8 @@ fn a_folder_with_a_scene_that_cannot_be_read_exits_1_and_names_it() {
     // Over the size limit (sparse, so nothing is written): found by the
     // walk, it cannot be read as a scene.
     let big = std::fs::File::create(dir.path().join("big.txt")).unwrap();
-    big.set_len(raytracer::limits::MAX_SCENE_BYTES + 1).unwrap();
+    big.set_len(raytracer_scene::limits::MAX_SCENE_BYTES + 1)
+        .unwrap();
     let folder = dir.path().display().to_string();
     for command in ["check", "fmt"] {
         let output = run(&[command, &folder]);

@@ -3,7 +3,7 @@
 //! about and rendered with the stand-in headup its warning names.
 
 use crate::support::corpus_copy;
-use raytracer::frontend::load;
+use raytracer_scene::frontend::load;
 
 const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";
 

@@ -29,7 +29,7 @@ fn check(format: &str) -> Output {
     let mut args = vec!["check", "--format", format];
     args.extend(FILES);
     command(&args)
-        .current_dir(env!("REPOSITORY"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("run raytracer")
 }
@@ -53,7 +53,8 @@ fn sarif() -> Value {
 
 #[test]
 fn sarif_validates_against_the_official_schema() {
-    let schema_path = Path::new(env!("REPOSITORY")).join("tests/sarif/sarif-schema-2.1.0.json");
+    let schema_path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/sarif/sarif-schema-2.1.0.json");
     let schema: Value =
         serde_json::from_str(&std::fs::read_to_string(schema_path).expect("vendored schema"))
             .expect("schema is JSON");
@@ -102,28 +103,19 @@ fn sarif_carries_what_json_carries() {
     assert_eq!(results.len(), entries.len());
 
     let docs =
-        std::fs::read_to_string(Path::new(env!("REPOSITORY")).join("docs/diagnostics.md")).unwrap();
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostics.md"))
+            .unwrap();
     for rule in rules {
         let id = rule["id"].as_str().unwrap();
-        let uri = rule["helpUri"].as_str().unwrap();
-        if id.starts_with("io::") {
-            assert!(uri.ends_with("docs/cli.md#exit-codes"), "{uri}");
-        } else {
+        // The documentation travels in the log: no link into a folder.
+        assert!(rule.get("helpUri").is_none(), "{rule}");
+        if !id.starts_with("io::") {
             // The rule's text is its section of docs/diagnostics.md.
             let section = format!(
                 "## `{id}`\n\n**What.** {}",
                 rule["shortDescription"]["text"].as_str().unwrap()
             );
             assert!(docs.contains(&section), "{id}");
-            let anchor = id.replace("::", "");
-            assert!(
-                uri.ends_with(&format!("docs/diagnostics.md#{anchor}")),
-                "{uri}"
-            );
-            assert!(
-                docs.contains(&format!("(#{anchor})")),
-                "the docs link {anchor}"
-            );
         }
         assert!(!rule["help"]["text"].as_str().unwrap().is_empty());
     }
@@ -327,8 +319,6 @@ fn github_commands_carry_what_json_carries() {
 
 #[test]
 fn snapshots_of_both_formats() {
-    let root = concat!("file://", env!("REPOSITORY"));
-    let log = stdout(&check("sarif")).replace(root, "file://[repository]");
-    insta::assert_snapshot!("sarif", log);
+    insta::assert_snapshot!("sarif", stdout(&check("sarif")));
     insta::assert_snapshot!("github", stdout(&check("github")));
 }

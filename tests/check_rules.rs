@@ -3,12 +3,12 @@
 
 use std::path::Path;
 
-use raytracer::ast::File;
-use raytracer::check::{CheckError, SceneCheck, Valid};
-use raytracer::diagnostic::SourceFile;
-use raytracer::model::Shape;
-use raytracer::syntax::parse;
-use raytracer::texture::Decoder;
+use raytracer_scene::ast::File;
+use raytracer_scene::check::{CheckError, SceneCheck, Valid};
+use raytracer_scene::diagnostic::SourceFile;
+use raytracer_scene::model::Shape;
+use raytracer_scene::syntax::parse;
+use raytracer_scene::texture::Decoder;
 
 /// The check pass over every section of a parsed file.
 fn check_file(file: &File, source: &SourceFile) -> (Option<Valid>, Vec<CheckError>) {
@@ -271,7 +271,7 @@ fn textures_load_relative_to_the_scene_folder() {
         checked.scene.objects[0].material.texture.as_deref(),
         Some("t.ppm")
     );
-    assert!(raytracer::ir::Effects::of(&checked.scene).textures);
+    assert!(raytracer_render::ir::Effects::of(&checked.scene).textures);
     assert_eq!(scene("\"missing one.ppm\"").1, ["scene::texture_not_found"]);
     assert_eq!(scene("bad.ppm").1, ["scene::texture_not_an_image"]);
     assert_eq!(scene(".").1, ["scene::texture_not_a_file"]);
@@ -290,7 +290,7 @@ fn checking_section_by_section_as_parsed_equals_checking_the_tree() {
         let (source, _) = SourceFile::from_bytes("scene.txt", Path::new("."), text.as_bytes());
         let parsed = parse(text);
         let (tree_scene, tree_problems) = check_file(&parsed.file, &source);
-        let mut sections = raytracer::syntax::sections(text);
+        let mut sections = raytracer_scene::syntax::sections(text);
         let mut decoder = Decoder::default();
         let mut check = SceneCheck::new(&source, &mut decoder);
         for section in sections.by_ref() {

@@ -462,7 +462,7 @@ fn a_huge_texture_header_is_refused_before_allocation() {
 fn a_scene_larger_than_the_limit_is_refused_without_reading_it_all() {
     let dir = tempfile::tempdir().unwrap();
     let mut text = SCENE.to_string().into_bytes();
-    let limit = raytracer::limits::MAX_SCENE_BYTES as usize;
+    let limit = raytracer_scene::limits::MAX_SCENE_BYTES as usize;
     text.resize(limit + 1, b' ');
     let scene = write(dir.path(), "big.txt", &text);
     let out = dir.path().join("out.png");

@@ -203,7 +203,7 @@ fn textured_tree() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     let scenes = dir.path().join("scenes");
     std::fs::create_dir_all(scenes.join("tex")).unwrap();
-    let wood = Path::new(env!("REPOSITORY")).join("scenes/wood_tex.ppm");
+    let wood = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/wood_tex.ppm");
     std::fs::copy(wood, scenes.join("tex/wood.ppm")).unwrap();
     std::fs::write(scenes.join("s.txt"), TEXTURED).unwrap();
     dir

@@ -1,4 +1,4 @@
-//! The formatter (`raytracer::format` and `raytracer fmt`):
+//! The formatter (`raytracer_scene::format` and `raytracer fmt`):
 //!
 //! - before/after fixtures: each file in tests/format/ and its formatted
 //!   text as an insta snapshot;
@@ -12,17 +12,16 @@
 use crate::support;
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use crate::support::{run, write};
 use proptest::prelude::*;
-use raytracer::format::format;
-use raytracer::frontend::load_bytes;
-use raytracer::syntax::{self, trivia};
+use raytracer_scene::format::format;
+use raytracer_scene::frontend::load_bytes;
+use raytracer_scene::syntax::{self, trivia};
 
-const FIXTURES: &str = concat!(env!("REPOSITORY"), "/tests/format");
-const CORPUS: &str = concat!(env!("REPOSITORY"), "/tests/corpus/field");
-const SCENES: &str = concat!(env!("REPOSITORY"), "/scenes");
+const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/format");
+const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");
+const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
 
 fn scene_files(dir: &str) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -39,7 +38,7 @@ fn scene_files(dir: &str) -> Vec<PathBuf> {
 /// its whitespace collapsed, since a message may quote the source) and its
 /// checked scene as JSON.
 fn meaning(text: &str, dir: &Path) -> (Vec<String>, Option<String>) {
-    let loaded = load_bytes("scene.txt", dir, text.as_bytes(), Instant::now());
+    let loaded = load_bytes("scene.txt", dir, text.as_bytes());
     let comments = comments(text);
     let plain = |s: &str| {
         let mut s = s.to_string();
@@ -63,7 +62,7 @@ fn meaning(text: &str, dir: &Path) -> (Vec<String>, Option<String>) {
         .collect();
     let scene = loaded
         .checked
-        .map(|c| raytracer::convert::json::to_json(&c.scene));
+        .map(|c| raytracer_scene::convert::json::to_json(&c.scene));
     (diagnostics, scene)
 }
 

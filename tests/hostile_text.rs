@@ -9,10 +9,9 @@ use std::ffi::OsStr;
 use std::os::unix::ffi::OsStrExt;
 use std::path::Path;
 use std::process::{Command, Output};
-use std::time::Instant;
 
 use crate::support::bin;
-use raytracer::frontend::load_bytes;
+use raytracer_scene::frontend::load_bytes;
 
 /// A scene whose comments, attribute names and texture path hold every kind
 /// of hidden character.
@@ -138,12 +137,7 @@ fn short_diagnostics_escape_and_json_keeps_the_text_exactly() {
 
 #[test]
 fn coloured_diagnostics_hold_no_escape_but_their_own_colours() {
-    let loaded = load_bytes(
-        "evil\x1b[31m.txt",
-        Path::new("."),
-        SCENE.as_bytes(),
-        Instant::now(),
-    );
+    let loaded = load_bytes("evil\x1b[31m.txt", Path::new("."), SCENE.as_bytes());
     let coloured = loaded.report.render_human(100, true);
     assert!(coloured.contains("\x1b["), "no colour at all:\n{coloured}");
     // Every ESC left is miette's own SGR colour sequence: `ESC [ digits;… m`.

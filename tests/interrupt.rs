@@ -7,7 +7,7 @@ mod support;
 
 use std::io::{Error, ErrorKind};
 
-use raytracer::output;
+use raytracer_render::output;
 use support::listing;
 
 #[test]

@@ -20,8 +20,8 @@
 
 use glam::DVec3;
 use proptest::prelude::*;
-use raytracer::render::geometry::{Ray, Rect, Shape, Sphere};
-use raytracer::render::real::{Real, Vector};
+use raytracer_render::render::geometry::{Ray, Rect, Shape, Sphere};
+use raytracer_render::render::real::{Real, Vector};
 
 /// The bound, in units of `ε · scale`.
 const BOUND: f64 = 8.0;

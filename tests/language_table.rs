@@ -1,20 +1,19 @@
-//! The language table (src/language.rs) is the one source of the
+//! The language table (crates/scene/src/language.rs) is the one source of the
 //! attribute table in docs/language.md, and its examples are valid scene
 //! text.
 
 use std::path::Path;
-use std::time::Instant;
 
-use raytracer::ast::SectionKind;
-use raytracer::frontend::load_bytes;
-use raytracer::language::{attributes_of, markdown_table};
+use raytracer_scene::ast::SectionKind;
+use raytracer_scene::frontend::load_bytes;
+use raytracer_scene::language::{attributes_of, markdown_table};
 
-const BEGIN: &str = "<!-- attribute table: generated from src/language.rs -->\n";
+const BEGIN: &str = "<!-- attribute table: generated from crates/scene/src/language.rs -->\n";
 const END: &str = "<!-- end of attribute table -->";
 
 #[test]
 fn the_docs_table_is_the_generated_one() {
-    let path = Path::new(env!("REPOSITORY")).join("docs/language.md");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/language.md");
     let page = std::fs::read_to_string(&path).expect("read docs/language.md");
     let start = page
         .find(BEGIN)
@@ -36,11 +35,11 @@ fn the_docs_table_is_the_generated_one() {
 
 #[test]
 fn every_example_is_valid_scene_text() {
-    let dir = Path::new(env!("REPOSITORY")).join("scenes");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     for kind in [SectionKind::Sphere, SectionKind::Plane, SectionKind::Light] {
         let lines: Vec<&str> = attributes_of(&kind).iter().map(|s| s.example).collect();
         let text = format!("camera 4\n{}\n  {}\n", kind.as_str(), lines.join("\n  "));
-        let loaded = load_bytes("t.txt", &dir, text.as_bytes(), Instant::now());
+        let loaded = load_bytes("t.txt", &dir, text.as_bytes());
         assert!(
             loaded.checked.is_some(),
             "{text}{}",

@@ -31,6 +31,11 @@ const WAIT: Duration = Duration::from_secs(20);
 
 impl Client {
     fn start() -> Client {
+        Client::start_with(json!({"capabilities": {}}))
+    }
+
+    /// Start the server and initialise it with `params`.
+    fn start_with(params: Value) -> Client {
         let mut child = Command::new(support::bin())
             .args(["lsp", "--debounce-ms", "0"])
             .stdin(Stdio::piped())
@@ -56,7 +61,7 @@ impl Client {
             next_id: 0,
             notifications: Vec::new(),
         };
-        let result = client.request("initialize", json!({"capabilities": {}}));
+        let result = client.request("initialize", params);
         assert!(result["capabilities"]["documentFormattingProvider"] == json!(true));
         client.notify("initialized", json!({}));
         client
@@ -163,7 +168,27 @@ fn uri_of(path: &Path) -> String {
 const MISTAKES: &str = "camera 400\nsphere\n  dimension 1\n  center 0 0 -5\n  colr 1 0 0\nplane\n  dimension 4 4\n  center 0 -1 -5\n  normal 0 2 0\n  headup 0 1 1\n";
 
 #[test]
-fn diagnostics_carry_codes_links_and_related_information() {
+fn the_docs_link_goes_where_the_client_says() {
+    let dir = tempfile::tempdir().unwrap();
+    let uri = uri_of(&dir.path().join("scene.txt"));
+    let docs = "https://course.example/docs/diagnostics.md";
+    let mut client = Client::start_with(json!({
+        "capabilities": {},
+        "initializationOptions": {"diagnosticsDocs": docs},
+    }));
+    let diagnostics = client.open(&uri, "raytracer", MISTAKES);
+    let unknown = diagnostics
+        .iter()
+        .find(|d| d["code"] == "scene::unknown_attribute")
+        .unwrap();
+    assert_eq!(
+        unknown["codeDescription"]["href"],
+        format!("{docs}#sceneunknown_attribute")
+    );
+}
+
+#[test]
+fn diagnostics_carry_codes_and_related_information() {
     let dir = tempfile::tempdir().unwrap();
     let uri = uri_of(&dir.path().join("scene.txt"));
     let mut client = Client::start();
@@ -182,11 +207,9 @@ fn diagnostics_carry_codes_links_and_related_information() {
         json!({"line": 4, "character": 2})
     );
     assert_eq!(unknown["severity"], json!(1));
-    let href = unknown["codeDescription"]["href"].as_str().unwrap();
-    assert!(
-        href.ends_with("docs/diagnostics.md#sceneunknown_attribute"),
-        "{href}"
-    );
+    // No link unless the client says where the docs are (see
+    // `the_docs_link_goes_where_the_client_says`).
+    assert!(unknown.get("codeDescription").is_none(), "{unknown}");
     assert!(
         unknown["message"].as_str().unwrap().contains("help:"),
         "{unknown}"

@@ -2,7 +2,7 @@
 //! layout rust-analyzer and cargo use for large suites): every file in
 //! `tests/` links the crate once, not once per file. `interrupt.rs` is the
 //! one test with a binary of its own, because the clean-up it exercises
-//! ([`raytracer::output::abandon`]) is for good in the process that runs it.
+//! ([`raytracer_render::output::abandon`]) is for good in the process that runs it.
 
 mod reference;
 mod support;
@@ -42,6 +42,7 @@ mod semantic_tokens;
 mod stability;
 mod texture_headers;
 mod textures;
+mod tidy;
 mod tile_cli;
 mod ui;
 mod vim_syntax;

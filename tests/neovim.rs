@@ -11,7 +11,7 @@ use crate::support;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-const SCRIPT: &str = concat!(env!("REPOSITORY"), "/tests/editors/neovim.lua");
+const SCRIPT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/editors/neovim.lua");
 
 const SCENE: &str = "camera 40\nsphere dimension 1 center 0 0 -5   # the ball\n  colr .5 .5 .5\nplane dimension 4 4 center 0 -1 -5\n  normal 0 1 0 headup 0 1 1\nlight location 0 5 0 color 1 1 1\n";
 

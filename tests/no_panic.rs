@@ -3,13 +3,12 @@
 //! diagnostic format and, when they check, every `convert` target.
 
 use std::path::Path;
-use std::time::Instant;
 
 use proptest::prelude::*;
-use raytracer::convert::{json, pov, scene_text};
-use raytracer::fix::{self, Applicability};
-use raytracer::frontend::load_bytes;
-use raytracer::syntax::parse;
+use raytracer_scene::convert::{json, pov, scene_text};
+use raytracer_scene::fix::{self, Applicability};
+use raytracer_scene::frontend::load_bytes;
+use raytracer_scene::syntax::parse;
 
 /// Scenes to mutate: the language's example and a few fixtures that reach deep
 /// into the checks (textures resolve in tests/ui/scene, where they exist).
@@ -60,8 +59,8 @@ const INTERESTING: &[char] = &[
 
 /// Run everything the `check` command runs on `bytes`.
 fn front_end(bytes: &[u8]) {
-    let dir = Path::new(concat!(env!("REPOSITORY"), "/tests/ui/scene"));
-    let loaded = load_bytes("fuzz.txt", dir, bytes, Instant::now());
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ui/scene"));
+    let loaded = load_bytes("fuzz.txt", dir, bytes);
     let report = &loaded.report;
     let (fixed, _) = fix::apply(
         &report.source.text,
@@ -89,8 +88,8 @@ const JSON_SEEDS: [&str; 4] = [
 /// Read `bytes` as a JSON scene, check it, fix it, and convert it when it
 /// checks.
 fn json_front_end(bytes: &[u8]) {
-    let dir = Path::new(concat!(env!("REPOSITORY"), "/tests/ui/scene"));
-    let loaded = load_bytes("fuzz.json", dir, bytes, Instant::now());
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ui/scene"));
+    let loaded = load_bytes("fuzz.json", dir, bytes);
     let report = &loaded.report;
     let _ = fix::apply(
         &report.source.text,

@@ -22,12 +22,12 @@ use crate::support;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use raytracer::convert::scene_text::to_scene_text;
-use raytracer::frontend::load;
-use raytracer::model::{Material, Scene};
+use raytracer_scene::convert::scene_text::to_scene_text;
+use raytracer_scene::frontend::load;
+use raytracer_scene::model::{Material, Scene};
 
-const CORPUS: &str = concat!(env!("REPOSITORY"), "/tests/corpus/field");
-const SCENES: &str = concat!(env!("REPOSITORY"), "/scenes");
+const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");
+const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
 const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";
 /// The coverage images' width and height.
 const SIZE: u32 = 96;

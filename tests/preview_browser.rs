@@ -24,8 +24,8 @@ use tungstenite::{Message, WebSocket};
 
 use crate::preview::{http, save, Server, PATIENCE};
 
-const SAMPLE: &str = concat!(env!("REPOSITORY"), "/scenes/sample.txt");
-const WOOD: &str = concat!(env!("REPOSITORY"), "/scenes/wood_tex.ppm");
+const SAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sample.txt");
+const WOOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/wood_tex.ppm");
 
 /// True when `chromium` runs; under CI its absence is a failure.
 pub(crate) fn chromium_available(test: &str) -> bool {
@@ -255,7 +255,11 @@ fn chromium_shows_edits_without_reloading_and_errors_beside_the_stale_image() {
     }
     let (dir, scene) = sample_scene(SIDE);
     // Started in the scene's folder, so the page names it `sample.txt`.
-    let server = Server::start_in(dir.path(), Path::new("sample.txt"), &[]);
+    let server = Server::start_in(
+        dir.path(),
+        Path::new("sample.txt"),
+        &["--docs", "https://course.example/docs/diagnostics.md"],
+    );
     let mut browser = Browser::start(1100, 640);
     browser.navigate(&format!("http://{}/", server.address));
     let first = browser.wait_for(SHOWS_LATEST, "document.body.dataset.image");
@@ -300,9 +304,9 @@ fn chromium_shows_edits_without_reloading_and_errors_beside_the_stale_image() {
     assert_eq!(entry[0], "error");
     assert_eq!(entry[1], "scene::unknown_attribute");
     assert!(
-        entry[2]
-            .as_str()
-            .is_some_and(|href| href.ends_with("/docs/diagnostics.md#sceneunknown_attribute")),
+        entry[2].as_str().is_some_and(
+            |href| href == "https://course.example/docs/diagnostics.md#sceneunknown_attribute"
+        ),
         "{entry}"
     );
     assert!(

@@ -11,13 +11,13 @@ use std::path::Path;
 
 use crate::reference::assert_renders_match_reference;
 use crate::support::{corpus_copy, lower, lower_in, pixel, quantized, render};
-use raytracer::render::Options;
+use raytracer_render::render::Options;
 
 #[test]
 fn corpus_and_project_scenes_match_the_reference_model() {
     let (_dir, mut scenes) = corpus_copy();
     scenes.retain(|s| !s.ends_with("reflection_91b7c2f_headup010.txt"));
-    let project = Path::new(env!("REPOSITORY")).join("scenes");
+    let project = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     for entry in std::fs::read_dir(project).expect("scenes/") {
         let path = entry.expect("entry").path();
         if path.extension().is_some_and(|e| e == "txt") {

@@ -1,4 +1,4 @@
-//! The rule registry (src/language.rs) drives the check pass: for every
+//! The rule registry (crates/scene/src/language.rs) drives the check pass: for every
 //! row whose rule a value can break, a scene that breaks it gets a
 //! diagnostic on that line carrying a fix, whose message is the help line,
 //! and applying the fixes leaves no error. The same holds for every row's
@@ -7,15 +7,14 @@
 //! covered without a new test.
 
 use std::path::Path;
-use std::time::Instant;
 
-use raytracer::ast::SectionKind;
-use raytracer::fix::{self, Applicability};
-use raytracer::frontend::{load_bytes, Loaded};
-use raytracer::language::{attributes_of, rows, Arity, AttrSpec, Constraint, Key};
+use raytracer_scene::ast::SectionKind;
+use raytracer_scene::fix::{self, Applicability};
+use raytracer_scene::frontend::{load_bytes, Loaded};
+use raytracer_scene::language::{attributes_of, rows, Arity, AttrSpec, Constraint, Key};
 
 fn load(text: &str) -> Loaded {
-    load_bytes("t.txt", Path::new("."), text.as_bytes(), Instant::now())
+    load_bytes("t.txt", Path::new("."), text.as_bytes())
 }
 
 /// Values (as scene text) that break `spec`'s rule, one set per way to

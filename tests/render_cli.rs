@@ -8,6 +8,7 @@ use crate::support;
 use std::path::Path;
 
 use crate::support::{corpus_copy, listing, lower, render, run};
+use raytracer_render::render::Precision;
 use serde_json::Value;
 
 /// Render `scene` (text) with `--stats-json` and return the statistics.
@@ -62,7 +63,7 @@ fn stats_count_only_the_effects_the_scene_calls_for() {
 
 #[test]
 fn textures_are_read_only_where_a_textured_object_is_hit() {
-    let wood = Path::new(env!("REPOSITORY")).join("scenes/wood_tex.ppm");
+    let wood = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/wood_tex.ppm");
     let scene = format!(
         "{SPHERE}{PLANE}texture \"{}\"\n",
         wood.display().to_string().replace('\\', "\\\\")
@@ -219,11 +220,11 @@ fn skipping_work_that_cannot_show_leaves_the_image_unchanged() {
         let text = std::fs::read_to_string(scene).expect("read");
         let ir = support::lower_in(&text, scene.parent().expect("folder"), Some(120));
         let with = |skip| {
-            let options = raytracer::render::Options {
+            let options = raytracer_render::render::Options {
                 skip,
                 ..Default::default()
             };
-            raytracer::render::render::<f64>(&ir, &options, &|| {})
+            raytracer_render::render::render(Precision::F64, &ir, &options, &|| {})
         };
         let ((skipping, fewer), (full, all)) = (with(true), with(false));
         assert!(

@@ -12,14 +12,14 @@
 use std::path::{Path, PathBuf};
 
 use proptest::prelude::*;
-use raytracer::convert::json::{schema, to_json};
-use raytracer::convert::scene_text::to_scene_text;
-use raytracer::frontend::load;
-use raytracer::geometry;
-use raytracer::model::{self, Camera, Light, Material, Object, Scene, Shape};
+use raytracer_scene::convert::json::{schema, to_json};
+use raytracer_scene::convert::scene_text::to_scene_text;
+use raytracer_scene::frontend::load;
+use raytracer_scene::geometry;
+use raytracer_scene::model::{self, Camera, Light, Material, Object, Scene, Shape};
 
-const CORPUS: &str = concat!(env!("REPOSITORY"), "/tests/corpus/field");
-const SCENES: &str = concat!(env!("REPOSITORY"), "/scenes");
+const CORPUS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/field");
+const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
 /// An error by docs/language.md: its headup is parallel to its normal.
 const PARALLEL: &str = "reflection_91b7c2f_headup010.txt";
 /// A 2 × 2 texture for scenes that name `wood_tex.ppm`.
@@ -140,7 +140,7 @@ fn canonical_text_of_the_sample() {
 
 #[test]
 fn committed_schema_is_the_generated_one() {
-    let path = Path::new(env!("REPOSITORY")).join("docs/scene.schema.json");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scene.schema.json");
     let generated = schema();
     if std::env::var_os("UPDATE_SCHEMA").is_some() {
         std::fs::write(&path, &generated).unwrap();

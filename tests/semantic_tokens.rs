@@ -1,5 +1,5 @@
 //! Semantic tokens from the language server, asked for as a client does
-//! (over an in-memory connection to [`raytracer::lsp::serve`]) and decoded
+//! (over an in-memory connection to [`raytracer_app::lsp::serve`]) and decoded
 //! with the legend the server announced: every token of a scene at its
 //! line, UTF-16 column and length, including tokens after multibyte text
 //! on their line, the `invalid` modifier where the diagnostics put an
@@ -8,7 +8,7 @@
 use std::time::Duration;
 
 use lsp_server::{Connection, Message, Notification, Request, RequestId};
-use raytracer::lsp::{serve, Options};
+use raytracer_app::lsp::{serve, Options};
 use serde_json::{json, Value};
 
 /// Accents and an emoji (two UTF-16 units, four bytes) in a comment, a

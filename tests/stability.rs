@@ -16,23 +16,23 @@
 //! every build, so the check holds in release too).
 
 use std::path::Path;
-use std::time::Instant;
 
 use glam::DVec3;
 use proptest::prelude::*;
-use raytracer::ir;
-use raytracer::render::geometry::Ray;
-use raytracer::render::real::Vector;
-use raytracer::render::trace::{texel, Tracer};
-use raytracer::render::{camera_ray, render, Counters, Image, Options, Real};
+use raytracer_render::ir;
+use raytracer_render::render::geometry::Ray;
+use raytracer_render::render::real::Vector;
+use raytracer_render::render::trace::{texel, Tracer};
+use raytracer_render::render::{camera_ray, render, Counters, Image, Options, Real};
 
 use crate::reference::{assert_renders_match_reference, Expected, Reference};
+use raytracer_render::render::Precision;
 
 /// Load and lower a scene of scenes/hard/.
 fn hard_scene(name: &str) -> ir::Scene {
-    let dir = Path::new(env!("REPOSITORY")).join("scenes/hard");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard");
     let bytes = std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let loaded = raytracer::frontend::load_bytes(name, &dir, &bytes, Instant::now());
+    let loaded = raytracer_scene::frontend::load_bytes(name, &dir, &bytes);
     let checked = loaded.checked.unwrap_or_else(|| {
         panic!(
             "{name} has errors:\n{}",
@@ -42,14 +42,14 @@ fn hard_scene(name: &str) -> ir::Scene {
     ir::lower(checked)
 }
 
-fn render_in<R: Real>(scene: &ir::Scene, options: &Options) -> (Image, Counters) {
-    render::<R>(scene, options, &|| {})
+fn render_in(precision: Precision, scene: &ir::Scene, options: &Options) -> (Image, Counters) {
+    render(precision, scene, options, &|| {})
 }
 
 /// Both precisions' images of a scene, named for messages.
 fn both(scene: &ir::Scene, options: &Options) -> [(&'static str, Image, Counters); 2] {
-    let (a, ca) = render_in::<f32>(scene, options);
-    let (b, cb) = render_in::<f64>(scene, options);
+    let (a, ca) = render_in(Precision::F32, scene, options);
+    let (b, cb) = render_in(Precision::F64, scene, options);
     [("f32", a, ca), ("f64", b, cb)]
 }
 
@@ -73,7 +73,7 @@ fn shadow_acne_lit_pixels_keep_their_analytic_value() {
 fn a_planet_sized_ground_is_exact_in_f64() {
     let scene = hard_scene("planet.txt");
     let options = Options::default();
-    let (image, counters) = render_in::<f64>(&scene, &options);
+    let (image, counters) = render_in(Precision::F64, &scene, &options);
     assert_renders_match_reference(
         "planet",
         &scene,
@@ -154,7 +154,7 @@ fn scaled_copies_of_a_scene_render_the_same_image() {
     let options = Options::default();
     let base = hard_scene("scaled_1.txt");
     let reference = Reference::new(&base, options.max_depth, MARGIN);
-    let (unit, _) = render_in::<f64>(&base, &options);
+    let (unit, _) = render_in(Precision::F64, &base, &options);
     for name in ["scaled_1e-3.txt", "scaled_1.txt", "scaled_1e6.txt"] {
         let scene = hard_scene(name);
         assert_matches_reference(name, &scene, &options, MARGIN);
@@ -378,7 +378,7 @@ fn random_scene() -> impl Strategy<Value = ir::Scene> {
             lights,
             textures: vec![ir::Texture {
                 path: "checker".into(),
-                format: raytracer::texture::TextureFormat::Ppm,
+                format: raytracer_scene::texture::TextureFormat::Ppm,
                 width: 2,
                 height: 2,
                 texels: vec![[0.2; 3], [0.9; 3], [0.9; 3], [0.2; 3]],
@@ -431,9 +431,9 @@ proptest! {
         dir in [-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64],
     ) {
         let options = Options { spp: 4, ..Options::default() };
-        let (_, counters) = render_in::<f32>(&scene, &options);
+        let (_, counters) = render_in(Precision::F32, &scene, &options);
         prop_assert_eq!(counters.non_finite, 0);
-        let (_, counters) = render_in::<f64>(&scene, &options);
+        let (_, counters) = render_in(Precision::F64, &scene, &options);
         prop_assert_eq!(counters.non_finite, 0);
         if let Some(dir) = DVec3::from_array(dir).try_normalize() {
             let ray = random_ray(&scene, pick, along, dir);

@@ -14,10 +14,10 @@ use image::codecs::jpeg::JpegEncoder;
 use image::codecs::png::PngEncoder;
 use image::{ExtendedColorType, ImageEncoder};
 use proptest::prelude::*;
-use raytracer::ir::Texture;
-use raytracer::limits::MAX_TEXTURE_TEXELS;
-use raytracer::render::trace::texel;
-use raytracer::texture::{decode, load, DecodeError, TextureError, TextureFormat};
+use raytracer_render::ir::Texture;
+use raytracer_render::render::trace::texel;
+use raytracer_scene::limits::MAX_TEXTURE_TEXELS;
+use raytracer_scene::texture::{decode, load, DecodeError, TextureError, TextureFormat};
 
 type Texels = Vec<[f32; 3]>;
 

@@ -455,13 +455,13 @@ fn forged_metadata_and_outputs_among_the_inputs_are_refused() {
     let dir = scene_dir();
     let d = dir.path();
     let parts = render_tiles(d, "t", 2, &[]);
-    let info = raytracer::tile::file::read_info(&d.join(&parts[0])).expect("a tile");
-    let forge = |name: &str, edit: &dyn Fn(&mut raytracer::tile::TileInfo)| {
+    let info = raytracer_render::tile::file::read_info(&d.join(&parts[0])).expect("a tile");
+    let forge = |name: &str, edit: &dyn Fn(&mut raytracer_render::tile::TileInfo)| {
         let mut forged = info.clone();
         edit(&mut forged);
         let rgb = vec![0u8; 29 * 14 * 3];
         let mut bytes = Vec::new();
-        raytracer::tile::file::encode(&forged, &rgb, &mut bytes).expect("encode");
+        raytracer_render::tile::file::encode(&forged, &rgb, &mut bytes).expect("encode");
         std::fs::write(d.join(name), bytes).unwrap();
     };
     forge("huge.png", &|i| {

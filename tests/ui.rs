@@ -8,22 +8,22 @@
 //! every fixture must be named after a code, and docs/diagnostics.md must
 //! have a section per code showing the fixture's current output. Every code
 //! either carries a fix in its fixture (snapshotted as JSON) or is on
-//! [`raytracer::fix::WITHOUT_FIX`], whose reason its section states.
+//! [`raytracer_scene::fix::WITHOUT_FIX`], whose reason its section states.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use raytracer::check::CheckError;
-use raytracer::fix::WITHOUT_FIX;
-use raytracer::frontend::Loaded;
-use raytracer::json::JsonError;
-use raytracer::syntax::SyntaxError;
+use raytracer_scene::check::CheckError;
+use raytracer_scene::fix::WITHOUT_FIX;
+use raytracer_scene::frontend::Loaded;
+use raytracer_scene::json::JsonError;
+use raytracer_scene::syntax::SyntaxError;
 
 /// Each namespace's fixture folder and the extension of its fixtures.
 const NAMESPACES: [(&str, &str); 3] = [("syntax", "txt"), ("scene", "txt"), ("json", "json")];
 
 fn root() -> &'static Path {
-    Path::new(env!("REPOSITORY"))
+    Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// Every fixture, as a path relative to the repository (so rendered file
@@ -55,7 +55,7 @@ fn load(fixture: &Path) -> Loaded {
     IN_REPOSITORY.get_or_init(|| {
         std::env::set_current_dir(root()).expect("the repository is a folder");
     });
-    raytracer::frontend::load(fixture).expect("fixture readable")
+    raytracer_scene::frontend::load(fixture).expect("fixture readable")
 }
 
 /// `syntax::invalid_number` for `tests/ui/syntax/invalid_number.txt`.
@@ -125,8 +125,9 @@ fn normalized(text: &str) -> String {
 
 #[test]
 fn docs_show_every_code_as_rendered() {
-    let docs = std::fs::read_to_string(Path::new(env!("REPOSITORY")).join("docs/diagnostics.md"))
-        .expect("read docs/diagnostics.md");
+    let docs =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostics.md"))
+            .expect("read docs/diagnostics.md");
     for fixture in fixtures() {
         let code = code_of(&fixture);
         let heading = format!("\n## `{code}`\n");
@@ -200,8 +201,9 @@ fn fixes_show_in_the_json_format() {
 
 #[test]
 fn docs_give_the_reason_a_code_has_no_fix() {
-    let docs = std::fs::read_to_string(Path::new(env!("REPOSITORY")).join("docs/diagnostics.md"))
-        .expect("read docs/diagnostics.md");
+    let docs =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostics.md"))
+            .expect("read docs/diagnostics.md");
     for (code, reason) in WITHOUT_FIX {
         let heading = format!("\n## `{code}`\n");
         let start = docs.find(&heading).expect("a section per code") + heading.len();

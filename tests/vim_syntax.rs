@@ -16,8 +16,8 @@ use std::time::{Duration, Instant};
 
 use crate::support;
 
-const SCRIPT: &str = concat!(env!("REPOSITORY"), "/tests/editors/syntax.vim");
-const RUNTIME: &str = concat!(env!("REPOSITORY"), "/editors/vim");
+const SCRIPT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/editors/syntax.vim");
+const RUNTIME: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/editors/vim");
 
 /// A header comment, then the section keyword that makes a `.txt` a scene;
 /// a string with a `#` in it, a bare path, an unterminated string.

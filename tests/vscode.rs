@@ -14,7 +14,7 @@ use std::process::{Command, Output};
 
 use crate::support;
 
-const EXTENSION: &str = concat!(env!("REPOSITORY"), "/editors/vscode");
+const EXTENSION: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/editors/vscode");
 
 /// Skip (or fail under CI) when the tools are missing; true when present.
 fn ready() -> bool {

@@ -6,7 +6,7 @@
 // one `camera N`, then `sphere`, `plane` and `light` sections whose
 // attributes are one per line. Spheres are Embree's built-in
 // RTC_GEOMETRY_TYPE_SPHERE_POINT, each finite plane two triangles.
-// Shading is the tracer's (src/render/trace.rs): ambient 0.1·C plus
+// Shading is the tracer's (crates/render/src/render/trace.rs): ambient 0.1·C plus
 // C ⊙ I · max(0, N·L̂) per light a shadow ray reaches, mirror reflection
 // up to MAX_DEPTH times, nearest-texel textures (PPM only), the same
 // skips of work that cannot change an 8-bit value. Geometry is single

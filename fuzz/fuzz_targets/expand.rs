@@ -15,10 +15,9 @@
 #![no_main]
 
 use std::path::Path;
-use std::time::Instant;
 
 use libfuzzer_sys::fuzz_target;
-use raytracer::frontend::load_bytes;
+use raytracer_scene::frontend::load_bytes;
 
 /// Past the 16-bit line and column numbers some renderers keep.
 const PAST_U16: usize = 65_536 + 64;
@@ -75,7 +74,7 @@ fuzz_target!(|bytes: &[u8]| {
         }
     };
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/ui/scene"));
-    let loaded = load_bytes("fuzz.txt", dir, &expanded, Instant::now());
+    let loaded = load_bytes("fuzz.txt", dir, &expanded);
     let report = &loaded.report;
     let _ = report.render_human_at_most(50, 80, false);
     let _ = report.render_human(80, false);

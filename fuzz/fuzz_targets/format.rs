@@ -14,12 +14,11 @@
 #![no_main]
 
 use std::path::Path;
-use std::time::Instant;
 
 use libfuzzer_sys::fuzz_target;
-use raytracer::format::format;
-use raytracer::frontend::load_bytes;
-use raytracer::syntax::{self, trivia};
+use raytracer_scene::format::format;
+use raytracer_scene::frontend::load_bytes;
+use raytracer_scene::syntax::{self, trivia};
 
 fuzz_target!(|bytes: &[u8]| {
     let Ok(text) = std::str::from_utf8(bytes) else {
@@ -55,7 +54,7 @@ fn comments(text: &str) -> Vec<String> {
 /// What the toolchain makes of `text`: its diagnostics and checked scene.
 fn meaning(text: &str) -> (Vec<String>, Option<String>) {
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/ui/scene"));
-    let loaded = load_bytes("fuzz.txt", dir, text.as_bytes(), Instant::now());
+    let loaded = load_bytes("fuzz.txt", dir, text.as_bytes());
     let comments = comments(text);
     // Text with comments and whitespace taken out: the formatter puts one
     // space between the values of a line, also where the file wrote none
@@ -89,6 +88,6 @@ fn meaning(text: &str) -> (Vec<String>, Option<String>) {
         .collect();
     let scene = loaded
         .checked
-        .map(|c| raytracer::convert::json::to_json(&c.scene));
+        .map(|c| raytracer_scene::convert::json::to_json(&c.scene));
     (diagnostics, scene)
 }

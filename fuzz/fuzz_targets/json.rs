@@ -5,15 +5,16 @@
 #![no_main]
 
 use std::path::Path;
-use std::time::Instant;
 
 use libfuzzer_sys::fuzz_target;
-use raytracer::frontend::load_bytes;
-use raytracer::{convert, ir, render};
+use raytracer_scene::frontend::load_bytes;
+use raytracer_scene::convert;
+use raytracer_render::ir;
+use raytracer_render::render;
 
 fuzz_target!(|bytes: &[u8]| {
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/ui/scene"));
-    let loaded = load_bytes("fuzz.json", dir, bytes, Instant::now());
+    let loaded = load_bytes("fuzz.json", dir, bytes);
     let report = &loaded.report;
     let _ = report.render_human(80, false);
     let _ = report.render_short();
@@ -23,6 +24,6 @@ fuzz_target!(|bytes: &[u8]| {
         let _ = convert::pov::to_pov(&checked);
         let mut scene = ir::lower(checked);
         scene.resolution = scene.resolution.min(4);
-        let _ = render::render::<f64>(&scene, &render::Options::default(), &|| {});
+        let _ = render::render(render::Precision::F64, &scene, &render::Options::default(), &|| {});
     }
 });

@@ -10,7 +10,7 @@
 //! - nothing panics;
 //! - the document's text equals that of a reference model which applies the
 //!   same changes to the text's UTF-16 code units, with the clamping the
-//!   server documents (`lsp::position::LineIndex::offset`): a line past the
+//!   server documents (`lsp::position::Positions::offset`): a line past the
 //!   end is the end of the text, a column past its line's end (line ends
 //!   excluded) is that end, a column inside a surrogate pair is the end of
 //!   that character, and an end before the start is the start;
@@ -23,15 +23,14 @@
 #![no_main]
 
 use std::path::Path;
-use std::time::Instant;
 
 use libfuzzer_sys::arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use lsp_types::{
     DiagnosticSeverity, NumberOrString, Position, Range, TextDocumentContentChangeEvent, Url,
 };
-use raytracer::frontend::{load_bytes_as, Language};
-use raytracer::lsp::Document;
+use raytracer_scene::frontend::{load_bytes_as, Language};
+use raytracer_app::lsp::Document;
 
 fuzz_target!(|bytes: &[u8]| {
     let Ok((text, batches)) = decode(&mut Unstructured::new(bytes)) else {
@@ -57,7 +56,6 @@ fuzz_target!(|bytes: &[u8]| {
         &document.name(),
         &document.dir,
         text.as_bytes(),
-        Instant::now(),
     );
     let published = document.diagnostics();
     let entries: Vec<_> = loaded.report.entries().collect();

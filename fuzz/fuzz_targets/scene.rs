@@ -9,15 +9,14 @@
 #![no_main]
 
 use std::path::Path;
-use std::time::Instant;
 
 use libfuzzer_sys::fuzz_target;
-use raytracer::frontend::load_bytes;
-use raytracer::{ir, render};
+use raytracer_scene::frontend::load_bytes;
+use raytracer_render::{ir, render};
 
 fuzz_target!(|bytes: &[u8]| {
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/ui/scene"));
-    let loaded = load_bytes("fuzz.txt", dir, bytes, Instant::now());
+    let loaded = load_bytes("fuzz.txt", dir, bytes);
     let report = &loaded.report;
     let _ = report.render_human(80, false);
     let _ = report.render_short();
@@ -26,7 +25,7 @@ fuzz_target!(|bytes: &[u8]| {
         let mut scene = ir::lower(checked);
         scene.resolution = scene.resolution.min(4);
         let options = render::Options::default();
-        let _ = render::render::<f64>(&scene, &options, &|| {});
-        let _ = render::render::<f32>(&scene, &options, &|| {});
+        let _ = render::render(render::Precision::F64, &scene, &options, &|| {});
+        let _ = render::render(render::Precision::F32, &scene, &options, &|| {});
     }
 });

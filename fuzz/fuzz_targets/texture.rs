@@ -1,5 +1,5 @@
 //! Fuzz target: texture bytes through the decoder with the size limits of
-//! `raytracer::limits`: any header is judged before pixels are allocated,
+//! `raytracer_scene::limits`: any header is judged before pixels are allocated,
 //! and nothing panics or aborts.
 
 #![no_main]
@@ -7,8 +7,8 @@
 use std::io::Cursor;
 
 use libfuzzer_sys::fuzz_target;
-use raytracer::limits::MAX_TEXTURE_TEXELS;
-use raytracer::texture;
+use raytracer_scene::limits::MAX_TEXTURE_TEXELS;
+use raytracer_scene::texture;
 
 fuzz_target!(|bytes: &[u8]| {
     if let Ok((width, height, texels)) = texture::decode(Cursor::new(bytes), MAX_TEXTURE_TEXELS) {

@@ -12,9 +12,9 @@
 //! or meeting one at its start, a texture coordinate on a texel boundary.
 
 use glam::DVec3;
-use raytracer::ir::{self, Shape};
-use raytracer::render::trace::{texel, Counters, AMBIENT};
-use raytracer::render::{Image, Options};
+use raytracer_render::ir::{self, Shape};
+use raytracer_render::render::trace::{texel, Counters, AMBIENT};
+use raytracer_render::render::{Image, Options};
 
 /// What the reference expects of a pixel.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -6,11 +6,11 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::time::Instant;
 
-use raytracer::frontend::load_bytes;
-use raytracer::ir;
-use raytracer::render::{self, Counters, Image, Options};
+use raytracer_render::ir;
+use raytracer_render::render::Precision;
+use raytracer_render::render::{self, Counters, Image, Options};
+use raytracer_scene::frontend::load_bytes;
 
 /// Whether the tests run under CI: `CI` set, and not empty, `0` or
 /// `false` (in any case). Every test that needs a tool CI installs asks
@@ -59,7 +59,7 @@ pub fn tool_available(program: &str, test: &str, install: &str) -> bool {
 /// The first `sh` block after the heading line `heading` (with its `#`s)
 /// in `doc`, a path under docs/.
 pub fn doc_recipe(doc: &str, heading: &str) -> String {
-    let path = Path::new(env!("REPOSITORY")).join(doc);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(doc);
     let docs = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("read {doc}: {e}"));
     let section = &docs[docs
         .find(&format!("\n{heading}\n"))
@@ -86,53 +86,10 @@ pub fn run_recipe(dir: &Path, script: &str) -> Output {
         .expect("run bash")
 }
 
-/// The `raytracer` binary under test: the one the root package built in
-/// this test binary's profile folder (`target/release/raytracer`). This
-/// package does not build it, so a run after a change to `src/` that did
-/// not build it again would test an old binary: that fails here, naming
-/// the command that builds it.
+/// The `raytracer` binary under test: cargo builds it from the current
+/// source before it builds these tests, and names it here.
 pub fn bin() -> &'static str {
-    static BIN: std::sync::OnceLock<String> = std::sync::OnceLock::new();
-    BIN.get_or_init(|| {
-        let test = std::env::current_exe().expect("the test binary has a path");
-        // target/<profile>/deps/integration-<hash>
-        let profile = test
-            .parent()
-            .and_then(Path::parent)
-            .expect("the test binary is in target/<profile>/deps");
-        let bin = profile.join(format!("raytracer{}", std::env::consts::EXE_SUFFIX));
-        let build = "build it with `cargo build --release` (`make test` does)";
-        let built = std::fs::metadata(&bin)
-            .and_then(|m| m.modified())
-            .unwrap_or_else(|_| panic!("{} is missing: {build}", bin.display()));
-        if let Some(newer) = newer_source(Path::new(env!("REPOSITORY")).join("src"), built) {
-            panic!(
-                "{} is older than {}: {build}",
-                bin.display(),
-                newer.display()
-            );
-        }
-        bin.to_str()
-            .expect("the binary's path is UTF-8")
-            .to_string()
-    })
-}
-
-/// A file under `dir` modified after `than`, if any.
-fn newer_source(dir: PathBuf, than: std::time::SystemTime) -> Option<PathBuf> {
-    let mut folders = vec![dir];
-    while let Some(folder) = folders.pop() {
-        for entry in std::fs::read_dir(&folder).ok()?.flatten() {
-            let path = entry.path();
-            let Ok(meta) = entry.metadata() else { continue };
-            if meta.is_dir() {
-                folders.push(path);
-            } else if meta.modified().is_ok_and(|modified| modified > than) {
-                return Some(path);
-            }
-        }
-    }
-    None
+    env!("CARGO_BIN_EXE_raytracer")
 }
 
 /// The binary with `args`, diagnostics at their default width (no
@@ -171,7 +128,7 @@ pub fn listing(dir: &Path) -> Vec<String> {
 /// optionally at another resolution. Panics with the diagnostics when the
 /// scene has errors.
 pub fn lower_in(text: &str, dir: &Path, resolution: Option<u32>) -> ir::Scene {
-    let loaded = load_bytes("test.txt", dir, text.as_bytes(), Instant::now());
+    let loaded = load_bytes("test.txt", dir, text.as_bytes());
     let Some(mut checked) = loaded.checked else {
         panic!(
             "scene has errors:\n{}",
@@ -191,7 +148,7 @@ pub fn lower(text: &str) -> ir::Scene {
 
 /// Render with default options in f64.
 pub fn render(scene: &ir::Scene) -> (Image, Counters) {
-    render::render::<f64>(scene, &Options::default(), &|| {})
+    render::render(Precision::F64, scene, &Options::default(), &|| {})
 }
 
 /// The pixel at column `i`, row `j`.
@@ -208,7 +165,7 @@ pub fn quantized(c: [f64; 3]) -> [u8; 3] {
 /// The course corpus, kept in the repository (`tests/corpus/field`, whose
 /// `SOURCE.txt` says where each file comes from).
 pub fn corpus_dir() -> PathBuf {
-    Path::new(env!("REPOSITORY")).join("tests/corpus/field")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus/field")
 }
 
 /// The corpus scene files copied into a temporary folder with the

@@ -1,0 +1,378 @@
+//! `raytracer accuracy SCENE...`: load and check every scene, lower each
+//! (at `--size` if given, else at [`measured_size`] of its own), measure
+//! every accuracy setting against converged references
+//! ([`crate::accuracy`]) and print the report as Markdown on stdout; with
+//! `--assets DIR`, also write each scene's plot data, its charts
+//! ([`crate::plot`]) and its f32 − f64 difference map there, each file
+//! whole or not at all, and link them from the report.
+//!
+//! With one scene and one threshold the report is that scene's. Otherwise
+//! it starts with the verdict tables ([`summary`]): with several
+//! `--aa-threshold` candidates, the SCENES choose one by the tuning rule;
+//! the `--held-out` scenes are measured after the choice, at the chosen
+//! threshold only, and judged in a table of their own.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use miette::Diagnostic;
+
+use super::Outcome;
+use crate::accuracy::summary::{self, Measured};
+use crate::accuracy::{measure, measured_size, report, Measurement, Plan};
+use crate::cli::AccuracyArgs;
+use crate::plot::{self, Chart, Corner};
+use raytracer_render::ir;
+use raytracer_render::output::{self, Format};
+use raytracer_render::render::adaptive::DEFAULT_THRESHOLD;
+use raytracer_render::render::Options;
+use raytracer_scene::diagnostic::BoxedDiagnostic;
+use raytracer_scene::diagnostic::{terminal_width, use_color};
+use raytracer_scene::frontend::{load, Loaded};
+
+/// A usage or I/O error of `accuracy`.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+pub enum AccuracyError {
+    /// The worker threads could not be started.
+    #[error("cannot start {threads} threads: {reason}")]
+    #[diagnostic(code(io::threads))]
+    Threads { threads: usize, reason: String },
+
+    /// A chart could not be drawn.
+    #[error("cannot draw `{path}`: {source}")]
+    #[diagnostic(code(internal::plot))]
+    Plot {
+        path: String,
+        #[source]
+        source: plot::PlotError,
+    },
+
+    /// The assets folder could not be made or a file in it written.
+    #[error("cannot write `{path}`: {source}")]
+    #[diagnostic(code(io::write_assets))]
+    Write {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// Run `raytracer accuracy`.
+pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
+    Options::square_spp(args.reference_spp, "--reference-spp")?;
+    let paths: Vec<&PathBuf> = args.scenes.iter().chain(&args.held_out).collect();
+    let stems = stems(&paths);
+    let assets = match &args.assets {
+        Some(dir) => Some(
+            stems
+                .iter()
+                .map(|stem| prepare_assets(dir, stem))
+                .collect::<Result<Vec<_>, _>>()?,
+        ),
+        None => None,
+    };
+    let pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| AccuracyError::Threads {
+                threads,
+                reason: e.to_string(),
+            })
+    };
+    let threads = args
+        .threads
+        .map_or_else(rayon::current_num_threads, |t| t as usize);
+    let (all, single) = (pool(threads)?, pool(1)?);
+
+    // Every scene checked before any is measured.
+    let stderr = std::io::stderr();
+    let mut scenes = Vec::new();
+    let mut failed = false;
+    for path in &paths {
+        let Loaded {
+            report: diagnostics,
+            checked,
+            ..
+        } = load(path)?;
+        if diagnostics.warning_count() > 0 || checked.is_none() {
+            say!(
+                "{}",
+                diagnostics.render_human(terminal_width(), use_color(&stderr))
+            );
+        }
+        match checked {
+            Some(checked) => scenes.push(ir::lower(checked)),
+            None => failed = true,
+        }
+    }
+    if failed {
+        return Ok(Outcome::SceneErrors);
+    }
+
+    let show_progress = stderr.is_terminal();
+    let measure_one = |k: usize, scene: &mut ir::Scene, thresholds: Vec<f64>| {
+        let own_size = scene.resolution;
+        scene.resolution = args.size.unwrap_or_else(|| measured_size(own_size));
+        let plan = Plan {
+            reps: args.reps as usize,
+            reference_spp: args.reference_spp,
+            thresholds,
+            own_size,
+        };
+        let stem = &stems[k];
+        let progress = |step: &str| {
+            if show_progress {
+                sayln!("{stem}: {step}");
+            }
+        };
+        let measurement = all.install(|| measure(scene, &plan, &single, &progress));
+        (paths[k].display().to_string(), measurement)
+    };
+    let tuning_count = args.scenes.len();
+    let mut held_out_scenes = scenes.split_off(tuning_count);
+    let tuning: Vec<Measured> = scenes
+        .iter_mut()
+        .enumerate()
+        .map(|(k, scene)| measure_one(k, scene, args.aa_threshold.clone()))
+        .collect();
+    let chosen = summary::choose(&tuning);
+    let threshold = args.aa_threshold[chosen];
+    let held_out: Vec<Measured> = held_out_scenes
+        .iter_mut()
+        .enumerate()
+        .map(|(k, scene)| measure_one(tuning_count + k, scene, vec![threshold]))
+        .collect();
+
+    let measured: Vec<&Measured> = tuning.iter().chain(&held_out).collect();
+    let alone = measured.len() == 1 && args.aa_threshold.len() == 1;
+    if !alone {
+        out!("{}", verdicts(&tuning, &held_out, chosen))?;
+        out!("## Scene by scene\n\n")?;
+    }
+    for (k, (name, measurement)) in measured.into_iter().enumerate() {
+        if !alone {
+            out!("### `{name}`\n\n")?;
+        }
+        out!("{}", report::markdown(measurement, name))?;
+        if let (Some(assets), Some(dir)) = (&assets, &args.assets) {
+            let drawn = write_assets(measurement, &stems[k], &assets[k])?;
+            let largest = report::numeric(measurement).max;
+            out!(
+                "{}",
+                asset_links(dir, &stems[k], &assets[k], drawn, largest)
+            )?;
+        }
+    }
+    Ok(Outcome::Success)
+}
+
+/// The verdict tables that open a report of several scenes or thresholds:
+/// the tuning table and the rule's choice when there are several
+/// candidates, then the verdicts on the SCENES and on the held-out ones.
+fn verdicts(tuning: &[Measured], held_out: &[Measured], chosen: usize) -> String {
+    let thresholds = &tuning[0].1.thresholds;
+    let threshold = thresholds[chosen];
+    let mut out = String::new();
+    let names = |scenes: &[Measured]| {
+        scenes
+            .iter()
+            .map(|(name, _)| format!("`{name}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if thresholds.len() > 1 {
+        let default = if threshold == DEFAULT_THRESHOLD {
+            "the same".to_string()
+        } else {
+            format!("not the same: the rule picks {threshold}, the default is {DEFAULT_THRESHOLD}")
+        };
+        out.push_str(&format!(
+            "## Choosing the threshold on the tuning set\n\n\
+             The tuning set: {}. Each is measured at every candidate threshold; the rule \
+             picks the threshold under which the most (scene, spp) pairs meet the target, and \
+             among equals the largest. It picks **{threshold}**; the default of the binary measured \
+             (`DEFAULT_THRESHOLD`, crates/render/src/render/adaptive.rs) is {default}.\n\n{}\n",
+            names(tuning),
+            summary::tuning_table(tuning),
+        ));
+    }
+    out.push_str(&format!(
+        "## Adaptive against uniform at threshold {threshold}: the {} scenes\n\n{}\n",
+        if held_out.is_empty() {
+            "measured"
+        } else {
+            "tuning"
+        },
+        summary::verdict_table(tuning, |_| chosen),
+    ));
+    if !held_out.is_empty() {
+        out.push_str(&format!(
+            "## Adaptive against uniform at threshold {threshold}: the held-out scenes\n\n\
+             Scenes that played no part in the choice, measured after it at the chosen \
+             threshold only: {}.\n\n{}\n",
+            names(held_out),
+            summary::verdict_table(held_out, |_| 0),
+        ));
+    }
+    out
+}
+
+/// The asset stem of each scene: its file stem, or, where two scenes
+/// share one, its folder's name, a `-` and its file stem.
+fn stems(paths: &[&PathBuf]) -> Vec<String> {
+    let stem = |path: &Path| {
+        path.file_stem()
+            .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned())
+    };
+    paths
+        .iter()
+        .map(|path| {
+            let shared = paths.iter().filter(|p| stem(p) == stem(path)).count() > 1;
+            let folder = path
+                .parent()
+                .and_then(Path::file_name)
+                .map(|f| f.to_string_lossy().into_owned());
+            match folder {
+                Some(folder) if shared => format!("{folder}-{}", stem(path)),
+                _ => stem(path),
+            }
+        })
+        .collect()
+}
+
+/// Which charts [`write_assets`] drew (none when every RMSE is 0).
+struct Drawn {
+    sampling: bool,
+    pareto: bool,
+}
+
+/// Write a scene's plot data, charts and difference map.
+fn write_assets(m: &Measurement, stem: &str, assets: &Assets) -> Result<Drawn, BoxedDiagnostic> {
+    let write_text = |path: &PathBuf, text: String| {
+        output::write_atomically(path, |out| out.write_all(text.as_bytes())).map_err(|source| {
+            AccuracyError::Write {
+                path: path.display().to_string(),
+                source,
+            }
+        })
+    };
+    let sampling = report::sampling_csv(m);
+    let pareto = report::pareto_csv(m);
+    write_text(&assets.sampling, sampling.clone())?;
+    write_text(&assets.pareto, pareto.clone())?;
+    let chart = |title: &str, x_label: &str, guides: &[&str]| Chart {
+        title: format!("{stem}: {title}"),
+        x_label: x_label.into(),
+        y_label: "RMSE, in 1/255".into(),
+        log_x: true,
+        log_y: true,
+        lines: true,
+        size: (480, 340),
+        guides: guides.iter().map(|g| g.to_string()).collect(),
+        legend: Corner::LowerLeft,
+    };
+    let sampling_chart = chart(
+        "RMSE against spp",
+        "samples per pixel",
+        &[report::GUIDE_HALF, report::GUIDE_ONE, report::FLOOR],
+    );
+    let pareto_chart = chart("RMSE against time", "time, × the default's", &[]);
+    let drawn = Drawn {
+        sampling: draw_chart(&sampling_chart, &sampling, &assets.sampling_png)?,
+        pareto: draw_chart(&pareto_chart, &pareto, &assets.pareto_png)?,
+    };
+    let map = report::numeric_map(m);
+    output::write(&map, Format::Png, &assets.map)?;
+    Ok(drawn)
+}
+
+/// The Markdown that shows a scene's charts and difference map, linked by
+/// the assets folder's last name (for a report written beside it).
+fn asset_links(dir: &Path, stem: &str, assets: &Assets, drawn: Drawn, largest: f64) -> String {
+    let folder = dir
+        .file_name()
+        .map_or_else(|| ".".into(), |f| f.to_string_lossy().into_owned());
+    let link = |path: &Path| {
+        let file = path.file_name().unwrap_or_default().to_string_lossy();
+        format!("{folder}/{file}")
+    };
+    let mut out = String::from("\n");
+    if drawn.sampling || drawn.pareto {
+        let charts: Vec<String> = [
+            (drawn.sampling, "RMSE against spp", &assets.sampling_png),
+            (drawn.pareto, "RMSE against time", &assets.pareto_png),
+        ]
+        .into_iter()
+        .filter(|(drawn, ..)| *drawn)
+        .map(|(_, what, path)| format!("![{stem}: {what}]({})", link(path)))
+        .collect();
+        out.push_str(&charts.join(" "));
+        out.push_str("\n\n");
+    } else {
+        out.push_str("No sampling charts: every RMSE is 0 here (a log axis cannot show it).\n\n");
+    }
+    out.push_str(&format!(
+        "f32 − f64 difference map, on an absolute scale: black is equal, white a \
+         difference of {scale}/255 or more in some channel ({largest:.4}/255 at most here):\n\n\
+         ![{stem}: f32 − f64]({})\n\n",
+        link(&assets.map),
+        scale = report::MAP_WHITE,
+    ));
+    out
+}
+/// Draw `csv` as `chart` to `path`; nothing when every point has RMSE 0
+/// (a log axis cannot show it), so no empty chart is written. Whether it
+/// drew.
+fn draw_chart(chart: &Chart, csv: &str, path: &Path) -> Result<bool, BoxedDiagnostic> {
+    let failed = |source| AccuracyError::Plot {
+        path: path.display().to_string(),
+        source,
+    };
+    let series = plot::parse_csv(csv).map_err(failed)?;
+    let drawn = match plot::draw(chart, series) {
+        Err(plot::PlotError::Empty) => return Ok(false),
+        drawn => drawn.map_err(failed)?,
+    };
+    output::write_atomically(path, |out| out.write_all(&drawn.png)).map_err(|source| {
+        AccuracyError::Write {
+            path: path.display().to_string(),
+            source,
+        }
+    })?;
+    Ok(true)
+}
+
+/// The files `--assets DIR` writes for a scene.
+struct Assets {
+    sampling: PathBuf,
+    pareto: PathBuf,
+    sampling_png: PathBuf,
+    pareto_png: PathBuf,
+    map: PathBuf,
+}
+
+/// Make DIR and check its files can be written, before any work.
+fn prepare_assets(dir: &Path, stem: &str) -> Result<Assets, BoxedDiagnostic> {
+    std::fs::create_dir_all(dir).map_err(|source| AccuracyError::Write {
+        path: dir.display().to_string(),
+        source,
+    })?;
+    let assets = Assets {
+        sampling: dir.join(format!("{stem}.sampling.csv")),
+        pareto: dir.join(format!("{stem}.pareto.csv")),
+        sampling_png: dir.join(format!("{stem}.sampling.png")),
+        pareto_png: dir.join(format!("{stem}.pareto.png")),
+        map: dir.join(format!("{stem}.f32_f64.png")),
+    };
+    for path in [
+        &assets.sampling,
+        &assets.pareto,
+        &assets.sampling_png,
+        &assets.pareto_png,
+        &assets.map,
+    ] {
+        output::check_writable(path)?;
+    }
+    Ok(assets)
+}

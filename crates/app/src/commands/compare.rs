@@ -1,0 +1,148 @@
+//! `raytracer compare REFERENCE CANDIDATE`: read both images (by content),
+//! measure them with [`crate::compare`], print the findings (human or
+//! JSON), write the ꟻLIP heat map when asked, and exit 0 when they match,
+//! 1 when they differ (a different size included), 2 when either cannot be
+//! read or the heat map cannot be written.
+
+use std::io::Write;
+
+use miette::Diagnostic;
+use serde::Serialize;
+
+use super::{Outcome, WriteStdoutError};
+use crate::cli::{CompareArgs, CompareFormat};
+use crate::compare::{self, heatmap, Metrics, Thresholds, Verdict};
+use raytracer_render::output;
+use raytracer_scene::diagnostic::BoxedDiagnostic;
+
+/// Why `compare` could not judge.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+pub enum CompareError {
+    /// An image could not be read or decoded.
+    #[error("{0}")]
+    #[diagnostic(
+        code(io::read_image),
+        help("`compare` reads PPM (P3 or P6), PNG and JPEG, recognised by their bytes")
+    )]
+    Read(#[from] compare::ReadImageError),
+
+    /// The heat map could not be written.
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Heatmap(#[from] output::OutputError),
+}
+
+/// What `--format json` prints.
+#[derive(Serialize)]
+struct Report<'a> {
+    verdict: Verdict,
+    reference: Side<'a>,
+    candidate: Side<'a>,
+    /// `null` when the sizes differ.
+    metrics: Option<Metrics>,
+    thresholds: Thresholds,
+    /// The heat map written, if any.
+    heatmap: Option<String>,
+}
+
+/// One of the two images.
+#[derive(Serialize)]
+struct Side<'a> {
+    path: String,
+    format: &'a str,
+    width: u32,
+    height: u32,
+}
+
+/// Run `raytracer compare`.
+pub fn run(args: CompareArgs) -> Result<Outcome, BoxedDiagnostic> {
+    let thresholds = args.thresholds.thresholds();
+    let (reference, reference_format) =
+        compare::read(&args.reference).map_err(CompareError::from)?;
+    let (candidate, candidate_format) =
+        compare::read(&args.candidate).map_err(CompareError::from)?;
+    let comparison = compare::compare(&reference, &candidate, &thresholds);
+    let heatmap = match (&args.heatmap, comparison.metrics.is_some()) {
+        (Some(path), true) => {
+            let picture = heatmap::colour(reference.width, reference.height, &comparison.error_map);
+            output::check_not_input(path, [args.reference.as_path(), args.candidate.as_path()])
+                .map_err(CompareError::from)?;
+            output::write_with(path, |out| compare::encode_png(&picture, out))
+                .map_err(CompareError::from)?;
+            Some(path.display().to_string())
+        }
+        _ => None,
+    };
+    let side = |path: &std::path::Path, format, picture: &compare::Picture| Side {
+        path: path.display().to_string(),
+        format: format_name(format),
+        width: picture.width,
+        height: picture.height,
+    };
+    let report = Report {
+        verdict: comparison.verdict,
+        reference: side(&args.reference, reference_format, &reference),
+        candidate: side(&args.candidate, candidate_format, &candidate),
+        metrics: comparison.metrics,
+        thresholds,
+        heatmap,
+    };
+    let text = match args.format {
+        CompareFormat::Json => serde_json::to_string_pretty(&report).expect("plain data") + "\n",
+        CompareFormat::Human => human(&report, args.heatmap.is_some()),
+    };
+    std::io::stdout()
+        .write_all(text.as_bytes())
+        .map_err(WriteStdoutError::from)?;
+    Ok(match comparison.verdict {
+        Verdict::Match => Outcome::Success,
+        _ => Outcome::Differs,
+    })
+}
+
+/// A format's name in reports.
+pub fn format_name(format: raytracer_scene::texture::TextureFormat) -> &'static str {
+    match format {
+        raytracer_scene::texture::TextureFormat::Ppm => "ppm",
+        raytracer_scene::texture::TextureFormat::Png => "png",
+        raytracer_scene::texture::TextureFormat::Jpeg => "jpeg",
+    }
+}
+
+/// The findings as lines for a person.
+fn human(report: &Report, heatmap_asked: bool) -> String {
+    let mut lines = vec![format!("verdict: {}", report.verdict.describe())];
+    let t = &report.thresholds;
+    match &report.metrics {
+        None => {
+            lines.push(format!(
+                "size: expected {} × {} (reference), found {} × {}",
+                report.reference.width,
+                report.reference.height,
+                report.candidate.width,
+                report.candidate.height
+            ));
+            if heatmap_asked {
+                lines.push("heat map: not written (the sizes differ)".into());
+            }
+        }
+        Some(m) => {
+            lines.push(format!(
+                "coverage IoU: {:.4} (at least {})",
+                m.coverage_iou, t.min_coverage
+            ));
+            lines.push(format!(
+                "ꟻLIP: mean {:.4} (at most {}), median {:.4}, p90 {:.4}, p99 {:.4}, max {:.4}",
+                m.flip.mean, t.max_flip, m.flip.median, m.flip.p90, m.flip.p99, m.flip.max
+            ));
+            let psnr = m
+                .psnr
+                .map_or("∞ (identical)".into(), |p| format!("{p:.2} dB"));
+            lines.push(format!("RMSE: {:.5}, PSNR: {psnr}", m.rmse));
+            if let Some(path) = &report.heatmap {
+                lines.push(format!("heat map: {path}"));
+            }
+        }
+    }
+    lines.join("\n") + "\n"
+}

@@ -1,0 +1,331 @@
+//! `raytracer grade --tracer 'CMD {scene} {out}' [SUITE...] -o REPORT`:
+//! load the suite (the built-in one when none is given), render or find
+//! our reference of each scene, run the tracer on each scene in the
+//! sandbox of [`crate::grade::sandbox`] (`--jobs` at once, a progress bar
+//! on a terminal), and write the report. Exit 0 when every scene matches,
+//! 1 otherwise, 2 for usage errors and a suite or report that cannot be
+//! read or written. `--student DIR` takes the command (and a build) from
+//! a student's folder ([`crate::grade::student`]); `--class DIR` grades
+//! each student folder in DIR into REPORT/<student>/ against the same
+//! references, then merges the class overview ([`crate::grade::class`]),
+//! which `--merge REPORT` does alone. `--export-suite DIR` writes the
+//! built-in suite out.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use miette::Diagnostic;
+use rayon::prelude::*;
+
+use super::Outcome;
+use crate::cli::{GradeArgs, SandboxArgs};
+use crate::compare::Picture;
+use crate::grade::class::{self, ClassError};
+use crate::grade::reference::{self, Cache};
+use crate::grade::report::{self, SandboxSummary, Summary};
+use crate::grade::sandbox::{self, Confinement, Limits};
+use crate::grade::student::{self, Student, StudentError};
+use crate::grade::suite::{self, SuiteError, SuiteScene};
+use crate::grade::workdir::{Template, TemplateError};
+use crate::grade::{self, Plan};
+use raytracer_scene::diagnostic::{io_reason, BoxedDiagnostic};
+
+/// Why `grade` could not grade.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+pub enum GradeError {
+    #[error(transparent)]
+    #[diagnostic(
+        code(grade::suite),
+        help("a suite is scene files, or folders of them with an optional suite.json (see docs/grading.md)")
+    )]
+    Suite(#[from] SuiteError),
+
+    #[error(transparent)]
+    #[diagnostic(
+        code(usage::tracer),
+        help("give the command as one argument, e.g. `--tracer './mytracer {{scene}} {{out}}'`")
+    )]
+    Template(#[from] TemplateError),
+
+    #[error("cannot write `{path}`: {reason}")]
+    #[diagnostic(code(io::grade))]
+    Io { path: String, reason: String },
+
+    #[error("{} student folder{} cannot be graded", errors.len(), if errors.len() == 1 { "" } else { "s" })]
+    #[diagnostic(code(grade::student))]
+    Students {
+        #[related]
+        errors: Vec<StudentError>,
+    },
+
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Class(#[from] ClassError),
+
+    #[error("no folder for the reference cache: neither `XDG_CACHE_HOME` nor `HOME` is set")]
+    #[diagnostic(code(usage::no_cache), help("give one with `--cache DIR`"))]
+    NoCache,
+}
+
+fn io_error(path: &Path) -> impl Fn(std::io::Error) -> GradeError + '_ {
+    move |error| GradeError::Io {
+        path: path.display().to_string(),
+        reason: io_reason(&error),
+    }
+}
+
+/// One tracer to grade: the command, where a relative program is taken
+/// from, the student (for a build) and the report folder.
+struct Job<'a> {
+    tracer: String,
+    template: Template,
+    cwd: PathBuf,
+    student: Option<&'a Student>,
+    report: PathBuf,
+}
+
+/// The scenes every job is graded on, with our reference images.
+struct Graded<'a> {
+    scenes: &'a [SuiteScene],
+    references: &'a [(Picture, bool)],
+    confinement: Confinement,
+    pool: &'a rayon::ThreadPool,
+}
+
+/// Run `raytracer grade`.
+pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
+    if let Some(dir) = &args.export_suite {
+        suite::export(dir).map_err(GradeError::from)?;
+        eprintln!("wrote the built-in suite to `{}`", dir.display());
+        return Ok(Outcome::Success);
+    }
+    if let Some(report) = &args.merge {
+        let class = class::merge(report).map_err(GradeError::from)?;
+        print_class(report, &class);
+        return Ok(Outcome::Success);
+    }
+    let Some(report_folder) = &args.report else {
+        unreachable!("clap requires -o without --export-suite and --merge")
+    };
+    let here = std::env::current_dir().map_err(io_error(Path::new(".")))?;
+    let students = match (&args.student, &args.class) {
+        (Some(folder), _) => {
+            vec![Student::read(folder).map_err(|e| GradeError::Students { errors: vec![e] })?]
+        }
+        (_, Some(folder)) => {
+            student::class(folder).map_err(|errors| GradeError::Students { errors })?
+        }
+        _ => Vec::new(),
+    };
+    let jobs: Vec<Job> = match &args.tracer {
+        Some(tracer) => vec![Job {
+            tracer: tracer.clone(),
+            template: Template::parse(tracer).map_err(GradeError::from)?,
+            cwd: here,
+            student: None,
+            report: report_folder.clone(),
+        }],
+        None => students
+            .iter()
+            .map(|student| Job {
+                tracer: student.tracer.clone(),
+                template: student.template.clone(),
+                cwd: here.join(&student.folder),
+                student: Some(student),
+                report: if args.class.is_some() {
+                    report_folder.join(&student.name)
+                } else {
+                    report_folder.clone()
+                },
+            })
+            .collect(),
+    };
+    let cache_folder = match &args.cache {
+        Some(folder) => folder.clone(),
+        None => reference::default_folder().ok_or(GradeError::NoCache)?,
+    };
+    std::fs::create_dir_all(report_folder).map_err(io_error(report_folder))?;
+    let cache = Cache::open(&cache_folder).map_err(io_error(&cache_folder))?;
+
+    // The built-in suite is graded from a copy, like any folder.
+    let built_in = if args.suite.is_empty() {
+        let dir = tempfile::tempdir().map_err(io_error(&std::env::temp_dir()))?;
+        suite::export(dir.path()).map_err(GradeError::from)?;
+        Some(dir)
+    } else {
+        None
+    };
+    let paths: Vec<PathBuf> = match &built_in {
+        Some(dir) => vec![dir.path().to_path_buf()],
+        None => args.suite.clone(),
+    };
+    let scenes = suite::load(&paths).map_err(GradeError::from)?;
+
+    let references = scenes
+        .par_iter()
+        .map(|scene| cache.reference(scene))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(io_error(&cache_folder))?;
+    let rendered = references.iter().filter(|(_, fresh)| *fresh).count();
+    if rendered > 0 {
+        let images = if rendered == 1 { "image" } else { "images" };
+        eprintln!(
+            "rendered {rendered} reference {images} into `{}`",
+            cache_folder.display()
+        );
+    }
+
+    let confinement = Confinement::new(limits(&args.sandbox));
+    sandbox::become_subreaper();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.jobs as usize)
+        .build()
+        .map_err(|e| GradeError::Io {
+            path: "threads".into(),
+            reason: e.to_string(),
+        })?;
+    let graded = Graded {
+        scenes: &scenes,
+        references: &references,
+        confinement,
+        pool: &pool,
+    };
+    let mut all_match = true;
+    for job in &jobs {
+        let summary = grade_job(job, &graded, &args)?;
+        all_match &= summary.all_match();
+        let matched = summary
+            .scenes
+            .iter()
+            .filter(|s| s.status == grade::Status::Match)
+            .count();
+        let who = match (job.student, &args.class) {
+            (Some(student), Some(_)) => format!("{}: ", student.name.to_string_lossy()),
+            _ => String::new(),
+        };
+        let build = match &summary.build {
+            Some(build) if !build.ok => " (the build failed)",
+            _ => "",
+        };
+        println!(
+            "{who}{matched} of {} scenes match, {} of {} points{build}; report: {}",
+            summary.scenes.len(),
+            summary.score,
+            summary.max_score,
+            job.report.join("index.html").display()
+        );
+    }
+    if args.class.is_some() {
+        let class = class::merge(report_folder).map_err(GradeError::from)?;
+        print_class(report_folder, &class);
+    }
+    Ok(if all_match {
+        Outcome::Success
+    } else {
+        Outcome::Differs
+    })
+}
+
+/// Build the job's student, if any, grade every scene, and write the report.
+fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, GradeError> {
+    let images = job.report.join("images");
+    std::fs::create_dir_all(&images).map_err(io_error(&images))?;
+    let build = job
+        .student
+        .and_then(|student| student.build(graded.confinement));
+    let plan = Plan {
+        template: &job.template,
+        confinement: graded.confinement,
+        thresholds: args.thresholds.thresholds(),
+        report: &job.report,
+        cwd: job.cwd.clone(),
+        skip: build
+            .as_ref()
+            .and_then(|b| b.reason.as_ref())
+            .map(|reason| format!("the build failed: {reason}")),
+    };
+    let progress = progress_bar(graded.scenes.len());
+    let results = graded.pool.install(|| {
+        graded
+            .scenes
+            .par_iter()
+            .zip(graded.references)
+            .enumerate()
+            .map(|(index, (scene, (reference, _)))| {
+                progress.set_message(scene.name.clone());
+                let result = grade::grade_scene(&plan, index, scene, reference);
+                progress.inc(1);
+                result
+            })
+            .collect::<Result<Vec<_>, _>>()
+    });
+    sandbox::reap_orphans(None);
+    progress.finish_and_clear();
+    let results = results.map_err(io_error(&job.report))?;
+
+    let mut summary = Summary {
+        tracer: job.tracer.clone(),
+        score: results.iter().map(|r| r.score).sum(),
+        max_score: graded.scenes.iter().map(|s| s.points).sum(),
+        thresholds: plan.thresholds,
+        sandbox: sandbox_summary(&args.sandbox, &graded.confinement),
+        build,
+        scenes: results,
+    };
+    summary.sort();
+    report::write(&job.report, &summary).map_err(io_error(&job.report))?;
+    Ok(summary)
+}
+
+/// Say where the class overview is.
+fn print_class(report: &Path, class: &class::Class) {
+    println!(
+        "class of {}: {} and {}",
+        class.students.len(),
+        report.join(class::HTML).display(),
+        report.join(class::CSV).display()
+    );
+}
+
+/// The sandbox limits of the options.
+fn limits(args: &SandboxArgs) -> Limits {
+    const MIB: u64 = 1 << 20;
+    Limits {
+        timeout: Duration::from_secs(args.timeout.into()),
+        cpu_seconds: args.cpu.into(),
+        address_space: u64::from(args.memory) * MIB,
+        file_size: u64::from(args.max_file_size) * MIB,
+        processes: args.max_processes.into(),
+        output: args.max_output as usize * 1024,
+    }
+}
+
+fn sandbox_summary(args: &SandboxArgs, confinement: &Confinement) -> SandboxSummary {
+    SandboxSummary {
+        timeout_seconds: args.timeout,
+        cpu_seconds: args.cpu,
+        address_space_mib: args.memory,
+        max_file_size_mib: args.max_file_size,
+        max_processes: args.max_processes,
+        max_output_kib: args.max_output,
+        network_isolated: confinement.isolate_network,
+        user: confinement.user,
+    }
+}
+
+/// A bar of scenes graded, drawn only on a terminal.
+fn progress_bar(scenes: usize) -> ProgressBar {
+    let target = if std::io::stderr().is_terminal() {
+        ProgressDrawTarget::stderr()
+    } else {
+        ProgressDrawTarget::hidden()
+    };
+    let bar = ProgressBar::with_draw_target(Some(scenes as u64), target);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} scenes  {msg}")
+            .expect("a valid template"),
+    );
+    bar
+}

@@ -1,0 +1,213 @@
+//! Grading a ray tracer: run a student's program on each scene of a suite
+//! in a sandbox, judge its image against our reference, and keep what the
+//! report needs.
+//!
+//! [`suite`] gives the scenes; [`reference`] renders (or finds in its
+//! cache) our image of each; [`workdir`] prepares the folder and argument
+//! vector; [`sandbox`] runs the program under limits, capturing its
+//! output with [`capture`]; [`judge`] turns the run and the image into a
+//! [`Status`]; [`student`] reads a student's folder (its command, its
+//! build) for `--student` and `--class`; [`class`] merges the students'
+//! summaries into the class overview; [`report`] writes the HTML report, summary.json and
+//! Gradescope's results.json.
+
+pub mod capture;
+pub mod class;
+pub mod judge;
+pub mod reference;
+pub mod report;
+pub mod sandbox;
+pub mod student;
+pub mod suite;
+pub mod workdir;
+
+use std::path::{Path, PathBuf};
+
+use schemars::JsonSchema;
+use serde::Serialize;
+
+use crate::compare::{self, heatmap, FlipStats, Picture, Thresholds};
+pub use judge::Status;
+use sandbox::{Confinement, Ended};
+use suite::SuiteScene;
+use workdir::Template;
+
+/// The stylesheet of the report pages (`index.html`, `class.html`),
+/// inlined in each so a page works offline from `file://`.
+pub const STYLE: &str = include_str!("report.css");
+
+/// The grade of one scene: summary.json's entries.
+#[derive(Clone, Debug, Serialize, JsonSchema)]
+pub struct SceneResult {
+    /// The scene's path inside its suite.
+    pub scene: String,
+    /// What the scene tests.
+    pub description: String,
+    pub status: Status,
+    /// How it differs (`geometry`, `appearance`, `size: …`), how it
+    /// crashed (`exit code 3`, `signal 11 (SIGSEGV)`), which limit stopped
+    /// it, or why its image is bad.
+    pub reason: Option<String>,
+    /// The points the scene is worth.
+    pub points: f64,
+    /// The points earned: all for `match`, half for `differs` on
+    /// appearance alone, none otherwise.
+    pub score: f64,
+    pub coverage_iou: Option<f64>,
+    pub flip_mean: Option<f32>,
+    pub flip: Option<FlipStats>,
+    pub rmse: Option<f64>,
+    /// `null` when identical, or not compared.
+    pub psnr: Option<f64>,
+    /// Wall-clock seconds the student's program ran.
+    pub seconds: f64,
+    pub exit_code: Option<i32>,
+    pub signal: Option<i32>,
+    /// The first bytes of the program's stdout and stderr.
+    pub stdout: String,
+    pub stderr: String,
+    /// The report's images, relative to the report folder.
+    pub images: Images,
+}
+
+/// A scene's images in the report.
+#[derive(Clone, Debug, Serialize, JsonSchema)]
+pub struct Images {
+    pub reference: String,
+    pub student: Option<String>,
+    pub heatmap: Option<String>,
+}
+
+/// What grading needs besides the scenes.
+pub struct Plan<'a> {
+    pub template: &'a Template,
+    pub confinement: Confinement,
+    pub thresholds: Thresholds,
+    /// The report folder; images go to its `images/`.
+    pub report: &'a Path,
+    /// The folder a relative program path is taken from: where `grade`
+    /// runs, or the student's folder.
+    pub cwd: PathBuf,
+    /// When set, no scene runs: each is `crashed` for this reason (the
+    /// student's build failed).
+    pub skip: Option<String>,
+}
+
+/// Grade one scene against its `reference`; `index` names its images.
+pub fn grade_scene(
+    plan: &Plan,
+    index: usize,
+    scene: &SuiteScene,
+    reference: &Picture,
+) -> std::io::Result<SceneResult> {
+    let stem = format!("{index:02}-{}", slug(&scene.name));
+    let image = |kind: &str| format!("images/{stem}.{kind}.png");
+    let write_png = |relative: &str, picture: &Picture| {
+        raytracer_render::output::write_atomically(&plan.report.join(relative), |out| {
+            compare::encode_png(picture, out)
+        })
+    };
+    let reference_image = image("reference");
+    write_png(&reference_image, reference)?;
+    if let Some(reason) = &plan.skip {
+        return Ok(not_run(scene, reference_image, reason));
+    }
+
+    let dir = workdir::prepare(scene, plan.confinement.user)?;
+    let argv = plan.template.argv(&dir.scene_file, workdir::OUT, &plan.cwd);
+    let run = sandbox::run(&argv, &dir.start, plan.confinement);
+    let judged = judge::judge(&run.ended, &dir.out(), reference, &plan.thresholds);
+    drop(dir);
+
+    let mut images = Images {
+        reference: reference_image,
+        student: None,
+        heatmap: None,
+    };
+    let metrics = match &judged.compared {
+        Some((picture, comparison)) => {
+            let student = image("student");
+            write_png(&student, picture)?;
+            images.student = Some(student);
+            if let Some(metrics) = comparison.metrics {
+                let flip = image("flip");
+                let map = heatmap::colour(picture.width, picture.height, &comparison.error_map);
+                write_png(&flip, &map)?;
+                images.heatmap = Some(flip);
+                Some(metrics)
+            } else {
+                None
+            }
+        }
+        None => None,
+    };
+    let score = match (judged.status, judged.reason.as_deref()) {
+        (Status::Match, _) => scene.points,
+        (Status::Differs, Some("appearance")) => scene.points / 2.0,
+        _ => 0.0,
+    };
+    let (exit_code, signal) = match run.ended {
+        Ended::Exited(code) => (Some(code), None),
+        Ended::Signalled(signal) => (None, Some(signal)),
+        Ended::TimedOut | Ended::NotStarted(_) => (None, None),
+    };
+    Ok(SceneResult {
+        scene: scene.name.clone(),
+        description: scene.description.clone(),
+        status: judged.status,
+        reason: judged.reason,
+        points: scene.points,
+        score,
+        coverage_iou: metrics.map(|m| m.coverage_iou),
+        flip_mean: metrics.map(|m| m.flip.mean),
+        flip: metrics.map(|m| m.flip),
+        rmse: metrics.map(|m| m.rmse),
+        psnr: metrics.and_then(|m| m.psnr),
+        seconds: run.seconds,
+        exit_code,
+        signal,
+        stdout: run.stdout.text(),
+        stderr: run.stderr.text(),
+        images,
+    })
+}
+
+/// A scene that did not run because of `reason`.
+fn not_run(scene: &SuiteScene, reference_image: String, reason: &str) -> SceneResult {
+    SceneResult {
+        scene: scene.name.clone(),
+        description: scene.description.clone(),
+        status: Status::Crashed,
+        reason: Some(reason.to_string()),
+        points: scene.points,
+        score: 0.0,
+        coverage_iou: None,
+        flip_mean: None,
+        flip: None,
+        rmse: None,
+        psnr: None,
+        seconds: 0.0,
+        exit_code: None,
+        signal: None,
+        stdout: String::new(),
+        stderr: String::new(),
+        images: Images {
+            reference: reference_image,
+            student: None,
+            heatmap: None,
+        },
+    }
+}
+
+/// A file-name-safe form of a scene's path.
+pub fn slug(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '.' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,322 @@
+//! Running one student command under limits (Unix).
+//!
+//! The program runs from an argument vector (no shell) in a folder of its
+//! own, with stdin closed, stdout and stderr captured ([`super::capture`]),
+//! and only `PATH`, `HOME` (the folder) and `LANG` in its environment.
+//! Before it starts, in the forked child ([`confine`]): a process group of
+//! its own; a network namespace of its own when the kernel allows it
+//! (probed once by [`network_isolation`]); when the grader is root, the
+//! user and group `nobody` (65534), because root ignores the process-count
+//! limit; and the resource limits (CPU seconds, address space, file size,
+//! processes, no core files). On the wall-clock timeout, and again after
+//! the program ends, its whole process group is killed. `grade` is the
+//! subreaper of everything the program starts, so a process that leaves
+//! the group is still reparented to `grade`, and [`reap_orphans`] kills
+//! and reaps it. An interrupted `grade` kills every running group
+//! ([`kill_running`]) before it exits.
+
+use std::ffi::OsString;
+use std::io;
+use std::os::unix::process::{CommandExt, ExitStatusExt};
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use super::capture::{self, Captured};
+
+/// The limits one run is held to.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    pub timeout: Duration,
+    pub cpu_seconds: u64,
+    pub address_space: u64,
+    pub file_size: u64,
+    pub processes: u64,
+    /// Bytes of stdout, and of stderr, kept.
+    pub output: usize,
+}
+
+/// The process groups of the programs running now, for [`kill_running`].
+static RUNNING: Mutex<Vec<libc::pid_t>> = Mutex::new(Vec::new());
+
+/// Kill every program running now, with its group: what an interrupted
+/// `grade` does before it exits.
+pub fn kill_running() {
+    let running = RUNNING
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    for &group in running.iter() {
+        // SAFETY: `killpg` has no memory preconditions.
+        unsafe { libc::killpg(group, libc::SIGKILL) };
+    }
+}
+
+/// The uid and gid a root grader runs programs as.
+pub const NOBODY: u32 = 65_534;
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Ended {
+    Exited(i32),
+    Signalled(i32),
+    /// Killed at the wall-clock timeout.
+    TimedOut,
+    /// The program could not be started.
+    NotStarted(String),
+}
+
+/// What a run did.
+#[derive(Debug)]
+pub struct Run {
+    pub ended: Ended,
+    pub seconds: f64,
+    pub stdout: Captured,
+    pub stderr: Captured,
+}
+
+/// How the child is confined, decided once per grading.
+#[derive(Clone, Copy, Debug)]
+pub struct Confinement {
+    pub limits: Limits,
+    /// Unshare the network namespace (the kernel allows it).
+    pub isolate_network: bool,
+    /// Switch to this uid and gid (the grader is root).
+    pub user: Option<u32>,
+}
+
+impl Confinement {
+    /// The confinement for this process: `nobody` when root, a network
+    /// namespace when one can be had.
+    pub fn new(limits: Limits) -> Confinement {
+        // SAFETY: `geteuid` has no preconditions.
+        let root = unsafe { libc::geteuid() } == 0;
+        Confinement {
+            limits,
+            isolate_network: network_isolation(root),
+            user: root.then_some(NOBODY),
+        }
+    }
+}
+
+/// Make this process the subreaper of its descendants, so a program's
+/// orphans come back to it to be killed and reaped ([`reap_orphans`]).
+pub fn become_subreaper() {
+    #[cfg(target_os = "linux")]
+    // SAFETY: PR_SET_CHILD_SUBREAPER takes one integer argument.
+    unsafe {
+        libc::prctl(libc::PR_SET_CHILD_SUBREAPER, 1);
+    }
+}
+
+/// Run `argv` in `dir` under `confinement`.
+pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
+    let start = Instant::now();
+    let limits = confinement.limits;
+    let mut command = Command::new(&argv[0]);
+    command
+        .args(&argv[1..])
+        .current_dir(dir)
+        .env_clear()
+        .env(
+            "PATH",
+            std::env::var_os("PATH").unwrap_or_else(|| "/usr/bin:/bin".into()),
+        )
+        .env("HOME", dir)
+        .env(
+            "LANG",
+            std::env::var_os("LANG").unwrap_or_else(|| "C.UTF-8".into()),
+        )
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    // SAFETY: `confine` makes only async-signal-safe system calls.
+    unsafe {
+        command.pre_exec(move || confine(&confinement));
+    }
+    let mut child = match command.spawn() {
+        Ok(child) => child,
+        Err(error) => {
+            return Run {
+                ended: Ended::NotStarted(raytracer_scene::diagnostic::io_reason(&error)),
+                seconds: start.elapsed().as_secs_f64(),
+                stdout: Captured::default(),
+                stderr: Captured::default(),
+            }
+        }
+    };
+    let group = child.id() as libc::pid_t;
+    let running = || {
+        RUNNING
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+    };
+    running().push(group);
+    let stdout = capture::spawn(child.stdout.take(), limits.output);
+    let stderr = capture::spawn(child.stderr.take(), limits.output);
+    let ended = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => {
+                break match (status.code(), status.signal()) {
+                    (Some(code), _) => Ended::Exited(code),
+                    (None, Some(signal)) => Ended::Signalled(signal),
+                    (None, None) => Ended::Signalled(0),
+                }
+            }
+            Ok(None) if start.elapsed() < limits.timeout => {
+                std::thread::sleep(Duration::from_millis(5))
+            }
+            _ => {
+                // SAFETY: `killpg` has no memory preconditions.
+                unsafe { libc::killpg(group, libc::SIGKILL) };
+                let _ = child.wait();
+                break Ended::TimedOut;
+            }
+        }
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    kill_group(group);
+    running().retain(|&g| g != group);
+    Run {
+        ended,
+        seconds,
+        stdout: stdout.finish(),
+        stderr: stderr.finish(),
+    }
+}
+
+/// In the forked child, before `exec`: the confinement of the module doc.
+fn confine(confinement: &Confinement) -> io::Result<()> {
+    let check = |result: libc::c_int| {
+        if result == -1 {
+            Err(io::Error::last_os_error())
+        } else {
+            Ok(())
+        }
+    };
+    let limits = confinement.limits;
+    // SAFETY: plain system calls on this (single-threaded) child.
+    unsafe {
+        check(libc::setpgid(0, 0))?;
+        if confinement.isolate_network {
+            check(libc::unshare(namespaces(confinement.user.is_some())))?;
+        }
+        if let Some(id) = confinement.user {
+            check(libc::setgroups(0, std::ptr::null()))?;
+            check(libc::setgid(id))?;
+            check(libc::setuid(id))?;
+        }
+        let limit = |resource, value: u64| {
+            let rlimit = libc::rlimit {
+                rlim_cur: value as libc::rlim_t,
+                rlim_max: value as libc::rlim_t,
+            };
+            check(libc::setrlimit(resource, &rlimit))
+        };
+        // The soft CPU limit sends SIGXCPU; the hard one a second later, SIGKILL.
+        check(libc::setrlimit(
+            libc::RLIMIT_CPU,
+            &libc::rlimit {
+                rlim_cur: limits.cpu_seconds as libc::rlim_t,
+                rlim_max: (limits.cpu_seconds + 1) as libc::rlim_t,
+            },
+        ))?;
+        limit(libc::RLIMIT_AS, limits.address_space)?;
+        limit(libc::RLIMIT_FSIZE, limits.file_size)?;
+        limit(libc::RLIMIT_NPROC, limits.processes)?;
+        limit(libc::RLIMIT_CORE, 0)?;
+    }
+    Ok(())
+}
+
+/// The namespaces to unshare: the network's, inside a user namespace of
+/// its own unless the caller is root.
+fn namespaces(root: bool) -> libc::c_int {
+    if root {
+        libc::CLONE_NEWNET
+    } else {
+        libc::CLONE_NEWUSER | libc::CLONE_NEWNET
+    }
+}
+
+/// Whether a child can be given a network namespace of its own: start one
+/// (this program, printing its version) that unshares it.
+fn network_isolation(root: bool) -> bool {
+    let Ok(exe) = std::env::current_exe() else {
+        return false;
+    };
+    let mut probe = Command::new(exe);
+    probe
+        .arg("--version")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null());
+    let flags = namespaces(root);
+    // SAFETY: `unshare` is a plain system call.
+    unsafe {
+        probe.pre_exec(move || {
+            if libc::unshare(flags) == -1 {
+                Err(io::Error::last_os_error())
+            } else {
+                Ok(())
+            }
+        });
+    }
+    probe.status().is_ok_and(|s| s.success())
+}
+
+/// Kill every process of `group` (its leader already reaped), again until
+/// none is left: a fork bomb may add members while the first signal is
+/// delivered, and a killed member stays in the group until it is reaped.
+fn kill_group(group: libc::pid_t) {
+    for _ in 0..1000 {
+        // SAFETY: `killpg` has no memory preconditions.
+        if unsafe { libc::killpg(group, libc::SIGKILL) } == -1 {
+            return;
+        }
+        reap_orphans(Some(group));
+        std::thread::sleep(Duration::from_millis(1));
+    }
+}
+
+/// Kill and reap the processes reparented to this one (orphans of
+/// programs that ended): those of `group`, or, once no program runs, all
+/// of them. A program's own leader is reaped by its `Child` before this.
+pub fn reap_orphans(group: Option<libc::pid_t>) {
+    // SAFETY: `getpid` has no preconditions.
+    let me = unsafe { libc::getpid() };
+    let Ok(entries) = std::fs::read_dir("/proc") else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let Some(pid) = entry
+            .file_name()
+            .to_str()
+            .and_then(|n| n.parse::<i32>().ok())
+        else {
+            continue;
+        };
+        let Some((parent, process_group)) = parent_and_group(pid) else {
+            continue;
+        };
+        if parent != me || group.is_some_and(|g| g != process_group) {
+            continue;
+        }
+        // SAFETY: signalling and waiting for our own child.
+        unsafe {
+            libc::kill(pid, libc::SIGKILL);
+            libc::waitpid(pid, std::ptr::null_mut(), 0);
+        }
+    }
+}
+
+/// The parent and process group of `pid`, from `/proc/PID/stat`.
+fn parent_and_group(pid: i32) -> Option<(i32, i32)> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // The command name may hold spaces and parentheses: fields follow the last `)`.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let mut fields = rest.split(' ').skip(1);
+    let parent = fields.next()?.parse().ok()?;
+    let group = fields.next()?.parse().ok()?;
+    Some((parent, group))
+}

@@ -1,0 +1,185 @@
+//! A student's folder, for `grade --student` and `grade --class`:
+//! `tracer.txt` holds the command that runs the student's tracer (one
+//! line with `{scene}` and `{out}`, split into words like `--tracer`,
+//! never run through a shell; a program named by a relative path is taken
+//! from the folder), and an optional `build.txt` the command that builds
+//! it, run once in the folder under the sandbox's limits before any scene.
+//! In both files, blank lines and lines starting with `#` are skipped. A
+//! class is a folder of such folders, one per student, each named after
+//! its student; folders whose name starts with `.` are not students.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+
+use miette::Diagnostic;
+
+use super::report::BuildSummary;
+use super::sandbox::{self, Confinement, Ended};
+use super::workdir::{Template, TemplateError};
+use raytracer_scene::diagnostic::io_reason;
+
+/// The file that names the tracer's command.
+pub const TRACER_FILE: &str = "tracer.txt";
+/// The file that names the build command, when there is one.
+pub const BUILD_FILE: &str = "build.txt";
+
+/// A student's folder, read.
+#[derive(Debug)]
+pub struct Student {
+    /// The folder's own name: the student's report folder is named so.
+    pub name: OsString,
+    pub folder: PathBuf,
+    /// The command line of `tracer.txt`, as written.
+    pub tracer: String,
+    pub template: Template,
+    /// The command line of `build.txt` and its words.
+    pub build: Option<(String, Template)>,
+}
+
+/// Why a student's folder cannot be graded.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+pub enum StudentError {
+    #[error("cannot read `{path}`: {reason}")]
+    #[diagnostic(
+        code(grade::student),
+        help("a student's folder holds `tracer.txt`, one line such as `./tracer {{scene}} {{out}}`, and optionally `build.txt` (see docs/grading.md)")
+    )]
+    Read { path: String, reason: String },
+
+    #[error("`{path}`: {source}")]
+    #[diagnostic(
+        code(grade::student),
+        help("write the command on one line, e.g. `python3 tracer.py {{scene}} {{out}}`")
+    )]
+    Command { path: String, source: TemplateError },
+
+    #[error("`{path}` holds {lines} command lines; expected one")]
+    #[diagnostic(
+        code(grade::student),
+        help("no shell runs the command: put several steps in a script and name the script")
+    )]
+    Lines { path: String, lines: usize },
+
+    #[error("no student folders in `{path}`")]
+    #[diagnostic(
+        code(grade::student),
+        help("`--class DIR` grades each folder in DIR, one per student, named after the student")
+    )]
+    NoStudents { path: String },
+}
+
+impl Student {
+    /// Read the student folder `folder`.
+    pub fn read(folder: &Path) -> Result<Student, StudentError> {
+        let tracer = command_line(&folder.join(TRACER_FILE))?;
+        let template = parse(&folder.join(TRACER_FILE), &tracer)?;
+        let build_file = folder.join(BUILD_FILE);
+        let build = if build_file.exists() {
+            let line = command_line(&build_file)?;
+            let template = parse(&build_file, &line)?;
+            Some((line, template))
+        } else {
+            None
+        };
+        let name = folder
+            .file_name()
+            .map_or_else(|| OsString::from("student"), OsString::from);
+        Ok(Student {
+            name,
+            folder: folder.to_path_buf(),
+            tracer,
+            template,
+            build,
+        })
+    }
+
+    /// Run the build command, if any, in the folder under `confinement`.
+    pub fn build(&self, confinement: Confinement) -> Option<BuildSummary> {
+        let (command, template) = self.build.as_ref()?;
+        let argv = template.argv_as_written(&self.folder);
+        let run = sandbox::run(&argv, &self.folder, confinement);
+        let (exit_code, signal) = match run.ended {
+            Ended::Exited(code) => (Some(code), None),
+            Ended::Signalled(signal) => (None, Some(signal)),
+            Ended::TimedOut | Ended::NotStarted(_) => (None, None),
+        };
+        let reason = super::judge::failure(&run.ended).map(|(_, reason)| reason);
+        Some(BuildSummary {
+            command: command.clone(),
+            ok: reason.is_none(),
+            reason,
+            seconds: run.seconds,
+            exit_code,
+            signal,
+            stdout: run.stdout.text(),
+            stderr: run.stderr.text(),
+        })
+    }
+}
+
+/// Every student folder in `dir`, read, in the order of their names; the
+/// errors of every folder that cannot be read.
+pub fn class(dir: &Path) -> Result<Vec<Student>, Vec<StudentError>> {
+    let entries = std::fs::read_dir(dir).map_err(|error| {
+        vec![StudentError::Read {
+            path: dir.display().to_string(),
+            reason: io_reason(&error),
+        }]
+    })?;
+    let mut folders: Vec<PathBuf> = entries
+        .flatten()
+        .filter(|entry| !entry.file_name().to_string_lossy().starts_with('.'))
+        .map(|entry| entry.path())
+        .filter(|path| path.is_dir())
+        .collect();
+    folders.sort();
+    if folders.is_empty() {
+        return Err(vec![StudentError::NoStudents {
+            path: dir.display().to_string(),
+        }]);
+    }
+    let mut students = Vec::new();
+    let mut errors = Vec::new();
+    for folder in &folders {
+        match Student::read(folder) {
+            Ok(student) => students.push(student),
+            Err(error) => errors.push(error),
+        }
+    }
+    if errors.is_empty() {
+        Ok(students)
+    } else {
+        Err(errors)
+    }
+}
+
+/// The one command line of `path`: blank lines and `#` comments skipped.
+fn command_line(path: &Path) -> Result<String, StudentError> {
+    let text = std::fs::read_to_string(path).map_err(|error| StudentError::Read {
+        path: path.display().to_string(),
+        reason: io_reason(&error),
+    })?;
+    let lines: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .filter(|line| !line.is_empty() && !line.starts_with('#'))
+        .collect();
+    match lines.as_slice() {
+        [] => Err(StudentError::Command {
+            path: path.display().to_string(),
+            source: TemplateError::Empty,
+        }),
+        [line] => Ok(line.to_string()),
+        _ => Err(StudentError::Lines {
+            path: path.display().to_string(),
+            lines: lines.len(),
+        }),
+    }
+}
+
+fn parse(path: &Path, line: &str) -> Result<Template, StudentError> {
+    Template::parse(line).map_err(|source| StudentError::Command {
+        path: path.display().to_string(),
+        source,
+    })
+}

@@ -1,0 +1,359 @@
+//! The scenes a tracer is graded on: the built-in suite embedded in the
+//! binary (the repository's suite/ folder: its scenes, their textures and
+//! suite.json, which gives each scene its points and one line on what it
+//! tests), or scene files and folders given on the command line.
+//!
+//! A folder with a suite.json is graded on the scenes it lists; one
+//! without, on every `.txt`, `.scene` and `.json` file under it, a point
+//! each. Every scene must check without errors, and its textures must lie
+//! in its suite's folder, because the tracer runs in a copy of that
+//! folder holding only the scene and its textures.
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use raytracer_render::ir;
+use raytracer_scene::frontend::{self, Loaded};
+
+/// The files of the built-in suite, by their path inside it.
+const BUILT_IN: &[(&str, &[u8])] = &[
+    (
+        "ambient.txt",
+        include_bytes!("../../../../suite/ambient.txt"),
+    ),
+    (
+        "field/2_lights_color.txt",
+        include_bytes!("../../../../suite/field/2_lights_color.txt"),
+    ),
+    (
+        "field/christmas_ornaments.txt",
+        include_bytes!("../../../../suite/field/christmas_ornaments.txt"),
+    ),
+    (
+        "field/plane.txt",
+        include_bytes!("../../../../suite/field/plane.txt"),
+    ),
+    (
+        "field/reflection.txt",
+        include_bytes!("../../../../suite/field/reflection.txt"),
+    ),
+    (
+        "field/sphereBox.txt",
+        include_bytes!("../../../../suite/field/sphereBox.txt"),
+    ),
+    (
+        "field/sphere_reflection.txt",
+        include_bytes!("../../../../suite/field/sphere_reflection.txt"),
+    ),
+    (
+        "field/texture.scene",
+        include_bytes!("../../../../suite/field/texture.scene"),
+    ),
+    (
+        "field/two_spheres_shadow.txt",
+        include_bytes!("../../../../suite/field/two_spheres_shadow.txt"),
+    ),
+    (
+        "field/wood_tex.ppm",
+        include_bytes!("../../../../suite/field/wood_tex.ppm"),
+    ),
+    (
+        "hard/eye_in_plane.txt",
+        include_bytes!("../../../../suite/hard/eye_in_plane.txt"),
+    ),
+    (
+        "hard/grazing_plane.txt",
+        include_bytes!("../../../../suite/hard/grazing_plane.txt"),
+    ),
+    (
+        "hard/inside_sphere.txt",
+        include_bytes!("../../../../suite/hard/inside_sphere.txt"),
+    ),
+    (
+        "hard/light_on_surface.txt",
+        include_bytes!("../../../../suite/hard/light_on_surface.txt"),
+    ),
+    (
+        "hard/parallel_mirrors.txt",
+        include_bytes!("../../../../suite/hard/parallel_mirrors.txt"),
+    ),
+    (
+        "hard/planet.txt",
+        include_bytes!("../../../../suite/hard/planet.txt"),
+    ),
+    (
+        "hard/scaled_1e-3.txt",
+        include_bytes!("../../../../suite/hard/scaled_1e-3.txt"),
+    ),
+    (
+        "hard/scaled_1e6.txt",
+        include_bytes!("../../../../suite/hard/scaled_1e6.txt"),
+    ),
+    (
+        "hard/shadow_acne.txt",
+        include_bytes!("../../../../suite/hard/shadow_acne.txt"),
+    ),
+    (
+        "hard/tangent_sphere.txt",
+        include_bytes!("../../../../suite/hard/tangent_sphere.txt"),
+    ),
+    (
+        "reflection.txt",
+        include_bytes!("../../../../suite/reflection.txt"),
+    ),
+    ("sample.txt", include_bytes!("../../../../suite/sample.txt")),
+    (
+        "shadows.txt",
+        include_bytes!("../../../../suite/shadows.txt"),
+    ),
+    ("suite.json", include_bytes!("../../../../suite/suite.json")),
+    (
+        "textures.txt",
+        include_bytes!("../../../../suite/textures.txt"),
+    ),
+    (
+        "wood_tex.ppm",
+        include_bytes!("../../../../suite/wood_tex.ppm"),
+    ),
+];
+
+/// One scene to grade.
+#[derive(Debug)]
+pub struct SuiteScene {
+    /// The scene's path inside its suite folder, `/`-separated.
+    pub name: String,
+    pub points: f64,
+    pub description: String,
+    /// The folder the scene's relative paths start from.
+    pub root: PathBuf,
+    /// The scene and its textures, inside `root`.
+    pub files: Vec<PathBuf>,
+    /// The scene, checked and lowered, for our reference.
+    pub scene: ir::Scene,
+}
+
+/// A suite.json.
+#[derive(Deserialize)]
+struct Manifest {
+    scenes: Vec<ManifestEntry>,
+}
+
+#[derive(Deserialize)]
+struct ManifestEntry {
+    scene: String,
+    points: f64,
+    #[serde(default)]
+    description: String,
+}
+
+/// Why a suite cannot be graded.
+#[derive(Debug, thiserror::Error)]
+pub enum SuiteError {
+    #[error("cannot read `{path}`: {reason}")]
+    Io { path: String, reason: String },
+    #[error("`{path}` is not a valid suite.json: {reason}")]
+    Manifest { path: String, reason: String },
+    #[error("`{path}` has errors; run `raytracer check {path}` to see them")]
+    Scene { path: String },
+    #[error("the texture `{texture}` of `{path}` lies outside the suite folder `{root}`")]
+    TextureOutside {
+        path: String,
+        texture: String,
+        root: String,
+    },
+    #[error("no scene found in `{path}`")]
+    Empty { path: String },
+}
+
+fn io_error(path: &Path, error: &std::io::Error) -> SuiteError {
+    SuiteError::Io {
+        path: path.display().to_string(),
+        reason: raytracer_scene::diagnostic::io_reason(error),
+    }
+}
+
+/// Write the built-in suite into `dir` (created if need be).
+pub fn export(dir: &Path) -> Result<(), SuiteError> {
+    for (name, bytes) in BUILT_IN {
+        let path = dir.join(name);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| io_error(parent, &e))?;
+        }
+        raytracer_render::output::write_atomically(&path, |out| out.write_all(bytes))
+            .map_err(|e| io_error(&path, &e))?;
+    }
+    Ok(())
+}
+
+/// Load the scenes of `paths` (files or folders).
+pub fn load(paths: &[PathBuf]) -> Result<Vec<SuiteScene>, SuiteError> {
+    let mut scenes = Vec::new();
+    for path in paths {
+        if path.is_dir() {
+            scenes.extend(load_folder(path)?);
+        } else {
+            let root = path
+                .parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
+            let name = path
+                .file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned();
+            scenes.push(load_scene(root, &name, 1.0, String::new())?);
+        }
+    }
+    Ok(scenes)
+}
+
+/// The scenes of one folder: those of its suite.json, or every scene file.
+fn load_folder(root: &Path) -> Result<Vec<SuiteScene>, SuiteError> {
+    let manifest_path = root.join("suite.json");
+    let entries = if manifest_path.is_file() {
+        let text =
+            std::fs::read_to_string(&manifest_path).map_err(|e| io_error(&manifest_path, &e))?;
+        let manifest: Manifest = serde_json::from_str(&text).map_err(|e| SuiteError::Manifest {
+            path: manifest_path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        manifest.scenes
+    } else {
+        let mut names = Vec::new();
+        find_scenes(root, root, &mut names)?;
+        names.sort();
+        names
+            .into_iter()
+            .map(|scene| ManifestEntry {
+                scene,
+                points: 1.0,
+                description: String::new(),
+            })
+            .collect()
+    };
+    if entries.is_empty() {
+        return Err(SuiteError::Empty {
+            path: root.display().to_string(),
+        });
+    }
+    entries
+        .into_iter()
+        .map(|e| load_scene(root, &e.scene, e.points, e.description))
+        .collect()
+}
+
+/// Collect the scene files under `folder`, as paths relative to `root`.
+fn find_scenes(root: &Path, folder: &Path, names: &mut Vec<String>) -> Result<(), SuiteError> {
+    let entries = std::fs::read_dir(folder).map_err(|e| io_error(folder, &e))?;
+    for entry in entries {
+        let path = entry.map_err(|e| io_error(folder, &e))?.path();
+        if path.is_dir() {
+            find_scenes(root, &path, names)?;
+        } else if path.file_name().is_some_and(|n| n != "suite.json")
+            && path
+                .extension()
+                .is_some_and(|e| e == "txt" || e == "scene" || e == "json")
+        {
+            let relative = path.strip_prefix(root).unwrap_or(&path);
+            names.push(relative.to_string_lossy().replace('\\', "/"));
+        }
+    }
+    Ok(())
+}
+
+/// Check the scene `name` of the suite in `root` and list its files.
+fn load_scene(
+    root: &Path,
+    name: &str,
+    points: f64,
+    description: String,
+) -> Result<SuiteScene, SuiteError> {
+    let path = root.join(name);
+    let shown = path.display().to_string();
+    let Loaded { checked, .. } = frontend::load(&path).map_err(|e| SuiteError::Io {
+        path: shown.clone(),
+        reason: e.to_string(),
+    })?;
+    let checked = checked.ok_or(SuiteError::Scene {
+        path: shown.clone(),
+    })?;
+    let canonical_root = root.canonicalize().map_err(|e| io_error(root, &e))?;
+    let mut files = vec![PathBuf::from(name)];
+    for texture in checked.textures.values() {
+        let resolved = Path::new(&texture.path)
+            .canonicalize()
+            .map_err(|e| io_error(Path::new(&texture.path), &e))?;
+        let relative =
+            resolved
+                .strip_prefix(&canonical_root)
+                .map_err(|_| SuiteError::TextureOutside {
+                    path: shown.clone(),
+                    texture: texture.path.clone(),
+                    root: root.display().to_string(),
+                })?;
+        files.push(relative.to_path_buf());
+    }
+    files.sort();
+    files.dedup();
+    Ok(SuiteScene {
+        name: name.to_string(),
+        points,
+        description,
+        root: root.to_path_buf(),
+        files,
+        scene: ir::lower(checked),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_built_in_list_is_the_suite_folder() {
+        let folder = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../suite")).to_path_buf();
+        let mut on_disk = Vec::new();
+        let mut stack = vec![folder.clone()];
+        while let Some(dir) = stack.pop() {
+            for entry in std::fs::read_dir(dir).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    stack.push(path);
+                } else {
+                    on_disk.push(
+                        path.strip_prefix(&folder)
+                            .unwrap()
+                            .to_string_lossy()
+                            .into_owned(),
+                    );
+                }
+            }
+        }
+        on_disk.sort();
+        let embedded: Vec<_> = BUILT_IN.iter().map(|(name, _)| name.to_string()).collect();
+        assert_eq!(embedded, on_disk);
+    }
+
+    #[test]
+    fn the_built_in_suite_loads_every_listed_scene() {
+        let dir = tempfile::tempdir().unwrap();
+        export(dir.path()).unwrap();
+        let scenes = load(&[dir.path().to_path_buf()]).unwrap();
+        assert_eq!(scenes.len(), 23);
+        assert!(scenes
+            .iter()
+            .all(|s| s.points > 0.0 && !s.description.is_empty()));
+        let inside = scenes
+            .iter()
+            .find(|s| s.name == "hard/inside_sphere.txt")
+            .unwrap();
+        assert_eq!(
+            inside.files,
+            [
+                PathBuf::from("hard/inside_sphere.txt"),
+                PathBuf::from("wood_tex.ppm")
+            ]
+        );
+    }
+}

@@ -1,0 +1,21 @@
+//! The applications over the scene language and the renderer: the
+//! command line ([`cli`] defines it, [`commands`] runs it), the language
+//! server ([`lsp`]), the live preview ([`preview`]), image comparison
+//! ([`compare`]), grading students' tracers ([`grade`]), the accuracy
+//! report ([`accuracy`], with [`plot`]'s charts), the CI formats ([`ci`])
+//! and the folder walk of `check DIR` ([`discover`]).
+//!
+//! Only this crate depends on argument parsing, servers, terminals and
+//! the C++ of ꟻLIP; the `raytracer` binary is a thin `main` over it.
+
+pub mod accuracy;
+pub mod ci;
+pub mod cli;
+pub mod commands;
+pub mod compare;
+pub mod discover;
+#[cfg(unix)]
+pub mod grade;
+pub mod lsp;
+pub mod plot;
+pub mod preview;

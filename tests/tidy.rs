@@ -1,0 +1,372 @@
+//! Tidy checks in the manner of rust-analyzer's: the repository's own
+//! rules about its layout, which no compiler checks.
+//!
+//! - docs/architecture.md's code map names every source file of every
+//!   crate, and names no file that does not exist;
+//! - every source file opens with a `//!` header that says what it is for;
+//! - each crate depends only on the layers below it (the compiler then
+//!   refuses any import of a layer above, as the crate is not a
+//!   dependency);
+//! - what the language and the renderer pull in, transitively, holds none
+//!   of the crates only the applications need, and no C or C++ build;
+//! - the binary holds no path of the folder it was built in, so no output
+//!   of an installed binary can point into it.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The workspace's crates, lowest first, with the `raytracer-*` crates
+/// each may depend on: a layer names only layers below it.
+const LAYERS: [(&str, &str, &[&str]); 4] = [
+    ("raytracer-scene", "crates/scene", &[]),
+    ("raytracer-render", "crates/render", &["raytracer-scene"]),
+    (
+        "raytracer-app",
+        "crates/app",
+        &["raytracer-scene", "raytracer-render"],
+    ),
+    ("raytracer", ".", &["raytracer-app", "raytracer-scene"]),
+];
+
+fn repository() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The `.rs` files under `dir`, relative to it, sorted.
+fn sources(dir: &Path) -> BTreeSet<String> {
+    let mut found = BTreeSet::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let relative = path.strip_prefix(dir).unwrap();
+                found.insert(relative.to_string_lossy().replace('\\', "/"));
+            }
+        }
+    }
+    found
+}
+
+/// The `src` folder of each crate, as the code map's headings name them.
+fn crate_sources() -> Vec<(String, PathBuf)> {
+    LAYERS
+        .iter()
+        .map(|(_, folder, _)| {
+            let heading = if *folder == "." {
+                "src".to_string()
+            } else {
+                format!("{folder}/src")
+            };
+            (heading.clone(), repository().join(heading))
+        })
+        .collect()
+}
+
+/// The code map: for each `### `FOLDER`` heading under `## Code map`,
+/// every backticked `*.rs` path of its section (up to the next `###`).
+fn code_map() -> Vec<(String, BTreeSet<String>)> {
+    let doc = std::fs::read_to_string(repository().join("docs/architecture.md")).unwrap();
+    let map = &doc[doc.find("\n## Code map\n").expect("a code map")..];
+    let map = &map[..map[1..].find("\n## ").map_or(map.len(), |end| end + 1)];
+    map.split("\n### ")
+        .skip(1)
+        .filter_map(|section| section.strip_prefix('`'))
+        .map(|section| {
+            let (heading, body) = section.split_once('\n').unwrap_or((section, ""));
+            let folder = heading.trim_end_matches('`').to_string();
+            let files = body
+                .split('`')
+                .skip(1)
+                .step_by(2)
+                .filter(|word| word.ends_with(".rs"))
+                .map(str::to_string)
+                .collect();
+            (folder, files)
+        })
+        .collect()
+}
+
+#[test]
+fn the_code_map_names_every_source_file_and_no_other() {
+    let map = code_map();
+    for (folder, dir) in crate_sources() {
+        let Some((_, listed)) = map.iter().find(|(f, _)| *f == folder) else {
+            panic!("docs/architecture.md's code map has no `### `{folder}`` section");
+        };
+        let on_disk = sources(&dir);
+        let missing: Vec<_> = on_disk.difference(listed).collect();
+        assert!(
+            missing.is_empty(),
+            "docs/architecture.md's code map does not name these files of {folder}: {missing:?}"
+        );
+        let gone: Vec<_> = listed.difference(&on_disk).collect();
+        assert!(
+            gone.is_empty(),
+            "docs/architecture.md's code map names files {folder} does not have: {gone:?}"
+        );
+    }
+}
+
+#[test]
+fn every_source_file_opens_with_a_header() {
+    for (folder, dir) in crate_sources() {
+        for file in sources(&dir) {
+            let text = std::fs::read_to_string(dir.join(&file)).unwrap();
+            assert!(
+                text.starts_with("//! "),
+                "{folder}/{file} does not open with a `//!` header saying what it is for"
+            );
+        }
+    }
+}
+
+/// The `raytracer-*` crates a Cargo.toml names in `[table]`.
+fn workspace_dependencies(manifest: &str, table: &str) -> BTreeSet<String> {
+    let Some(start) = manifest.find(&format!("\n[{table}]\n")) else {
+        return BTreeSet::new();
+    };
+    let body = &manifest[start + table.len() + 4..];
+    let body = &body[..body.find("\n[").unwrap_or(body.len())];
+    body.lines()
+        .filter_map(|line| line.split_once(['=', '.']))
+        .map(|(name, _)| name.trim().to_string())
+        .filter(|name| name.starts_with("raytracer-"))
+        .collect()
+}
+
+#[test]
+fn each_layer_depends_only_on_the_layers_below() {
+    for (name, folder, allowed) in LAYERS {
+        let manifest =
+            std::fs::read_to_string(repository().join(folder).join("Cargo.toml")).unwrap();
+        let allowed: BTreeSet<String> = allowed.iter().map(|s| s.to_string()).collect();
+        for table in ["dependencies", "dev-dependencies", "build-dependencies"] {
+            let named = workspace_dependencies(&manifest, table);
+            let above: Vec<_> = named.difference(&allowed).collect();
+            // The binary's tests may use the renderer directly.
+            let above: Vec<_> = above
+                .into_iter()
+                .filter(|dep| {
+                    !(name == "raytracer"
+                        && table == "dev-dependencies"
+                        && *dep == "raytracer-render")
+                })
+                .collect();
+            assert!(
+                above.is_empty(),
+                "{name} names {above:?} in [{table}]; it may name only {allowed:?} (docs/architecture.md)"
+            );
+        }
+    }
+}
+
+/// The crates `package` depends on, transitively, as built (not its tests).
+fn dependency_closure(package: &str) -> BTreeSet<String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let output = Command::new(cargo)
+        .current_dir(repository())
+        .args([
+            "tree",
+            "--locked",
+            "--offline",
+            "-e",
+            "normal",
+            "--prefix",
+            "none",
+            "-p",
+            package,
+        ])
+        .output()
+        .expect("run cargo tree");
+    assert!(
+        output.status.success(),
+        "cargo tree -p {package}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout)
+        .unwrap()
+        .lines()
+        .filter_map(|line| line.split_whitespace().next())
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn the_language_and_the_renderer_pull_in_no_application_crate() {
+    let app = std::fs::read_to_string(repository().join("crates/app/Cargo.toml")).unwrap();
+    let declared = |manifest: &str| -> BTreeSet<String> {
+        let start = manifest.find("\n[dependencies]\n").unwrap() + 16;
+        let body = &manifest[start..];
+        let body = &body[..body.find("\n[").unwrap_or(body.len())];
+        body.lines()
+            .filter_map(|line| line.split_once(['=', '.']))
+            .map(|(name, _)| name.trim().to_string())
+            .filter(|name| !name.is_empty() && !name.starts_with('#'))
+            .filter(|name| !name.starts_with("raytracer"))
+            .collect()
+    };
+    let renderer = dependency_closure("raytracer-render");
+    let language = dependency_closure("raytracer-scene");
+    let lower: BTreeSet<String> = ["crates/scene/Cargo.toml", "crates/render/Cargo.toml"]
+        .iter()
+        .flat_map(|m| declared(&std::fs::read_to_string(repository().join(m)).unwrap()))
+        .collect();
+    // The crates only the applications ask for, and `cc`, which builds C
+    // and C++ (ꟻLIP's), must reach neither lower layer.
+    let application_only: BTreeSet<String> = declared(&app)
+        .difference(&lower)
+        .cloned()
+        .chain(["cc".to_string()])
+        .collect();
+    assert!(application_only.contains("clap") && application_only.contains("nv-flip"));
+    for (layer, closure) in [
+        ("raytracer-scene", &language),
+        ("raytracer-render", &renderer),
+    ] {
+        assert!(
+            closure.contains("glam"),
+            "cargo tree listed nothing for {layer}"
+        );
+        let leaked: Vec<_> = closure.intersection(&application_only).collect();
+        assert!(
+            leaked.is_empty(),
+            "{layer} pulls in {leaked:?}, which only the applications may need"
+        );
+    }
+}
+
+#[test]
+fn the_binary_holds_no_path_of_its_build_folder() {
+    let binary = std::fs::read(env!("CARGO_BIN_EXE_raytracer")).unwrap();
+    let folder = repository().to_string_lossy().into_owned();
+    assert!(
+        !binary
+            .windows(folder.len())
+            .any(|window| window == folder.as_bytes()),
+        "the binary holds `{folder}`: a link or message of an installed binary would point into the folder it was built in"
+    );
+}
+
+/// The top-level modules each module of the crate in `src` names, in code
+/// outside unit tests: `crate::NAME` and `crate::{NAME, …}`.
+fn module_graph(src: &Path) -> std::collections::BTreeMap<String, BTreeSet<String>> {
+    let mut graph: std::collections::BTreeMap<String, BTreeSet<String>> = Default::default();
+    let files = sources(src);
+    // Files compiled only for tests: `tests.rs`, and those declared under
+    // `#[cfg(test)]` by their parent.
+    let test_only: BTreeSet<String> = files
+        .iter()
+        .flat_map(|file| {
+            let text = std::fs::read_to_string(src.join(file)).unwrap();
+            let folder = Path::new(file).parent().unwrap().to_path_buf();
+            let folder = if file.ends_with("mod.rs") || file == "lib.rs" {
+                folder
+            } else {
+                folder.join(Path::new(file).file_stem().unwrap())
+            };
+            text.split("#[cfg(test)]\nmod ")
+                .skip(1)
+                .filter_map(|rest| rest.split_once(';').map(|(name, _)| name.to_string()))
+                .filter(|name| !name.contains(char::is_whitespace))
+                .map(move |name| {
+                    folder
+                        .join(format!("{name}.rs"))
+                        .to_string_lossy()
+                        .into_owned()
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    for file in files
+        .iter()
+        .filter(|f| !f.ends_with("tests.rs") && !test_only.contains(*f))
+    {
+        let module = file
+            .split('/')
+            .next()
+            .unwrap()
+            .trim_end_matches(".rs")
+            .to_string();
+        let text = std::fs::read_to_string(src.join(file)).unwrap();
+        let code = text.split("#[cfg(test)]\nmod tests").next().unwrap();
+        let code: String = code
+            .lines()
+            .map(|line| line.split("//").next().unwrap())
+            .collect::<Vec<_>>()
+            .join("\n");
+        let mut named = BTreeSet::new();
+        for (i, _) in code.match_indices("crate::") {
+            let rest = &code[i + 7..];
+            if let Some(group) = rest.strip_prefix('{') {
+                let group = &group[..group.find('}').unwrap_or(group.len())];
+                for item in group.split(',') {
+                    let name: String = item
+                        .trim()
+                        .chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '_')
+                        .collect();
+                    named.insert(name);
+                }
+            } else {
+                named.insert(
+                    rest.chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '_')
+                        .collect(),
+                );
+            }
+        }
+        named.retain(|name| !name.is_empty() && *name != module);
+        graph.entry(module).or_default().extend(named);
+    }
+    graph
+}
+
+/// A cycle in `graph`, if there is one, as the modules along it.
+fn cycle(graph: &std::collections::BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
+    fn visit(
+        node: &str,
+        graph: &std::collections::BTreeMap<String, BTreeSet<String>>,
+        path: &mut Vec<String>,
+        done: &mut BTreeSet<String>,
+    ) -> Option<Vec<String>> {
+        if let Some(start) = path.iter().position(|n| n == node) {
+            let mut found = path[start..].to_vec();
+            found.push(node.to_string());
+            return Some(found);
+        }
+        if done.contains(node) {
+            return None;
+        }
+        path.push(node.to_string());
+        for next in graph.get(node).into_iter().flatten() {
+            if let Some(found) = visit(next, graph, path, done) {
+                return Some(found);
+            }
+        }
+        path.pop();
+        done.insert(node.to_string());
+        None
+    }
+    let mut done = BTreeSet::new();
+    graph
+        .keys()
+        .find_map(|node| visit(node, graph, &mut Vec::new(), &mut done))
+}
+
+#[test]
+fn no_crate_has_a_module_cycle() {
+    for (_, folder, _) in LAYERS.iter().filter(|(_, folder, _)| *folder != ".") {
+        let graph = module_graph(&repository().join(folder).join("src"));
+        assert!(graph.len() > 3, "{folder}: no modules found");
+        if let Some(cycle) = cycle(&graph) {
+            panic!(
+                "{folder}: the modules {} import each other in a cycle (docs/architecture.md, Invariants)",
+                cycle.join(" → ")
+            );
+        }
+    }
+}
