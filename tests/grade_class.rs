@@ -283,3 +283,100 @@ fn the_parallel_recipe_grades_the_class_as_class_does() {
     let html = read(&d.join("reports/class.html"));
     assert_eq!(row_links(&html).len(), 3, "{html}");
 }
+
+/// A student folder as students write them: the tracer is an argument to
+/// an interpreter (`sh tracer.sh`), reads a helper file of its own beside
+/// it, and the folder holds an image left from home and a `tracer.txt`
+/// link to a file it may not read. The program runs beside its files; the
+/// stale image is not judged; the folder itself is unchanged; the link is
+/// refused without its target being read.
+#[test]
+fn a_student_folder_runs_as_at_home_and_is_only_read() {
+    let dir = class_folder();
+    let d = dir.path();
+    let folder = d.join("students/dora");
+    std::fs::create_dir_all(&folder).unwrap();
+    std::fs::set_permissions(&folder, std::fs::Permissions::from_mode(0o755)).unwrap();
+    std::fs::write(folder.join("tracer.txt"), "sh tracer.sh {scene} {out}\n").unwrap();
+    std::fs::write(folder.join("renderer"), binary().display().to_string()).unwrap();
+    write_executable(
+        &folder.join("tracer.sh"),
+        "exec \"$(cat renderer)\" render \"$1\" \"$2\"\n",
+    );
+    // A stale image from home, the right size: it must not pass as this run's.
+    let stale = d.join("stale.ppm");
+    let rendered = run(&[
+        "render",
+        &d.join("suite/ball.txt").to_string_lossy(),
+        &stale.to_string_lossy(),
+    ]);
+    assert!(rendered.status.success());
+    std::fs::copy(&stale, folder.join("out.ppm")).unwrap();
+    let before = support::listing(&folder);
+
+    let (code, stderr) = grade_in(
+        d,
+        &[
+            "--student",
+            "students/dora",
+            "--cache",
+            "cache",
+            "-o",
+            "dora",
+            "suite",
+        ],
+    );
+    assert_eq!(code, 0, "{stderr}");
+    let summary: Value = serde_json::from_str(&read(&d.join("dora/summary.json"))).unwrap();
+    for scene in summary["scenes"].as_array().unwrap() {
+        assert_eq!(scene["status"], "match", "{scene}");
+    }
+    assert_eq!(
+        support::listing(&folder),
+        before,
+        "the student's folder changed"
+    );
+
+    // Now a tracer that writes nothing: the stale image is not judged.
+    std::fs::write(folder.join("tracer.txt"), "sh -c true {scene} {out}\n").unwrap();
+    let (code, _) = grade_in(
+        d,
+        &[
+            "--student",
+            "students/dora",
+            "--cache",
+            "cache",
+            "-o",
+            "dora2",
+            "suite",
+        ],
+    );
+    assert_eq!(code, 1);
+    let summary: Value = serde_json::from_str(&read(&d.join("dora2/summary.json"))).unwrap();
+    for scene in summary["scenes"].as_array().unwrap() {
+        assert_eq!(scene["status"], "no_image", "{scene}");
+    }
+
+    // `tracer.txt` as a link to a file the grader may read and the
+    // student may not: refused, and its text shown nowhere.
+    let secret = d.join("secret.txt");
+    std::fs::write(&secret, "sh top-secret-line {scene} {out}\n").unwrap();
+    std::fs::set_permissions(&secret, std::fs::Permissions::from_mode(0o600)).unwrap();
+    std::fs::remove_file(folder.join("tracer.txt")).unwrap();
+    std::os::unix::fs::symlink(&secret, folder.join("tracer.txt")).unwrap();
+    let (code, stderr) = grade_in(
+        d,
+        &[
+            "--student",
+            "students/dora",
+            "--cache",
+            "cache",
+            "-o",
+            "dora3",
+            "suite",
+        ],
+    );
+    assert_eq!(code, 2, "{stderr}");
+    assert!(!stderr.contains("top-secret-line"), "{stderr}");
+    assert!(stderr.contains("tracer.txt"), "{stderr}");
+}

@@ -29,7 +29,7 @@ use crate::grade::sandbox::{self, Confinement, Limits};
 use crate::grade::student::{self, Student, StudentError};
 use crate::grade::suite::{self, SuiteError, SuiteScene};
 use crate::grade::workdir::{Template, TemplateError};
-use crate::grade::{self, Plan};
+use crate::grade::{self, Plan, Programs};
 use raytracer_scene::diagnostic::{io_reason, BoxedDiagnostic};
 
 /// Why `grade` could not grade.
@@ -232,19 +232,38 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
 fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, GradeError> {
     let images = job.report.join("images");
     std::fs::create_dir_all(&images).map_err(io_error(&images))?;
-    let build = job
-        .student
-        .and_then(|student| student.build(graded.confinement));
+    // A student's folder that cannot be copied is that student's failure:
+    // the rest of a class is still graded.
+    let (prepared, build, skip) = match job.student.map(|s| s.prepare(graded.confinement)) {
+        None => (None, None, None),
+        Some(Ok(prepared)) => {
+            let skip = prepared
+                .build
+                .as_ref()
+                .and_then(|b| b.reason.as_ref())
+                .map(|reason| format!("the build failed: {reason}"));
+            let build = prepared.build.clone();
+            (Some(prepared.folder), build, skip)
+        }
+        Some(Err(error)) => (
+            None,
+            None,
+            Some(format!(
+                "the student's folder cannot be copied: {}",
+                io_reason(&error)
+            )),
+        ),
+    };
     let plan = Plan {
         template: &job.template,
         confinement: graded.confinement,
         thresholds: args.thresholds.thresholds(),
         report: &job.report,
-        cwd: job.cwd.clone(),
-        skip: build
-            .as_ref()
-            .and_then(|b| b.reason.as_ref())
-            .map(|reason| format!("the build failed: {reason}")),
+        programs: match &prepared {
+            Some(folder) => Programs::Folder(folder.path()),
+            None => Programs::Here(job.cwd.clone()),
+        },
+        skip,
     };
     let progress = progress_bar(graded.scenes.len());
     let results = graded.pool.install(|| {

@@ -4,7 +4,7 @@
 //!
 //! [`suite`] gives the scenes; [`reference`] renders (or finds in its
 //! cache) our image of each; [`workdir`] prepares the folder and argument
-//! vector; [`sandbox`] runs the program under limits, capturing its
+//! vector, copying a student's folder with [`copy`]; [`sandbox`] runs the program under limits, capturing its
 //! output with [`capture`]; [`judge`] turns the run and the image into a
 //! [`Status`]; [`student`] reads a student's folder (its command, its
 //! build) for `--student` and `--class`; [`class`] merges the students'
@@ -13,6 +13,7 @@
 
 pub mod capture;
 pub mod class;
+pub mod copy;
 pub mod judge;
 pub mod reference;
 pub mod report;
@@ -85,12 +86,21 @@ pub struct Plan<'a> {
     pub thresholds: Thresholds,
     /// The report folder; images go to its `images/`.
     pub report: &'a Path,
-    /// The folder a relative program path is taken from: where `grade`
-    /// runs, or the student's folder.
-    pub cwd: PathBuf,
+    /// Where the program comes from.
+    pub programs: Programs<'a>,
     /// When set, no scene runs: each is `crashed` for this reason (the
     /// student's build failed).
     pub skip: Option<String>,
+}
+
+/// Where a tracer's program is found.
+pub enum Programs<'a> {
+    /// `--tracer`: a relative program path is taken from this folder, the
+    /// one `grade` runs in.
+    Here(PathBuf),
+    /// A student's prepared folder, copied into each scene's working
+    /// folder, where the program starts.
+    Folder(&'a Path),
 }
 
 /// Grade one scene against its `reference`; `index` names its images.
@@ -113,8 +123,23 @@ pub fn grade_scene(
         return Ok(not_run(scene, reference_image, reason));
     }
 
-    let dir = workdir::prepare(scene, plan.confinement.user)?;
-    let argv = plan.template.argv(&dir.scene_file, workdir::OUT, &plan.cwd);
+    let (folder, cwd) = match &plan.programs {
+        Programs::Here(cwd) => (None, Some(cwd.as_path())),
+        Programs::Folder(folder) => (Some(*folder), None),
+    };
+    // A folder that cannot be prepared is this scene's failure, not the
+    // whole grading's: the student's folder may be what it cannot copy.
+    let dir = match workdir::prepare(scene, folder, plan.confinement.user) {
+        Ok(dir) => dir,
+        Err(error) => {
+            let reason = format!(
+                "cannot prepare the scene's working folder: {}",
+                raytracer_scene::diagnostic::io_reason(&error)
+            );
+            return Ok(not_run(scene, reference_image, &reason));
+        }
+    };
+    let argv = plan.template.argv(&dir.scene_file, workdir::OUT, cwd);
     let run = sandbox::run(&argv, &dir.start, plan.confinement);
     let judged = judge::judge(&run.ended, &dir.out(), reference, &plan.thresholds);
     drop(dir);

@@ -1,21 +1,29 @@
 //! A student's folder, for `grade --student` and `grade --class`:
 //! `tracer.txt` holds the command that runs the student's tracer (one
 //! line with `{scene}` and `{out}`, split into words like `--tracer`,
-//! never run through a shell; a program named by a relative path is taken
-//! from the folder), and an optional `build.txt` the command that builds
-//! it, run once in the folder under the sandbox's limits before any scene.
-//! In both files, blank lines and lines starting with `#` are skipped. A
-//! class is a folder of such folders, one per student, each named after
-//! its student; folders whose name starts with `.` are not students.
+//! never run through a shell), and an optional `build.txt` the command
+//! that builds it. In both files, blank lines and lines starting with `#`
+//! are skipped. A class is a folder of such folders, one per student, each
+//! named after its student; folders whose name starts with `.` (and links)
+//! are not students.
+//!
+//! The grader only reads a student's folder, never through a link: it is
+//! copied ([`super::copy`]) into a private folder, the build runs there
+//! once under the sandbox's limits before any scene, and each scene's
+//! working folder starts as a copy of the result, so the program runs
+//! beside its own files as it does at home.
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 use miette::Diagnostic;
 
+use tempfile::TempDir;
+
+use super::copy::{copy_folder, STUDENT_FOLDER};
 use super::report::BuildSummary;
 use super::sandbox::{self, Confinement, Ended};
-use super::workdir::{Template, TemplateError};
+use super::workdir::{self, Template, TemplateError};
 use raytracer_scene::diagnostic::io_reason;
 
 /// The file that names the tracer's command.
@@ -74,7 +82,7 @@ impl Student {
         let tracer = command_line(&folder.join(TRACER_FILE))?;
         let template = parse(&folder.join(TRACER_FILE), &tracer)?;
         let build_file = folder.join(BUILD_FILE);
-        let build = if build_file.exists() {
+        let build = if build_file.symlink_metadata().is_ok() {
             let line = command_line(&build_file)?;
             let template = parse(&build_file, &line)?;
             Some((line, template))
@@ -93,11 +101,23 @@ impl Student {
         })
     }
 
-    /// Run the build command, if any, in the folder under `confinement`.
-    pub fn build(&self, confinement: Confinement) -> Option<BuildSummary> {
+    /// The folder copied into a private one (given to the sandbox's user)
+    /// and built there; the build's summary when there is `build.txt`.
+    pub fn prepare(&self, confinement: Confinement) -> std::io::Result<Prepared> {
+        let folder = workdir::private_folder()?;
+        copy_folder(&self.folder, folder.path(), STUDENT_FOLDER)?;
+        if let Some(id) = confinement.user {
+            workdir::give(folder.path(), id)?;
+        }
+        let build = self.build(folder.path(), confinement);
+        Ok(Prepared { folder, build })
+    }
+
+    /// Run the build command, if any, in `folder` under `confinement`.
+    fn build(&self, folder: &Path, confinement: Confinement) -> Option<BuildSummary> {
         let (command, template) = self.build.as_ref()?;
-        let argv = template.argv_as_written(&self.folder);
-        let run = sandbox::run(&argv, &self.folder, confinement);
+        let argv = template.argv_as_written();
+        let run = sandbox::run(&argv, folder, confinement);
         let (exit_code, signal) = match run.ended {
             Ended::Exited(code) => (Some(code), None),
             Ended::Signalled(signal) => (None, Some(signal)),
@@ -117,6 +137,13 @@ impl Student {
     }
 }
 
+/// A student's folder as grading uses it: a private copy, built.
+pub struct Prepared {
+    /// Each scene's working folder starts as a copy of this one.
+    pub folder: TempDir,
+    pub build: Option<BuildSummary>,
+}
+
 /// Every student folder in `dir`, read, in the order of their names; the
 /// errors of every folder that cannot be read.
 pub fn class(dir: &Path) -> Result<Vec<Student>, Vec<StudentError>> {
@@ -126,11 +153,13 @@ pub fn class(dir: &Path) -> Result<Vec<Student>, Vec<StudentError>> {
             reason: io_reason(&error),
         }]
     })?;
+    // A link is no student's folder: as root, following one a student
+    // planted would copy whatever it names into the sandbox.
     let mut folders: Vec<PathBuf> = entries
         .flatten()
         .filter(|entry| !entry.file_name().to_string_lossy().starts_with('.'))
+        .filter(|entry| entry.file_type().is_ok_and(|kind| kind.is_dir()))
         .map(|entry| entry.path())
-        .filter(|path| path.is_dir())
         .collect();
     folders.sort();
     if folders.is_empty() {
@@ -153,9 +182,23 @@ pub fn class(dir: &Path) -> Result<Vec<Student>, Vec<StudentError>> {
     }
 }
 
-/// The one command line of `path`: blank lines and `#` comments skipped.
+/// The one command line of `path`, read without following a link (as
+/// root, a link to a file only root may read would show its first line in
+/// the report): blank lines and `#` comments skipped.
 fn command_line(path: &Path) -> Result<String, StudentError> {
-    let text = std::fs::read_to_string(path).map_err(|error| StudentError::Read {
+    let read = || {
+        use std::io::Read;
+        use std::os::unix::fs::OpenOptionsExt;
+        let mut text = String::new();
+        std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK)
+            .open(path)?
+            .take(64 * 1024)
+            .read_to_string(&mut text)?;
+        Ok(text)
+    };
+    let text = read().map_err(|error: std::io::Error| StudentError::Read {
         path: path.display().to_string(),
         reason: io_reason(&error),
     })?;

@@ -3,6 +3,12 @@
 //! Each scene gets a fresh temporary folder holding a copy of the scene
 //! and its textures at their paths inside the suite, so `../wood_tex.ppm`
 //! still resolves; the program starts in the scene's own folder there.
+//! A student's program (`--student`, `--class`) finds its own files there
+//! too: the scene's folder starts as a copy of the student's built folder
+//! ([`super::copy`]), so `python3 tracer.py {scene} {out}` and
+//! `./raytracer {scene} {out}` run as they do at home, beside the scene
+//! and its textures. Without a student folder (`--tracer`), a program
+//! named by a relative path is taken from the folder `grade` runs in.
 //! When the program runs as another user, the folder is given to it, and
 //! the order of that matters: the folder is created by the grader with
 //! mode 0700, so until its own owner changes no other user can enter it,
@@ -20,6 +26,7 @@ use std::path::{Path, PathBuf};
 
 use tempfile::TempDir;
 
+use super::copy::{copy_folder, STUDENT_FOLDER};
 use super::suite::SuiteScene;
 
 /// The name of the image the program is asked to write.
@@ -41,25 +48,41 @@ impl Workdir {
     }
 }
 
-/// Copy `scene`'s files into a fresh temporary folder, owned by `user`
-/// when given.
-pub fn prepare(scene: &SuiteScene, user: Option<u32>) -> std::io::Result<Workdir> {
-    let temp = tempfile::Builder::new()
+/// A fresh temporary folder that only the grader may enter (mode 0700).
+pub fn private_folder() -> std::io::Result<TempDir> {
+    tempfile::Builder::new()
         .prefix("raytracer-grade-")
         .permissions(Permissions::from_mode(0o700))
-        .tempdir()?;
-    for file in &scene.files {
-        let to = temp.path().join(file);
-        if let Some(parent) = to.parent() {
-            std::fs::create_dir_all(parent)?;
-        }
-        std::fs::copy(scene.root.join(file), &to)?;
-    }
+        .tempdir()
+}
+
+/// Copy `scene`'s files into a fresh temporary folder, into the scene's
+/// folder there after the contents of `program` (a student's built
+/// folder) when given; owned by `user` when given.
+pub fn prepare(
+    scene: &SuiteScene,
+    program: Option<&Path>,
+    user: Option<u32>,
+) -> std::io::Result<Workdir> {
+    let temp = private_folder()?;
     let scene_path = Path::new(&scene.name);
     let start = temp
         .path()
         .join(scene_path.parent().unwrap_or(Path::new("")));
     std::fs::create_dir_all(&start)?;
+    if let Some(folder) = program {
+        copy_folder(folder, &start, STUDENT_FOLDER)?;
+        // An image left in the student's folder is not this run's.
+        let _ = std::fs::remove_file(start.join(OUT));
+    }
+    for file in &scene.files {
+        let to = temp.path().join(file);
+        if let Some(parent) = to.parent() {
+            std::fs::create_dir_all(parent)?;
+        }
+        let _ = std::fs::remove_file(&to);
+        std::fs::copy(scene.root.join(file), &to)?;
+    }
     if let Some(id) = user {
         give(temp.path(), id)?;
     }
@@ -78,7 +101,7 @@ pub fn prepare(scene: &SuiteScene, user: Option<u32>) -> std::io::Result<Workdir
 /// entries first, while `dir` is still the grader's own and closed to
 /// everyone else, and `dir` itself last. No link is followed: an entry is
 /// given as what it is, and a folder is walked only when it is one.
-fn give(dir: &Path, id: u32) -> std::io::Result<()> {
+pub fn give(dir: &Path, id: u32) -> std::io::Result<()> {
     give_entries(dir, id)?;
     std::os::unix::fs::lchown(dir, Some(id), Some(id))
 }
@@ -120,29 +143,31 @@ impl Template {
     }
 
     /// The argument vector for one scene. A program given as a relative
-    /// path with a `/` is taken from `cwd`, the folder `grade` runs in.
-    pub fn argv(&self, scene: &str, out: &str, cwd: &Path) -> Vec<OsString> {
+    /// path with a `/` is taken from `cwd` when given (the folder `grade`
+    /// runs in), else left relative, to be found where the program starts.
+    pub fn argv(&self, scene: &str, out: &str, cwd: Option<&Path>) -> Vec<OsString> {
         self.words(cwd, |word| {
             word.replace("{scene}", scene).replace("{out}", out)
         })
     }
 
-    /// The argument vector as written (a build command), a relative
-    /// program taken from `cwd`.
-    pub fn argv_as_written(&self, cwd: &Path) -> Vec<OsString> {
-        self.words(cwd, str::to_string)
+    /// The argument vector as written (a build command), found where it
+    /// starts.
+    pub fn argv_as_written(&self) -> Vec<OsString> {
+        self.words(None, str::to_string)
     }
 
-    fn words(&self, cwd: &Path, substitute: impl Fn(&str) -> String) -> Vec<OsString> {
+    fn words(&self, cwd: Option<&Path>, substitute: impl Fn(&str) -> String) -> Vec<OsString> {
         self.0
             .iter()
             .enumerate()
             .map(|(i, word)| {
                 let word = substitute(word);
-                if i == 0 && word.contains('/') && Path::new(&word).is_relative() {
-                    cwd.join(word).into_os_string()
-                } else {
-                    word.into()
+                match cwd {
+                    Some(cwd) if i == 0 && word.contains('/') && Path::new(&word).is_relative() => {
+                        cwd.join(word).into_os_string()
+                    }
+                    _ => word.into(),
                 }
             })
             .collect()
@@ -156,15 +181,17 @@ mod tests {
     #[test]
     fn a_scene_name_never_adds_a_word() {
         let template = Template::parse("tracer --in '{scene}' {out}").unwrap();
-        let argv = template.argv("a b; rm -rf ~.txt", "out.ppm", Path::new("/g"));
+        let argv = template.argv("a b; rm -rf ~.txt", "out.ppm", Some(Path::new("/g")));
         assert_eq!(argv, ["tracer", "--in", "a b; rm -rf ~.txt", "out.ppm"]);
     }
 
     #[test]
-    fn a_relative_program_is_taken_from_the_grader_folder() {
+    fn a_relative_program_is_taken_from_the_grader_folder_or_left_relative() {
         let template = Template::parse("./bin/tracer {scene} {out}").unwrap();
-        let argv = template.argv("s.txt", "out.ppm", Path::new("/home/g"));
+        let argv = template.argv("s.txt", "out.ppm", Some(Path::new("/home/g")));
         assert_eq!(argv[0], "/home/g/./bin/tracer");
+        let argv = template.argv("s.txt", "out.ppm", None);
+        assert_eq!(argv[0], "./bin/tracer");
         assert!(matches!(Template::parse("  "), Err(TemplateError::Empty)));
         assert!(matches!(
             Template::parse("a 'b"),
