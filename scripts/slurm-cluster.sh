@@ -110,29 +110,31 @@ free_port() {
     echo "$port"
 }
 
+# `start` runs as the condition of an `if`, where `set -e` does not apply:
+# each step that can fail returns.
 start() {
     local host ctld_port slurmd_port state
-    host=$(hostname)
+    host=$(hostname) || return 1
     # The munge user must reach its folder inside DIR.
-    chmod 755 "$dir"
-    mkdir -p "$dir/munge" "$dir/state" "$dir/spool"
+    chmod 755 "$dir" || return 1
+    mkdir -p "$dir/munge" "$dir/state" "$dir/spool" || return 1
     # munged wants its socket's folder open to every user (the socket is
     # how they ask it for credentials), and nothing in it writable but by
     # itself.
-    chmod 755 "$dir/munge"
-    chmod 700 "$dir/state" "$dir/spool"
+    chmod 755 "$dir/munge" || return 1
+    chmod 700 "$dir/state" "$dir/spool" || return 1
 
     # A key for this cluster alone, readable only by munged's user.
-    dd if=/dev/urandom of="$dir/munge/munge.key" bs=1024 count=1 status=none
-    chown -R munge:munge "$dir/munge"
-    chmod 400 "$dir/munge/munge.key"
+    dd if=/dev/urandom of="$dir/munge/munge.key" bs=1024 count=1 status=none || return 1
+    chown -R munge:munge "$dir/munge" || return 1
+    chmod 400 "$dir/munge/munge.key" || return 1
     runuser -u munge -- munged \
         --socket="$dir/munge/munge.socket.2" \
         --key-file="$dir/munge/munge.key" \
         --pid-file="$dir/munge/munged.pid" \
         --log-file="$dir/munge/munged.log" \
         --seed-file="$dir/munge/munged.seed" \
-        </dev/null >/dev/null 2>&1
+        </dev/null >/dev/null 2>&1 || return 1
     if ! munge --socket="$dir/munge/munge.socket.2" --no-input </dev/null |
         unmunge --socket="$dir/munge/munge.socket.2" >/dev/null; then
         echo "munged does not answer on $dir/munge/munge.socket.2" >&2
@@ -190,9 +192,10 @@ SlurmdParameters=config_overrides
 NodeName=$host NodeAddr=127.0.0.1 CPUs=2 State=UNKNOWN
 PartitionName=main Nodes=$host Default=YES MaxTime=INFINITE State=UP
 EOF
+    [ -s "$conf" ] || return 1
 
-    slurmctld -i </dev/null >/dev/null 2>&1
-    slurmd </dev/null >/dev/null 2>&1
+    slurmctld -i </dev/null >/dev/null 2>&1 || return 1
+    slurmd </dev/null >/dev/null 2>&1 || return 1
 
     # Wall-clock seconds, not a count of tries: an sinfo that cannot reach
     # the controller waits for its own timeout.
