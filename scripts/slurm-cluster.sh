@@ -41,7 +41,8 @@ daemons=(
 )
 
 # The pid in pid file $2 when it is that of a running process named $1
-# (a pid reused by another program is not ours to stop).
+# (a pid reused by another program is not ours to stop), by the kernel's
+# name for the process.
 daemon_pid() {
     local name=$1 pidfile=$2 pid
     [ -s "$pidfile" ] || return 0
@@ -125,7 +126,7 @@ start() {
     chmod 700 "$dir/state" "$dir/spool" || return 1
 
     # A key for this cluster alone, readable only by munged's user.
-    dd if=/dev/urandom of="$dir/munge/munge.key" bs=1024 count=1 status=none || return 1
+    mungekey --create --keyfile="$dir/munge/munge.key" || return 1
     chown -R munge:munge "$dir/munge" || return 1
     chmod 400 "$dir/munge/munge.key" || return 1
     runuser -u munge -- munged \
