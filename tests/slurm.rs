@@ -13,10 +13,12 @@
 //! doc's block that grades one student again completes the class; and a
 //! task requeued while it runs still gives `--class`'s `class.csv`.
 //!
-//! The doc's numbers that a 2-CPU node cannot run as they are (32 tiles
-//! of 8 cores) are the parameters the doc sets on its first lines; the
-//! tests set them and nothing else. The tests take the cluster one at a
-//! time. Slurm and MUNGE are Debian packages (`slurm-wlm`, `munge`) that
+//! Each block sets its numbers on its first lines, as parameters the doc
+//! documents (32 tiles of 8 cores, which a 2-CPU node cannot run, the tile
+//! or the student to do again); the tests set those (4 tiles of 1 core)
+//! and change nothing else, and run the block that does one tile again
+//! after the submission's `N` and `CPUS` lines, as in the shell the doc
+//! speaks of. The tests take the cluster one at a time. Slurm and MUNGE are Debian packages (`slurm-wlm`, `munge`) that
 //! .ci/run installs, and the cluster needs root: without either the tests
 //! fail under CI (`support::under_ci`) and say they were skipped otherwise.
 
@@ -284,10 +286,9 @@ fn set_parameter(block: &str, name: &str, value: &str) -> String {
             found = true;
             continue;
         }
-        at_top &= line.split_once('=').is_some_and(|(n, _)| {
-            n.chars()
-                .all(|c| c.is_ascii_uppercase() || c == '_' || c.is_ascii_lowercase())
-        });
+        at_top &= line
+            .split_once('=')
+            .is_some_and(|(n, _)| n.chars().all(|c| c.is_ascii_alphabetic() || c == '_'));
         lines.push(line.to_string());
     }
     assert!(
