@@ -39,6 +39,7 @@ mod registry;
 mod render_cli;
 mod round_trip;
 mod semantic_tokens;
+mod slurm;
 mod stability;
 mod texture_headers;
 mod textures;

@@ -68,22 +68,64 @@ pub fn doc_recipe(doc: &str, heading: &str) -> String {
     block[..block.find("```").expect("closing fence")].to_string()
 }
 
+/// Every `sh` block of the section under the heading line `heading` (with
+/// its `#`s) in `doc`, a path under docs/, in order: the section ends at
+/// the next heading of its level or above.
+pub fn doc_recipes(doc: &str, heading: &str) -> Vec<String> {
+    let path = Path::new(env!("REPOSITORY")).join(doc);
+    let docs = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("read {doc}: {e}"));
+    let start = docs
+        .find(&format!("\n{heading}\n"))
+        .unwrap_or_else(|| panic!("{doc} has no `{heading}`"))
+        + heading.len()
+        + 2;
+    let level = heading.bytes().take_while(|&b| b == b'#').count();
+    let mut blocks = Vec::new();
+    let mut block: Option<String> = None;
+    for line in docs[start..].lines() {
+        match &mut block {
+            Some(text) if line == "```" => {
+                blocks.push(std::mem::take(text));
+                block = None;
+            }
+            Some(text) => {
+                text.push_str(line);
+                text.push('\n');
+            }
+            None if line == "```sh" => block = Some(String::new()),
+            None => {
+                let hashes = line.bytes().take_while(|&b| b == b'#').count();
+                if (1..=level).contains(&hashes) && line[hashes..].starts_with(' ') {
+                    break;
+                }
+            }
+        }
+    }
+    blocks
+}
+
 /// Run `script` (a recipe from the docs) with bash in `dir`, the folder of
 /// the binary under test first on PATH so the recipe's `raytracer` is this
 /// build.
 pub fn run_recipe(dir: &Path, script: &str) -> Output {
+    recipe_command(dir, script).output().expect("run bash")
+}
+
+/// The command [`run_recipe`] runs, for a test that adds to its
+/// environment.
+pub fn recipe_command(dir: &Path, script: &str) -> Command {
     let bin_dir = Path::new(bin()).parent().expect("bin folder");
     let path = std::env::join_paths(std::iter::once(bin_dir.to_path_buf()).chain(
         std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),
     ))
     .expect("PATH");
-    Command::new("bash")
+    let mut command = Command::new("bash");
+    command
         .args(["-euo", "pipefail", "-c", script])
         .current_dir(dir)
         .env("PATH", &path)
-        .env_remove("COLUMNS")
-        .output()
-        .expect("run bash")
+        .env_remove("COLUMNS");
+    command
 }
 
 /// The `raytracer` binary under test: cargo builds it from the current
