@@ -120,7 +120,7 @@ struct Cluster {
 
 impl Cluster {
     fn script() -> PathBuf {
-        Path::new(env!("REPOSITORY")).join("scripts/slurm-cluster.sh")
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm-cluster.sh")
     }
 
     /// Start the cluster and wait until its node is idle.
