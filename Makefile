@@ -7,7 +7,7 @@ CARGO ?= cargo
 CARGO_FLAGS ?=
 BIN := target/release/raytracer
 
-.PHONY: all build test cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
+.PHONY: all build test web test-web cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
 	vsix preview-screenshot preview-latency grading-screenshot
 
 all: raytracer
@@ -30,6 +30,18 @@ test: raytracer
 	$(CARGO) clippy --release --locked --workspace --all-targets -- -D warnings
 	$(CARGO) test --release --locked --workspace --lib --tests $(CARGO_FLAGS)
 	$(CARGO) test --release --locked --workspace --doc
+
+# The playground (docs/playground.md): the page and its WebAssembly module
+# in target/web/site, a folder to open from file:// or copy to any static
+# web server (scripts/web.sh; installs Debian's wasm toolchain when
+# missing; minutes cold, mostly std for wasm32).
+web:
+	scripts/web.sh
+
+# The playground in headless Chromium (tests/playground.rs), on the folder
+# `make web` built; .ci/run runs it after `make test`.
+test-web: web
+	$(CARGO) test --release --locked --test playground $(CARGO_FLAGS)
 
 # The cold times in README.md, measured from bare clones of HEAD
 # (scripts/cold-times.sh; 15 to 20 minutes on 2 cores).
