@@ -8,7 +8,7 @@ CARGO_FLAGS ?=
 BIN := target/release/raytracer
 
 .PHONY: all build test web test-web cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
-	vsix preview-screenshot preview-latency grading-screenshot
+	vsix preview-screenshot preview-latency grading-screenshot playground-screenshot
 
 all: raytracer
 
@@ -137,6 +137,12 @@ preview-screenshot:
 grading-screenshot:
 	RAYTRACER_GRADING_SCREENSHOT=$(CURDIR)/docs/grading-report.png \
 	  $(CARGO) test --release --locked --test integration grade_browser::
+
+# docs/playground.png: the playground with a misspelt attribute, as
+# headless Chromium draws it in the browser test (tests/playground.rs).
+playground-screenshot: web
+	RAYTRACER_PLAYGROUND_SCREENSHOT=$(CURDIR)/docs/playground.png \
+	  $(CARGO) test --release --locked --test playground a_misspelt_attribute
 
 # The save-to-image latency table of docs/preview.md: the same test's
 # measurement, on a release build, written between its markers.
