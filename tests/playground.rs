@@ -229,7 +229,7 @@ fn a_misspelt_attribute_is_shown_at_its_line_and_its_fix_renders_the_native_imag
     let mut browser = open(&page, "", dir.path());
     let first =
         browser.eval("Number(document.getElementById('status').dataset.firstDiagnosticsMs)");
-    rendered(&mut browser);
+    let sample_ms = rendered(&mut browser);
     let rows = browser.eval("document.querySelectorAll('#problems li').length");
     assert_eq!(rows, 0, "the sample has no problems");
 
@@ -239,15 +239,18 @@ fn a_misspelt_attribute_is_shown_at_its_line_and_its_fix_renders_the_native_imag
     for key in keys {
         browser.call("Input.insertText", json!({ "text": key }));
     }
-    // The diagnostic is there within 500 ms of the last keystroke.
+    // The diagnostics of the text after the last keystroke (the page
+    // numbers each version of the text) are there within 500 ms of it.
+    let before = browser.eval("Number(document.getElementById('status').dataset.seq)");
     let started = Instant::now();
     browser.call("Input.insertText", json!({ "text": last }));
     let shown = browser.wait_for(
-        "(() => { const d = document.getElementById('status').dataset;
-                  return Number(d.checkedSeq) > 0 && document.querySelector(\"#problems li[data-code='scene::unknown_attribute']\"); })()",
+        &format!("Number(document.getElementById('status').dataset.checkedSeq) > {before}"),
         "[document.querySelector('#problems li').dataset.line, document.querySelector('#problems li').textContent, Number(document.getElementById('status').dataset.latencyMs)]",
     );
     let waited = started.elapsed();
+    let rows = browser.eval("document.querySelectorAll('#problems li').length");
+    assert_eq!(rows, 1, "{shown}");
     assert_eq!(shown[0], "22", "{shown}");
     let text = shown[1].as_str().unwrap();
     assert!(
@@ -288,7 +291,8 @@ fn a_misspelt_attribute_is_shown_at_its_line_and_its_fix_renders_the_native_imag
     assert!(canvas_rgb(&mut browser) == native, "the canvas differs");
     record(&format!(
         "first diagnostics {first} ms after navigation; keystroke to diagnostics {waited:?} \
-         (page: {} ms); sample with one more sphere at 400² rendered in {render_ms} ms",
+         (page: {} ms); the sample at 400² rendered in {sample_ms} ms, with one more sphere \
+         in {render_ms} ms",
         shown[2]
     ));
 
@@ -375,7 +379,10 @@ fn a_camera_of_16384_does_not_freeze_the_page() {
         status.as_str().unwrap().contains("Rendering 4096 × 4096"),
         "{status}"
     );
-    // The page answers at once, again and again, while the render runs.
+    // The page answers, again and again, while the render runs: a page
+    // whose thread rendered would not answer before the 4096² render
+    // ended, tens of seconds later (the bound leaves room for a loaded
+    // machine).
     let mut slowest = Duration::ZERO;
     for _ in 0..20 {
         let started = Instant::now();
@@ -384,7 +391,7 @@ fn a_camera_of_16384_does_not_freeze_the_page() {
         std::thread::sleep(Duration::from_millis(50));
     }
     assert!(
-        slowest < Duration::from_millis(200),
+        slowest < Duration::from_millis(500),
         "the page took {slowest:?} to answer"
     );
     // Typing is still checked at once, and the edit stops the render.

@@ -139,6 +139,7 @@ function requestCheck() {
     rendering = null;
   }
   seq += 1;
+  status.dataset.seq = String(seq);
   changedAt.set(seq, performance.now());
   checker.postMessage({ type: "check", seq, name: sceneName, text: view.state.doc.toString() });
 }
