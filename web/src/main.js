@@ -15,7 +15,7 @@ import assets from "assets:data";
 
 // The largest side the page renders (crates/web's MAX_SIZE): a camera
 // above it is shown at this size, the same view with fewer pixels.
-const MAX_SIZE = 4096;
+const MAX_SIZE = 2048;
 // A camera above COARSE_ABOVE pixels is first rendered at COARSE pixels,
 // shown scaled up, then at its own size.
 const COARSE_ABOVE = 200;
@@ -137,6 +137,9 @@ function requestCheck() {
     renderer.terminate();
     renderer = null;
     rendering = null;
+    clearTimeout(flushTimer);
+    flushTimer = null;
+    bands = [];
   }
   seq += 1;
   status.dataset.seq = String(seq);
@@ -283,7 +286,10 @@ function startRender(text, resolution) {
   if (!renderer) renderer = startWorker(onRendered);
   const size = Math.min(resolution, MAX_SIZE);
   const coarse = size > COARSE_ABOVE ? COARSE : 0;
-  rendering = { seq, size, text, textures: textureVersion, started: performance.now() };
+  rendering = { seq, size, text, textures: textureVersion };
+  // The canvas is drawn over from here: it shows no finished image.
+  rendered = null;
+  delete status.dataset.coarse;
   $("download-png").disabled = true;
   if (canvas.width !== size) {
     canvas.width = canvas.height = size;
@@ -305,7 +311,41 @@ function rgba(rgb, width, rows) {
   return data;
 }
 
-const coarseCanvas = document.createElement("canvas");
+// The coarse image lies under the canvas (index.html), scaled up by CSS,
+// and shows through wherever the full image has no band yet.
+const coarseCanvas = $("coarse");
+// Bands received and not yet drawn: drawing is batched, at most every
+// FLUSH_MS, as each drawing of a large canvas costs the page's thread
+// far more than the band's pixels.
+const FLUSH_MS = 100;
+let bands = [];
+let flushTimer = null;
+
+function flush() {
+  flushTimer = null;
+  for (const { data, start } of bands) context.putImageData(data, 0, start);
+  bands = [];
+}
+
+function onFrame(message) {
+  const rows = message.end - message.start;
+  const data = rgba(message.rgb, message.size, rows);
+  if (message.size !== rendering.size) {
+    if (coarseCanvas.width !== message.size) coarseCanvas.width = coarseCanvas.height = message.size;
+    coarseCanvas.getContext("2d").putImageData(data, 0, message.start);
+    if (message.end === message.size) {
+      // The old image goes, and the coarse one shows until the bands
+      // cover it.
+      context.clearRect(0, 0, canvas.width, canvas.height);
+      coarseCanvas.hidden = false;
+      canvas.classList.remove("stale");
+      status.dataset.coarse = String(message.size);
+    }
+    return;
+  }
+  bands.push({ data, start: message.start });
+  flushTimer ??= setTimeout(flush, FLUSH_MS);
+}
 
 function onRendered(message) {
   if (!rendering || message.seq !== rendering.seq) return;
@@ -317,24 +357,14 @@ function onRendered(message) {
     return;
   }
   if (message.type === "frame") {
-    const rows = message.end - message.start;
-    const band = rgba(message.rgb, message.size, rows);
-    if (message.size === rendering.size) {
-      context.putImageData(band, 0, message.start);
-      canvas.classList.remove("stale");
-    } else {
-      if (coarseCanvas.width !== message.size) coarseCanvas.width = coarseCanvas.height = message.size;
-      coarseCanvas.getContext("2d").putImageData(band, 0, message.start);
-      if (message.end === message.size) {
-        context.imageSmoothingEnabled = false;
-        context.drawImage(coarseCanvas, 0, 0, rendering.size, rendering.size);
-        canvas.classList.remove("stale");
-        status.dataset.coarse = String(message.size);
-      }
-    }
+    onFrame(message);
     return;
   }
-  // "rendered"
+  // "rendered": the last bands drawn, the coarse image hidden.
+  clearTimeout(flushTimer);
+  flush();
+  coarseCanvas.hidden = true;
+  canvas.classList.remove("stale");
   rendered = { text: rendering.text, textures: rendering.textures };
   status.dataset.renderMs = message.ms.toFixed(1);
   status.dataset.renderedSize = String(message.size);
@@ -363,6 +393,9 @@ function addTexture(name, bytes) {
   if (renderer) renderer.terminate();
   renderer = null;
   rendering = null;
+  clearTimeout(flushTimer);
+  flushTimer = null;
+  bands = [];
   showTextures();
   requestCheck();
 }

@@ -53,9 +53,11 @@ fn with_state<T>(f: impl FnOnce(&mut State) -> T) -> T {
     STATE.with(|state| f(&mut state.borrow_mut()))
 }
 
-/// The largest image side [`web_render`] renders: 4096 × 4096 pixels are
-/// 48 MiB of RGB in the module and 64 MiB of RGBA in the page's canvas.
-pub const MAX_SIZE: u32 = 4096;
+/// The largest image side [`web_render`] renders: 2048 × 2048 pixels are
+/// 16 MiB of RGBA in the page's canvas, which the page draws and scales
+/// down to its box as the bands arrive; at 4096 that work alone kept the
+/// page's thread busy for half a second at a time on a loaded machine.
+pub const MAX_SIZE: u32 = 2048;
 
 /// The input buffer, resized to `len` bytes, for the caller to fill.
 #[no_mangle]
