@@ -6,7 +6,8 @@
 //! changes the text, and the image the page then renders (and downloads
 //! as PNG) is `raytracer render`'s, pixel for pixel; a dropped texture is
 //! used; `camera 16384` leaves the page answering and typing checked; a
-//! share link restores the scene. The WebAssembly module is fed the
+//! share link restores the scene; the menu opens a suite scene and the
+//! file picker a scene file. The WebAssembly module is fed the
 //! hostile-input set of the CLI tests (under node, which CI installs) and
 //! reports what the native front end reports.
 //!
@@ -501,4 +502,56 @@ fn the_module_reports_every_hostile_input_as_the_command_line_does() {
             "{what}: rendered"
         );
     }
+}
+
+#[test]
+fn the_menu_opens_a_suite_scene_and_the_file_picker_a_scene_file() {
+    let test = "the_menu_opens_a_suite_scene_and_the_file_picker_a_scene_file";
+    let Some(page) = site(test) else { return };
+    if !chromium_available(test) {
+        return;
+    }
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = scratch();
+    let mut browser = open(&page, "", dir.path());
+    rendered(&mut browser);
+    let chosen = browser.eval(
+        "(() => { const menu = document.getElementById('scene-picker');
+                  const i = [...menu.options].findIndex((o) => o.textContent === 'suite: shadows.txt');
+                  menu.value = String(i); menu.dispatchEvent(new Event('change')); return i; })()",
+    );
+    assert!(
+        chosen.as_i64() > Some(0),
+        "no suite scene in the menu: {chosen}"
+    );
+    browser.wait_for(
+        "document.getElementById('scene-name').textContent === 'shadows.txt'",
+        "true",
+    );
+    rendered(&mut browser);
+    click(&mut browser, "#download-scene");
+    let suite = std::fs::read(repository().join("suite/shadows.txt")).expect("the suite scene");
+    assert_eq!(downloaded(dir.path(), "shadows.txt"), suite);
+
+    let reflection = repository().join("scenes/reflection.txt");
+    let root = browser.call("DOM.getDocument", json!({}));
+    let input = browser.call(
+        "DOM.querySelector",
+        json!({"nodeId": root["root"]["nodeId"], "selector": "#files"}),
+    );
+    browser.call(
+        "DOM.setFileInputFiles",
+        json!({"nodeId": input["nodeId"], "files": [reflection.display().to_string()]}),
+    );
+    browser.wait_for(
+        "document.getElementById('scene-name').textContent === 'reflection.txt'",
+        "true",
+    );
+    rendered(&mut browser);
+    let text = std::fs::read_to_string(&reflection).expect("scenes/reflection.txt");
+    let native = native_render(dir.path(), &text, &[]);
+    assert!(
+        canvas_rgb(&mut browser) == native,
+        "the page's image differs from `raytracer render`'s"
+    );
 }
