@@ -24,10 +24,13 @@ build:
 # the suite run in the release profile, reusing what `make` built (the
 # procedural macros and build scripts clippy needs, the crates and
 # dependencies the tests link, the binary they spawn); the examples are not
-# built again here (clippy --all-targets checks them).
+# built again here (clippy --all-targets checks them). The playground's test
+# runs in `make test-web`, but is linted here: --all-targets leaves out a
+# test that `test = false` keeps from `cargo test`.
 test: raytracer
 	$(CARGO) fmt --all --check
 	$(CARGO) clippy --release --locked --workspace --all-targets -- -D warnings
+	$(CARGO) clippy --release --locked --test playground -- -D warnings
 	$(CARGO) test --release --locked --workspace --lib --tests $(CARGO_FLAGS)
 	$(CARGO) test --release --locked --workspace --doc
 
