@@ -7,8 +7,8 @@ CARGO ?= cargo
 CARGO_FLAGS ?=
 BIN := target/release/raytracer
 
-.PHONY: all build test cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
-	vsix preview-screenshot preview-latency grading-screenshot
+.PHONY: all build test web test-web cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
+	vsix preview-screenshot preview-latency grading-screenshot playground-screenshot
 
 all: raytracer
 
@@ -24,12 +24,27 @@ build:
 # the suite run in the release profile, reusing what `make` built (the
 # procedural macros and build scripts clippy needs, the crates and
 # dependencies the tests link, the binary they spawn); the examples are not
-# built again here (clippy --all-targets checks them).
+# built again here (clippy --all-targets checks them). The playground's test
+# runs in `make test-web`, but is linted here: --all-targets leaves out a
+# test that `test = false` keeps from `cargo test`.
 test: raytracer
 	$(CARGO) fmt --all --check
 	$(CARGO) clippy --release --locked --workspace --all-targets -- -D warnings
+	$(CARGO) clippy --release --locked --test playground -- -D warnings
 	$(CARGO) test --release --locked --workspace --lib --tests $(CARGO_FLAGS)
 	$(CARGO) test --release --locked --workspace --doc
+
+# The playground (docs/playground.md): the page and its WebAssembly module
+# in target/web/site, a folder to open from file:// or copy to any static
+# web server (scripts/web.sh; installs Debian's wasm toolchain when
+# missing; minutes cold, mostly std for wasm32).
+web:
+	scripts/web.sh
+
+# The playground in headless Chromium (tests/playground.rs), on the folder
+# `make web` built; .ci/run runs it after `make test`.
+test-web: web
+	$(CARGO) test --release --locked --test playground $(CARGO_FLAGS)
 
 # The cold times in README.md, measured from bare clones of HEAD
 # (scripts/cold-times.sh; 15 to 20 minutes on 2 cores).
@@ -125,6 +140,12 @@ preview-screenshot:
 grading-screenshot:
 	RAYTRACER_GRADING_SCREENSHOT=$(CURDIR)/docs/grading-report.png \
 	  $(CARGO) test --release --locked --test integration grade_browser::
+
+# docs/playground.png: the playground with a misspelt attribute, as
+# headless Chromium draws it in the browser test (tests/playground.rs).
+playground-screenshot: web
+	RAYTRACER_PLAYGROUND_SCREENSHOT=$(CURDIR)/docs/playground.png \
+	  $(CARGO) test --release --locked --test playground a_misspelt_attribute
 
 # The save-to-image latency table of docs/preview.md: the same test's
 # measurement, on a release build, written between its markers.

@@ -1,6 +1,6 @@
 //! The reports of `raytracer grade` in a real browser: Debian's
 //! `chromium`, headless, driven over the DevTools protocol by the
-//! [`Browser`] of tests/preview_browser.rs. Each student's `index.html`,
+//! [`Browser`] of tests/support/browser.rs. Each student's `index.html`,
 //! opened from `file://`, shows every image it names (loaded, with a
 //! width) and one row per scene; `class.html` has one row per student,
 //! and a cell's link opens that student's report at the scene's row. A
@@ -17,8 +17,8 @@ use serde_json::Value;
 
 use crate::grade_class::class_folder;
 use crate::grade_cli::binary;
-use crate::preview_browser::{chromium_available, Browser};
 use crate::support;
+use crate::support::browser::{chromium_available, Browser};
 
 /// Every `<img>` of the page: whether it loaded, and its natural width.
 const IMAGES: &str = "Array.from(document.images).map((image) => \

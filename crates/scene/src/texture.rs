@@ -3,7 +3,8 @@
 //! [`TextureLoader`]s through which files reach the check pass:
 //! [`HeaderReader`] reads only headers (`raytracer check`, the language
 //! server), [`Decoder`] decodes each image in full and keeps it (`render`,
-//! `convert`).
+//! `convert`), from files or, for a caller without a file system (the
+//! WebAssembly playground), from bytes in memory ([`Decoder::in_memory`]).
 //!
 //! Only a regular file is opened: the path's type is checked before opening
 //! (a folder, a FIFO or a device is refused without touching it, so a FIFO
@@ -18,8 +19,9 @@
 //! before any pixel is allocated; the decoders' own allocations are capped
 //! by the crate's [`Limits`] as well.
 
+use std::collections::HashMap;
 use std::fs::File;
-use std::io::{BufRead, BufReader, Seek};
+use std::io::{BufRead, BufReader, Cursor, Seek};
 use std::path::Path;
 
 use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits};
@@ -71,12 +73,18 @@ impl TextureLoader for HeaderReader {
 /// it was loaded from, for [`Decoder::take`] once the check is done.
 #[derive(Debug, Default)]
 pub struct Decoder {
-    decoded: std::collections::HashMap<String, Texture>,
+    decoded: HashMap<String, Texture>,
+    /// The files of [`Decoder::in_memory`], by name; `None` reads the
+    /// file system.
+    files: Option<HashMap<String, Vec<u8>>>,
 }
 
 impl TextureLoader for Decoder {
     fn load(&mut self, path: &Path, max_texels: u64) -> Result<Header, TextureError> {
-        let texture = load(path, max_texels)?;
+        let texture = match &self.files {
+            None => load(path, max_texels)?,
+            Some(files) => load_in_memory(files, path, max_texels)?,
+        };
         let header = texture.header();
         self.decoded.insert(header.path.clone(), texture);
         Ok(header)
@@ -84,10 +92,53 @@ impl TextureLoader for Decoder {
 }
 
 impl Decoder {
+    /// A decoder that reads no file: a texture path names one of `files`
+    /// by the whole path or, failing that, by its last component (so a
+    /// scene written for `textures/wood.ppm` finds a `wood.ppm` given on
+    /// its own). A path that names none fails as a missing file does.
+    pub fn in_memory(files: HashMap<String, Vec<u8>>) -> Decoder {
+        Decoder {
+            decoded: HashMap::new(),
+            files: Some(files),
+        }
+    }
+
     /// The texture decoded from the file `header` describes.
     pub fn take(&mut self, header: &Header) -> Option<Texture> {
         self.decoded.remove(&header.path)
     }
+}
+
+/// [`load`] from `files` (see [`Decoder::in_memory`]) instead of the file
+/// system.
+fn load_in_memory(
+    files: &HashMap<String, Vec<u8>>,
+    path: &Path,
+    max_texels: u64,
+) -> Result<Texture, TextureError> {
+    let shown = path.display().to_string();
+    let bytes = files
+        .get(&shown)
+        .or_else(|| {
+            let name = path.file_name()?.to_str()?;
+            files.get(name)
+        })
+        .ok_or_else(|| TextureError::Io {
+            path: shown.clone(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                "no file of this name was given",
+            ),
+        })?;
+    let decoded = decode_image(Cursor::new(bytes), max_texels)
+        .map_err(|error| texture_error(&shown, error))?;
+    Ok(Texture {
+        path: shown,
+        format: decoded.format,
+        width: decoded.width,
+        height: decoded.height,
+        texels: decoded.texels,
+    })
 }
 
 /// A decoded image, row 0 at the top, channels scaled to [0, 1].
@@ -340,8 +391,6 @@ fn open_nonblocking(path: &Path) -> std::io::Result<File> {
 
 #[cfg(test)]
 mod tests {
-    use std::io::Cursor;
-
     use super::*;
 
     #[test]
@@ -371,5 +420,20 @@ mod tests {
         let (width, height, texels) = decode(Cursor::new(&ppm[..]), 2).unwrap();
         assert_eq!((width, height), (1, 2));
         assert_eq!(texels, vec![[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]);
+    }
+
+    #[test]
+    fn an_in_memory_decoder_finds_a_file_by_path_or_by_name() {
+        let ppm = b"P3\n1 1\n255\n0 255 0\n".to_vec();
+        let mut decoder = Decoder::in_memory(HashMap::from([("wood.ppm".to_string(), ppm)]));
+        for path in ["wood.ppm", "textures/wood.ppm"] {
+            let header = decoder.load(Path::new(path), 4).unwrap();
+            assert_eq!((header.width, header.height), (1, 1), "{path}");
+            assert_eq!(decoder.take(&header).unwrap().texels, vec![[0.0, 1.0, 0.0]]);
+        }
+        assert!(matches!(
+            decoder.load(Path::new("stone.ppm"), 4),
+            Err(TextureError::Io { .. })
+        ));
     }
 }

@@ -22,6 +22,7 @@ mod read;
 #[cfg(test)]
 mod summary_parity;
 
+use std::collections::HashMap;
 use std::path::Path;
 use std::time::Duration;
 
@@ -198,6 +199,22 @@ pub fn load_bytes(name: &str, dir: &Path, bytes: &[u8]) -> Loaded {
 pub fn load_bytes_as(language: Language, name: &str, dir: &Path, bytes: &[u8]) -> Loaded {
     let (source, utf8_error) = SourceFile::from_bytes(name, dir, bytes);
     let mut decoder = Decoder::default();
+    let (loaded, _) = load_source::<Collect>(source, utf8_error, language, &mut decoder, None);
+    decoded(loaded, decoder)
+}
+
+/// [`load_bytes_as`] with the scene's textures read from `files` (by
+/// path as written, or by file name: [`Decoder::in_memory`]) rather than
+/// from the file system, for a caller that has none (the WebAssembly
+/// playground).
+pub fn load_bytes_in_memory(
+    language: Language,
+    name: &str,
+    bytes: &[u8],
+    files: HashMap<String, Vec<u8>>,
+) -> Loaded {
+    let (source, utf8_error) = SourceFile::from_bytes(name, Path::new(""), bytes);
+    let mut decoder = Decoder::in_memory(files);
     let (loaded, _) = load_source::<Collect>(source, utf8_error, language, &mut decoder, None);
     decoded(loaded, decoder)
 }
