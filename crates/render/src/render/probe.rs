@@ -57,6 +57,15 @@ pub struct Buffers {
     /// One per pixel corner, `(size + 1)²`, row-major: corner `(i, j)` is
     /// the top-left corner of pixel `(i, j)`.
     pub corners: Vec<Probe>,
+    /// Per object of the IR: whether it is textured.
+    pub textured: Vec<bool>,
+    /// Per object of the IR: whether it reflects.
+    pub reflective: Vec<bool>,
+    /// The probes of the same scene with each plane's two `dimension`
+    /// values swapped, when a plane is not square: the assignment does not
+    /// say which runs along `headup`, so a pixel is stable only where
+    /// both readings see the same.
+    pub swapped: Option<Box<Buffers>>,
 }
 
 impl Buffers {
@@ -72,17 +81,53 @@ impl Buffers {
 
     /// Whether `key` is the same at the centre and the four corners of
     /// pixel `(x, y)`.
+    /// With [`Buffers::swapped`], the same must hold there, with the same
+    /// key.
     pub fn stable<K: PartialEq>(&self, x: u32, y: u32, key: impl Fn(&Probe) -> K) -> bool {
         let k = key(self.centre(x, y));
-        [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)]
-            .iter()
-            .all(|&(i, j)| key(self.corner(i, j)) == k)
+        self.agree(x, y, &key, &k)
+            && self
+                .swapped
+                .as_ref()
+                .is_none_or(|other| other.agree(x, y, &key, &k))
+    }
+
+    /// Whether `key` is `k` at the centre and the four corners of pixel
+    /// `(x, y)`, in these probes alone.
+    fn agree<K: PartialEq>(&self, x: u32, y: u32, key: &impl Fn(&Probe) -> K, k: &K) -> bool {
+        key(self.centre(x, y)) == *k
+            && [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)]
+                .iter()
+                .all(|&(i, j)| key(self.corner(i, j)) == *k)
     }
 }
 
 /// Probe `scene` at every pixel centre and corner, reflecting up to
 /// `max_depth` times for [`Probe::reflected_radiance`].
 pub fn buffers(scene: &ir::Scene, max_depth: u32) -> Buffers {
+    let mut main = probe_all(scene, max_depth);
+    main.swapped = swapped_planes(scene).map(|other| Box::new(probe_all(&other, max_depth)));
+    main
+}
+
+/// `scene` with each plane's width and height swapped, or `None` when
+/// every plane is square.
+pub fn swapped_planes(scene: &ir::Scene) -> Option<ir::Scene> {
+    let mut other = scene.clone();
+    let mut any = false;
+    for object in &mut other.objects {
+        if let ir::Shape::Rect { width, height, .. } = &mut object.shape {
+            if width != height {
+                std::mem::swap(width, height);
+                any = true;
+            }
+        }
+    }
+    any.then_some(other)
+}
+
+/// [`buffers`] of one reading.
+fn probe_all(scene: &ir::Scene, max_depth: u32) -> Buffers {
     let size = scene.resolution;
     let tracer = Tracer::<f64>::with_accel(scene, max_depth, false, Accel::Auto);
     let grid = |n: u32, offset: f64| -> Vec<Probe> {
@@ -99,6 +144,17 @@ pub fn buffers(scene: &ir::Scene, max_depth: u32) -> Buffers {
         size,
         centres: grid(size, 0.5),
         corners: grid(size + 1, 0.0),
+        textured: scene
+            .objects
+            .iter()
+            .map(|o| scene.materials[o.material as usize].texture.is_some())
+            .collect(),
+        reflective: scene
+            .objects
+            .iter()
+            .map(|o| scene.materials[o.material as usize].reflectivity > 0.0)
+            .collect(),
+        swapped: None,
     }
 }
 

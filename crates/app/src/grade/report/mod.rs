@@ -12,6 +12,7 @@ use std::path::Path;
 use schemars::JsonSchema;
 use serde::Serialize;
 
+use super::aspects::AspectThresholds;
 use super::{SceneResult, Status};
 use crate::compare::Thresholds;
 
@@ -25,6 +26,8 @@ pub struct Summary {
     /// Points the suite is worth.
     pub max_score: f64,
     pub thresholds: Thresholds,
+    /// The bounds of each aspect's measure.
+    pub aspect_thresholds: AspectThresholds,
     pub sandbox: SandboxSummary,
     /// The student's build (`build.txt`), when there was one; when it
     /// failed, every scene is `crashed` and no scene was run.
