@@ -18,8 +18,9 @@
 //! or the student to do again); the tests set those (4 tiles of 1 core)
 //! and change nothing else, and run the block that does one tile again
 //! after the submission's `N` and `CPUS` lines, as in the shell the doc
-//! speaks of. The tests take the cluster one at a time. Slurm and MUNGE are Debian packages (`slurm-wlm`, `munge`) that
-//! .ci/run installs, and the cluster needs root: without either the tests
+//! speaks of. The tests take the cluster one at a time. Slurm and MUNGE
+//! are Debian packages (`slurm-wlm`, `munge`) that .ci/run installs, and
+//! the cluster needs root: without either the tests
 //! fail under CI (`support::under_ci`) and say they were skipped otherwise.
 
 use std::path::{Path, PathBuf};
@@ -98,10 +99,7 @@ fn slurm_available(test: &str) -> bool {
             return false;
         }
     }
-    let root = Command::new("id")
-        .arg("-u")
-        .output()
-        .is_ok_and(|o| o.stdout == b"0\n");
+    let root = support::is_root();
     if !root {
         assert!(
             !support::under_ci(),
@@ -120,7 +118,7 @@ struct Cluster {
 
 impl Cluster {
     fn script() -> PathBuf {
-        Path::new(env!("REPOSITORY")).join("scripts/slurm-cluster.sh")
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm-cluster.sh")
     }
 
     /// Start the cluster and wait until its node is idle.

@@ -72,7 +72,7 @@ pub fn doc_recipe(doc: &str, heading: &str) -> String {
 /// its `#`s) in `doc`, a path under docs/, in order: the section ends at
 /// the next heading of its level or above.
 pub fn doc_recipes(doc: &str, heading: &str) -> Vec<String> {
-    let path = Path::new(env!("REPOSITORY")).join(doc);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(doc);
     let docs = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("read {doc}: {e}"));
     let start = docs
         .find(&format!("\n{heading}\n"))
