@@ -168,9 +168,26 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     };
     let scenes = suite::load(&paths).map_err(GradeError::from)?;
 
+    let confinement = Confinement::new(limits(&args.sandbox));
+    sandbox::become_subreaper();
+    let instructor = match &args.reference_tracer {
+        Some(command) => Some((command, Template::parse(command).map_err(GradeError::from)?)),
+        None => None,
+    };
+    let cwd = std::env::current_dir().map_err(io_error(Path::new(".")))?;
+    let source = match (&args.references, &instructor) {
+        (Some(folder), _) => reference::Source::Folder(folder),
+        (None, Some((command, template))) => reference::Source::Tracer {
+            command,
+            template,
+            cwd: &cwd,
+            confinement,
+        },
+        (None, None) => reference::Source::Ours,
+    };
     let references = scenes
         .par_iter()
-        .map(|scene| cache.reference(scene))
+        .map(|scene| cache.reference_from(scene, &source))
         .collect::<Result<Vec<_>, _>>()
         .map_err(io_error(&cache_folder))?;
     let buffers: Vec<Buffers> = scenes
@@ -186,8 +203,6 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         );
     }
 
-    let confinement = Confinement::new(limits(&args.sandbox));
-    sandbox::become_subreaper();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.jobs as usize)
         .build()

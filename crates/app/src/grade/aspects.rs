@@ -599,7 +599,8 @@ pub fn judge(
             .iter()
             .filter(|(a, _)| *a == result.aspect)
             .map(|(_, p)| p)
-            .sum();
+            .sum::<f64>()
+            + 0.0;
         result.score = if result.pass { result.points } else { 0.0 };
     }
     Judged {

@@ -204,7 +204,8 @@ pub fn split(total: f64, effects: ir::Effects) -> AspectPoints {
 
 /// Points to a millionth, so tenths that add up show as they should.
 pub fn round_points(points: f64) -> f64 {
-    (points * 1e6).round() / 1e6
+    // `+ 0.0` turns the `-0` of an empty sum into 0.
+    (points * 1e6).round() / 1e6 + 0.0
 }
 
 /// Why a suite cannot be graded.

@@ -127,6 +127,23 @@ pub fn outcome_lines(scene: &SceneResult) -> Vec<String> {
             flip.mean, flip.p99
         ));
     }
+    for aspect in &scene.aspects {
+        let verdict = match (aspect.judged, aspect.pass) {
+            (false, _) => "not judged",
+            (true, true) => "passes",
+            (true, false) => "FAILS",
+        };
+        lines.push(format!(
+            "{} {verdict} ({} / {} points): {}",
+            aspect.aspect.name(),
+            aspect.score,
+            aspect.points,
+            aspect.detail
+        ));
+    }
+    if let Some(reading) = &scene.reading {
+        lines.push(reading.clone());
+    }
     let ended = match (scene.exit_code, scene.signal) {
         (Some(code), _) => format!("exit code {code}"),
         (None, Some(signal)) => format!("signal {signal}"),
