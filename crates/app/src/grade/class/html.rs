@@ -32,7 +32,7 @@ pub fn page(class: &Class) -> String {
 <h1>Class of {n}</h1>\n<p>{n} students, {scenes} scenes. Each cell links to the scene in the student's report; \
 a scene that differs names the aspects that failed: <b>geom</b> geometry, <b>shad</b> shadows, \
 <b>refl</b> reflection, <b>tex</b> textures, <b>col</b> shading (colours).</p>\n\
-<table>\n<tr><th>student</th><th>score</th><th>build</th>",
+<table class=\"class\">\n<tr><th>student</th><th>score</th><th>build</th>",
         n = class.students.len(),
         scenes = class.scenes.len(),
     );
