@@ -24,6 +24,8 @@ mod grade_browser;
 mod grade_class;
 mod grade_cli;
 mod grade_sandbox;
+mod grade_students;
+mod grade_suite_format;
 mod hostile_inputs;
 mod hostile_text;
 mod intersection;

@@ -524,6 +524,15 @@ pub struct GradeArgs {
     /// `$XDG_CACHE_HOME/raytracer/references`, else `~/.cache/…`).
     #[arg(long, value_name = "DIR")]
     pub cache: Option<PathBuf>,
+    /// Compare with the images in DIR instead of ours: `DIR/<scene>.png`
+    /// or `.ppm`, the scene's path with its extension replaced.
+    #[arg(long, value_name = "DIR", conflicts_with = "reference_tracer")]
+    pub references: Option<PathBuf>,
+    /// Compare with the images the course's own tracer makes: COMMAND
+    /// like `--tracer`, run once per scene under the same sandbox, its
+    /// images cached by a hash of the command, its files and the scene.
+    #[arg(long, value_name = "COMMAND")]
+    pub reference_tracer: Option<String>,
     /// Scenes graded at once.
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
     pub jobs: u32,

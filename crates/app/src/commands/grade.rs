@@ -22,6 +22,7 @@ use rayon::prelude::*;
 use super::Outcome;
 use crate::cli::{GradeArgs, SandboxArgs};
 use crate::compare::Picture;
+use crate::grade::aspects::AspectThresholds;
 use crate::grade::class::{self, ClassError};
 use crate::grade::reference::{self, Cache};
 use crate::grade::report::{self, SandboxSummary, Summary};
@@ -30,6 +31,8 @@ use crate::grade::student::{self, Student, StudentError};
 use crate::grade::suite::{self, SuiteError, SuiteScene};
 use crate::grade::workdir::{Template, TemplateError};
 use crate::grade::{self, Plan, Programs};
+use raytracer_render::render::probe::{self, Buffers};
+use raytracer_render::render::Options;
 use raytracer_scene::diagnostic::{io_reason, BoxedDiagnostic};
 
 /// Why `grade` could not grade.
@@ -90,6 +93,8 @@ struct Job<'a> {
 struct Graded<'a> {
     scenes: &'a [SuiteScene],
     references: &'a [(Picture, bool)],
+    /// What our renderer sees at each pixel of each scene.
+    buffers: &'a [Buffers],
     confinement: Confinement,
     pool: &'a rayon::ThreadPool,
 }
@@ -163,11 +168,32 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     };
     let scenes = suite::load(&paths).map_err(GradeError::from)?;
 
+    let confinement = Confinement::new(limits(&args.sandbox));
+    sandbox::become_subreaper();
+    let instructor = match &args.reference_tracer {
+        Some(command) => Some((command, Template::parse(command).map_err(GradeError::from)?)),
+        None => None,
+    };
+    let cwd = std::env::current_dir().map_err(io_error(Path::new(".")))?;
+    let source = match (&args.references, &instructor) {
+        (Some(folder), _) => reference::Source::Folder(folder),
+        (None, Some((command, template))) => reference::Source::Tracer {
+            command,
+            template,
+            cwd: &cwd,
+            confinement,
+        },
+        (None, None) => reference::Source::Ours,
+    };
     let references = scenes
         .par_iter()
-        .map(|scene| cache.reference(scene))
+        .map(|scene| cache.reference_from(scene, &source))
         .collect::<Result<Vec<_>, _>>()
         .map_err(io_error(&cache_folder))?;
+    let buffers: Vec<Buffers> = scenes
+        .par_iter()
+        .map(|scene| probe::buffers(&scene.scene, Options::default().max_depth))
+        .collect();
     let rendered = references.iter().filter(|(_, fresh)| *fresh).count();
     if rendered > 0 {
         let images = if rendered == 1 { "image" } else { "images" };
@@ -177,8 +203,6 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         );
     }
 
-    let confinement = Confinement::new(limits(&args.sandbox));
-    sandbox::become_subreaper();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.jobs as usize)
         .build()
@@ -189,6 +213,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     let graded = Graded {
         scenes: &scenes,
         references: &references,
+        buffers: &buffers,
         confinement,
         pool: &pool,
     };
@@ -258,6 +283,7 @@ fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, Gr
         template: &job.template,
         confinement: graded.confinement,
         thresholds: args.thresholds.thresholds(),
+        aspects: AspectThresholds::default(),
         report: &job.report,
         programs: match &prepared {
             Some(folder) => Programs::Folder(folder.path()),
@@ -271,10 +297,11 @@ fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, Gr
             .scenes
             .par_iter()
             .zip(graded.references)
+            .zip(graded.buffers)
             .enumerate()
-            .map(|(index, (scene, (reference, _)))| {
+            .map(|(index, ((scene, (reference, _)), buffers))| {
                 progress.set_message(scene.name.clone());
-                let result = grade::grade_scene(&plan, index, scene, reference);
+                let result = grade::grade_scene(&plan, index, scene, reference, buffers);
                 progress.inc(1);
                 result
             })
@@ -286,9 +313,10 @@ fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, Gr
 
     let mut summary = Summary {
         tracer: job.tracer.clone(),
-        score: results.iter().map(|r| r.score).sum(),
-        max_score: graded.scenes.iter().map(|s| s.points).sum(),
+        score: suite::round_points(results.iter().map(|r| r.score).sum()),
+        max_score: suite::round_points(graded.scenes.iter().map(|s| s.points).sum()),
         thresholds: plan.thresholds,
+        aspect_thresholds: plan.aspects,
         sandbox: sandbox_summary(&args.sandbox, &graded.confinement),
         build,
         scenes: results,

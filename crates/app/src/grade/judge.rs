@@ -1,14 +1,18 @@
 //! A scene's status from how the program ended and what it wrote: the
 //! process first (a timeout, a crash, a start that failed), then the
-//! image (missing, undecodable), then the comparison with our reference.
+//! image (missing, undecodable), then the comparison with our reference:
+//! its size, then each aspect ([`super::aspects`]). A scene matches when
+//! no aspect fails; otherwise the reason names the aspects that failed.
 
 use std::path::Path;
 
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use super::aspects::{self, AspectPoints, AspectThresholds, Judged};
 use super::sandbox::Ended;
 use crate::compare::{self, Comparison, Picture, Thresholds, Verdict};
+use raytracer_render::render::probe::Buffers;
 
 /// Where a scene ended.
 #[derive(
@@ -24,7 +28,8 @@ pub enum Status {
     BadImage,
     /// Exited 0 without writing the image.
     NoImage,
-    /// Wrote an image that differs from ours (the reason says how).
+    /// Wrote an image that differs from ours in some aspect (the reason
+    /// names them).
     Differs,
     Match,
 }
@@ -35,14 +40,29 @@ pub struct Judgement {
     pub reason: Option<String>,
     /// The student's image and its comparison, when it was read.
     pub compared: Option<(Picture, Comparison)>,
+    /// Each aspect's verdict, when the image has the scene's size.
+    pub aspects: Option<Judged>,
+}
+
+/// What a student's image is judged against.
+pub struct Against<'a> {
+    pub reference: &'a Picture,
+    /// What our reference sees at each pixel.
+    pub buffers: &'a Buffers,
+    pub thresholds: &'a Thresholds,
+    pub aspects: &'a AspectThresholds,
+    /// The points of each aspect on this scene.
+    pub points: &'a AspectPoints,
 }
 
 /// Judge a run that `ended` so, with its image at `out`.
-pub fn judge(ended: &Ended, out: &Path, reference: &Picture, thresholds: &Thresholds) -> Judgement {
+pub fn judge(ended: &Ended, out: &Path, against: &Against) -> Judgement {
+    let reference = against.reference;
     let plain = |status, reason: String| Judgement {
         status,
         reason: Some(reason),
         compared: None,
+        aspects: None,
     };
     if let Some((status, reason)) = failure(ended) {
         return plain(status, reason);
@@ -57,23 +77,43 @@ pub fn judge(ended: &Ended, out: &Path, reference: &Picture, thresholds: &Thresh
         Ok((picture, _)) => picture,
         Err(error) => return plain(Status::BadImage, error.to_string()),
     };
-    let comparison = compare::compare(reference, &picture, thresholds);
-    let (status, reason) = match comparison.verdict {
-        Verdict::Match => (Status::Match, None),
-        Verdict::Size => (
+    let comparison = compare::compare(reference, &picture, against.thresholds);
+    let judged = (comparison.verdict != Verdict::Size).then(|| {
+        aspects::judge(
+            against.buffers,
+            reference,
+            &picture,
+            against.aspects,
+            against.points,
+        )
+    });
+    let (status, reason) = match &judged {
+        None => (
             Status::Differs,
             Some(format!(
                 "size: expected {} × {}, found {} × {}",
                 reference.width, reference.height, picture.width, picture.height
             )),
         ),
-        Verdict::Geometry => (Status::Differs, Some("geometry".into())),
-        Verdict::Appearance => (Status::Differs, Some("appearance".into())),
+        Some(judged) => {
+            let failed: Vec<&str> = judged
+                .results
+                .iter()
+                .filter(|r| !r.pass)
+                .map(|r| r.aspect.name())
+                .collect();
+            if failed.is_empty() {
+                (Status::Match, None)
+            } else {
+                (Status::Differs, Some(failed.join(", ")))
+            }
+        }
     };
     Judgement {
         status,
         reason,
         compared: Some((picture, comparison)),
+        aspects: judged,
     }
 }
 

@@ -6,11 +6,13 @@
 //! cache) our image of each; [`workdir`] prepares the folder and argument
 //! vector, copying a student's folder with [`copy`]; [`sandbox`] runs the program under limits, capturing its
 //! output with [`capture`]; [`judge`] turns the run and the image into a
-//! [`Status`]; [`student`] reads a student's folder (its command, its
+//! [`Status`], judging each aspect with [`aspects`] against what our
+//! renderer's probe sees at each pixel; [`student`] reads a student's folder (its command, its
 //! build) for `--student` and `--class`; [`class`] merges the students'
 //! summaries into the class overview; [`report`] writes the HTML report, summary.json and
 //! Gradescope's results.json.
 
+pub mod aspects;
 pub mod capture;
 pub mod class;
 pub mod copy;
@@ -28,7 +30,9 @@ use schemars::JsonSchema;
 use serde::Serialize;
 
 use crate::compare::{self, heatmap, FlipStats, Picture, Thresholds};
+use aspects::{AspectResult, AspectThresholds};
 pub use judge::Status;
+use raytracer_render::render::probe::Buffers;
 use sandbox::{Confinement, Ended};
 use suite::SuiteScene;
 use workdir::Template;
@@ -45,15 +49,20 @@ pub struct SceneResult {
     /// What the scene tests.
     pub description: String,
     pub status: Status,
-    /// How it differs (`geometry`, `appearance`, `size: …`), how it
+    /// Which aspects failed (`geometry, shadows`), a size that differs (`size: …`), how it
     /// crashed (`exit code 3`, `signal 11 (SIGSEGV)`), which limit stopped
     /// it, or why its image is bad.
     pub reason: Option<String>,
     /// The points the scene is worth.
     pub points: f64,
-    /// The points earned: all for `match`, half for `differs` on
-    /// appearance alone, none otherwise.
+    /// The points earned: those of every aspect that passed, none when
+    /// no image of the scene's size was judged.
     pub score: f64,
+    /// Each aspect's verdict, with its points and numbers; empty when the
+    /// image was not judged.
+    pub aspects: Vec<AspectResult>,
+    /// Which pixel reading the image fits, when the image tells.
+    pub reading: Option<String>,
     pub coverage_iou: Option<f64>,
     pub flip_mean: Option<f32>,
     pub flip: Option<FlipStats>,
@@ -84,6 +93,7 @@ pub struct Plan<'a> {
     pub template: &'a Template,
     pub confinement: Confinement,
     pub thresholds: Thresholds,
+    pub aspects: AspectThresholds,
     /// The report folder; images go to its `images/`.
     pub report: &'a Path,
     /// Where the program comes from.
@@ -109,6 +119,7 @@ pub fn grade_scene(
     index: usize,
     scene: &SuiteScene,
     reference: &Picture,
+    buffers: &Buffers,
 ) -> std::io::Result<SceneResult> {
     let stem = format!("{index:02}-{}", slug(&scene.name));
     let image = |kind: &str| format!("images/{stem}.{kind}.png");
@@ -141,7 +152,14 @@ pub fn grade_scene(
     };
     let argv = plan.template.argv(&dir.scene_file, workdir::OUT, cwd);
     let run = sandbox::run(&argv, &dir.start, plan.confinement);
-    let judged = judge::judge(&run.ended, &dir.out(), reference, &plan.thresholds);
+    let against = judge::Against {
+        reference,
+        buffers,
+        thresholds: &plan.thresholds,
+        aspects: &plan.aspects,
+        points: &scene.aspects,
+    };
+    let mut judged = judge::judge(&run.ended, &dir.out(), &against);
     drop(dir);
 
     let mut images = Images {
@@ -166,11 +184,26 @@ pub fn grade_scene(
         }
         None => None,
     };
-    let score = match (judged.status, judged.reason.as_deref()) {
-        (Status::Match, _) => scene.points,
-        (Status::Differs, Some("appearance")) => scene.points / 2.0,
-        _ => 0.0,
+    let (mut aspect_results, reading) = match judged.aspects.take() {
+        Some(found) => (
+            found
+                .results
+                .into_iter()
+                .zip(found.maps)
+                .collect::<Vec<_>>(),
+            found.reading,
+        ),
+        None => (Vec::new(), None),
     };
+    for (result, map) in &mut aspect_results {
+        if result.judged && !result.pass {
+            let relative = image(result.aspect.name());
+            write_png(&relative, &aspects::map_picture(reference, map))?;
+            result.image = Some(relative);
+        }
+    }
+    let aspect_results: Vec<AspectResult> = aspect_results.into_iter().map(|(r, _)| r).collect();
+    let score = suite::round_points(aspect_results.iter().map(|r| r.score).sum());
     let (exit_code, signal) = match run.ended {
         Ended::Exited(code) => (Some(code), None),
         Ended::Signalled(signal) => (None, Some(signal)),
@@ -183,6 +216,8 @@ pub fn grade_scene(
         reason: judged.reason,
         points: scene.points,
         score,
+        aspects: aspect_results,
+        reading,
         coverage_iou: metrics.map(|m| m.coverage_iou),
         flip_mean: metrics.map(|m| m.flip.mean),
         flip: metrics.map(|m| m.flip),
@@ -206,6 +241,8 @@ fn not_run(scene: &SuiteScene, reference_image: String, reason: &str) -> SceneRe
         reason: Some(reason.to_string()),
         points: scene.points,
         score: 0.0,
+        aspects: Vec::new(),
+        reading: None,
         coverage_iou: None,
         flip_mean: None,
         flip: None,

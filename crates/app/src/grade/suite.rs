@@ -11,7 +11,11 @@
 
 use std::path::{Path, PathBuf};
 
+use std::collections::BTreeMap;
+
 use serde::Deserialize;
+
+use super::aspects::{Aspect, AspectPoints};
 
 use raytracer_render::ir;
 use raytracer_scene::frontend::{self, Loaded};
@@ -19,8 +23,20 @@ use raytracer_scene::frontend::{self, Loaded};
 /// The files of the built-in suite, by their path inside it.
 const BUILT_IN: &[(&str, &[u8])] = &[
     (
-        "ambient.txt",
-        include_bytes!("../../../../suite/ambient.txt"),
+        "big_shadow.txt",
+        include_bytes!("../../../../suite/big_shadow.txt"),
+    ),
+    (
+        "checker.ppm",
+        include_bytes!("../../../../suite/checker.ppm"),
+    ),
+    (
+        "checker.txt",
+        include_bytes!("../../../../suite/checker.txt"),
+    ),
+    (
+        "colours.txt",
+        include_bytes!("../../../../suite/colours.txt"),
     ),
     (
         "field/2_lights_color.txt",
@@ -98,6 +114,7 @@ const BUILT_IN: &[(&str, &[u8])] = &[
         "hard/tangent_sphere.txt",
         include_bytes!("../../../../suite/hard/tangent_sphere.txt"),
     ),
+    ("mirror.txt", include_bytes!("../../../../suite/mirror.txt")),
     (
         "reflection.txt",
         include_bytes!("../../../../suite/reflection.txt"),
@@ -123,7 +140,10 @@ const BUILT_IN: &[(&str, &[u8])] = &[
 pub struct SuiteScene {
     /// The scene's path inside its suite folder, `/`-separated.
     pub name: String,
+    /// The points the scene is worth: the sum of `aspects`.
     pub points: f64,
+    /// The points of each aspect it is judged on.
+    pub aspects: AspectPoints,
     pub description: String,
     /// The folder the scene's relative paths start from.
     pub root: PathBuf,
@@ -142,9 +162,50 @@ struct Manifest {
 #[derive(Deserialize)]
 struct ManifestEntry {
     scene: String,
-    points: f64,
+    points: Points,
     #[serde(default)]
     description: String,
+}
+
+/// A scene's points in suite.json: per aspect, or a total that
+/// [`split`] shares out.
+#[derive(Clone, Deserialize)]
+#[serde(untagged)]
+enum Points {
+    Total(f64),
+    PerAspect(BTreeMap<Aspect, f64>),
+}
+
+/// The share of a scene's total that goes to shading: the assignment
+/// leaves the shading model and its constants open, so the colours are
+/// the aspect a correct tracer is likeliest to get "wrong" by our
+/// measure; a tenth keeps a correct reading above 90 %.
+pub const SHADING_SHARE: f64 = 0.1;
+
+/// A total shared out: [`SHADING_SHARE`] to shading, the rest evenly
+/// among geometry and the effects the scene has (shadows with a light,
+/// reflection with a mirror, textures with a texture).
+pub fn split(total: f64, effects: ir::Effects) -> AspectPoints {
+    let mut structural = vec![Aspect::Geometry];
+    if effects.shadows {
+        structural.push(Aspect::Shadows);
+    }
+    if effects.reflection {
+        structural.push(Aspect::Reflection);
+    }
+    if effects.textures {
+        structural.push(Aspect::Textures);
+    }
+    let each = total * (1.0 - SHADING_SHARE) / structural.len() as f64;
+    let mut points: AspectPoints = structural.into_iter().map(|a| (a, each)).collect();
+    points.push((Aspect::Shading, total * SHADING_SHARE));
+    points
+}
+
+/// Points to a millionth, so tenths that add up show as they should.
+pub fn round_points(points: f64) -> f64 {
+    // `+ 0.0` turns the `-0` of an empty sum into 0.
+    (points * 1e6).round() / 1e6 + 0.0
 }
 
 /// Why a suite cannot be graded.
@@ -202,7 +263,7 @@ pub fn load(paths: &[PathBuf]) -> Result<Vec<SuiteScene>, SuiteError> {
                 .unwrap_or_default()
                 .to_string_lossy()
                 .into_owned();
-            scenes.push(load_scene(root, &name, 1.0, String::new())?);
+            scenes.push(load_scene(root, &name, Points::Total(1.0), String::new())?);
         }
     }
     Ok(scenes)
@@ -227,7 +288,7 @@ fn load_folder(root: &Path) -> Result<Vec<SuiteScene>, SuiteError> {
             .into_iter()
             .map(|scene| ManifestEntry {
                 scene,
-                points: 1.0,
+                points: Points::Total(1.0),
                 description: String::new(),
             })
             .collect()
@@ -266,7 +327,7 @@ fn find_scenes(root: &Path, folder: &Path, names: &mut Vec<String>) -> Result<()
 fn load_scene(
     root: &Path,
     name: &str,
-    points: f64,
+    points: Points,
     description: String,
 ) -> Result<SuiteScene, SuiteError> {
     let path = root.join(name);
@@ -296,13 +357,19 @@ fn load_scene(
     }
     files.sort();
     files.dedup();
+    let scene = ir::lower(checked);
+    let aspects = match points {
+        Points::Total(total) => split(total, scene.effects),
+        Points::PerAspect(map) => map.into_iter().collect(),
+    };
     Ok(SuiteScene {
         name: name.to_string(),
-        points,
+        points: round_points(aspects.iter().map(|(_, p)| p).sum()),
+        aspects,
         description,
         root: root.to_path_buf(),
         files,
-        scene: ir::lower(checked),
+        scene,
     })
 }
 
@@ -340,7 +407,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         export(dir.path()).unwrap();
         let scenes = load(&[dir.path().to_path_buf()]).unwrap();
-        assert_eq!(scenes.len(), 23);
+        assert_eq!(scenes.len(), 26);
         assert!(scenes
             .iter()
             .all(|s| s.points > 0.0 && !s.description.is_empty()));

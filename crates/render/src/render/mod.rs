@@ -13,7 +13,8 @@
 //!
 //! [`real`] has the two precisions, [`geometry`] the rays, primitives and
 //! their intersection, [`world`] the primitives of a scene (each a [`prim::Prim`]), [`bvh`] the
-//! hierarchy that finds them fast, and [`trace`] the integrator.
+//! hierarchy that finds them fast, and [`trace`] the integrator; [`probe`]
+//! is a separate pass that records what each pixel sees, for grading.
 
 pub mod adaptive;
 pub mod bvh;
@@ -21,6 +22,7 @@ pub mod bvh;
 mod fixture;
 pub mod geometry;
 mod prim;
+pub mod probe;
 pub mod real;
 mod sampling;
 pub mod trace;

@@ -269,6 +269,73 @@ impl<'a, R: Real> Tracer<'a, R> {
         color
     }
 
+    /// What camera ray `ray` meets, for [`super::probe`]: a separate
+    /// function from the integrator's, so the render path is unchanged.
+    pub fn probe(&self, ray: Ray<R>) -> super::probe::Probe {
+        use super::probe::{Probe, MAX_PROBED_LIGHTS};
+        let luminance = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+        let Some(hit) = self.world.closest(&ray, R::infinity()) else {
+            return Probe::default();
+        };
+        let mut counters = Counters::default();
+        let prim = &self.world.prims[hit.slot as usize];
+        let material = &self.world.materials[prim.material as usize];
+        let surface = self.surface(&ray, hit.t, prim, material);
+        let albedo = self.albedo(material, surface.uv, &mut counters);
+        let d = ray.dir;
+        let n = surface.normal;
+        let mirror = (d - n * (R::of(2.0) * d.dot(n))).normalize();
+        let mut probe = Probe {
+            object: Some(prim.id),
+            reflectivity: material.reflectivity,
+            uv: surface.uv,
+            ..Probe::default()
+        };
+        let origin = offset_origin::<R>(surface.point, n, surface.error_scale);
+        for (i, light) in self.lights.iter().enumerate() {
+            let to_light = light.position - surface.point;
+            let length = to_light.length();
+            if length.is_zero() {
+                continue;
+            }
+            let towards = to_light * length.recip();
+            let cos = n.dot(towards).wide();
+            if cos <= 0.0 {
+                continue;
+            }
+            let lit = luminance(albedo * light.color) * cos;
+            probe.unshadowed += lit;
+            let to_light = light.position - origin;
+            let distance = to_light.length();
+            let shadow = Ray {
+                origin,
+                dir: to_light * distance.recip(),
+                from: hit.slot,
+            };
+            if distance.is_zero() || !self.world.occluded(&shadow, distance * R::SHADOW_REACH) {
+                probe.lit += lit;
+                if i < MAX_PROBED_LIGHTS {
+                    probe.visible |= 1 << i;
+                }
+                probe.highlight = probe.highlight.max(mirror.dot(towards).wide());
+            }
+        }
+        if material.reflectivity > 0.0 {
+            let reflected = Ray {
+                origin,
+                dir: mirror,
+                from: hit.slot,
+            };
+            probe.reflected = self
+                .world
+                .closest(&reflected, R::infinity())
+                .map(|h| self.world.prims[h.slot as usize].id);
+            let c = self.radiance(reflected, &mut counters).min(DVec3::ONE);
+            probe.reflected_radiance = luminance(c);
+        }
+        probe
+    }
+
     /// The wide nodes of the hierarchy this tracer walks (0: brute force).
     pub fn bvh_nodes(&self) -> u64 {
         self.world.bvh_nodes()

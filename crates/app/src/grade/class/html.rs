@@ -29,8 +29,10 @@ pub fn page(class: &Class) -> String {
         html,
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
 <title>raytracer grade: class of {n}</title><style>{STYLE}</style></head><body>\n\
-<h1>Class of {n}</h1>\n<p>{n} students, {scenes} scenes. Each cell links to the scene in the student's report.</p>\n\
-<table>\n<tr><th>student</th><th>score</th><th>build</th>",
+<h1>Class of {n}</h1>\n<p>{n} students, {scenes} scenes. Each cell links to the scene in the student's report; \
+a scene that differs names the aspects that failed: <b>geom</b> geometry, <b>shad</b> shadows, \
+<b>refl</b> reflection, <b>tex</b> textures, <b>col</b> shading (colours).</p>\n\
+<table class=\"class\">\n<tr><th>student</th><th>score</th><th>build</th>",
         n = class.students.len(),
         scenes = class.scenes.len(),
     );
@@ -79,15 +81,39 @@ fn row(html: &mut String, class: &Class, student: &Student) {
                 let name = status_name(result.status);
                 let _ = write!(
                     html,
-                    "<td><a class=\"status {name}\" href=\"{report}#{}\" title=\"{}\">{name}</a></td>",
+                    "<td><a class=\"status {name}\" href=\"{report}#{}\" title=\"{}\">{}</a></td>",
                     anchor(scene),
                     escape(result.reason.as_deref().unwrap_or("")),
+                    cell_text(result.status, result.reason.as_deref()),
                 );
             }
             None => html.push_str("<td class=\"missing\">not graded</td>"),
         }
     }
     html.push_str("</tr>\n");
+}
+
+/// What a cell says: the status, or for a scene that differs in some
+/// aspects, those aspects in short (`geom`, `shad`, `refl`, `tex`, `col`),
+/// so the table stays narrow with many scenes.
+fn cell_text(status: Status, reason: Option<&str>) -> String {
+    let short = |aspect: &str| match aspect {
+        "geometry" => Some("geom"),
+        "shadows" => Some("shad"),
+        "reflection" => Some("refl"),
+        "textures" => Some("tex"),
+        "shading" => Some("col"),
+        _ => None,
+    };
+    if status == Status::Differs {
+        if let Some(aspects) = reason
+            .map(|r| r.split(", ").map(short).collect::<Option<Vec<_>>>())
+            .and_then(|a| a.filter(|a| !a.is_empty()))
+        {
+            return aspects.join(" ");
+        }
+    }
+    status_name(status).to_string()
 }
 
 /// The student's folder as a relative link: every byte of its name that

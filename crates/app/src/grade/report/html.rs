@@ -49,7 +49,8 @@ pub fn page(summary: &Summary) -> String {
     let _ = writeln!(
         html,
         "</p>\n<p>Limits: {} s wall clock, {} s CPU, {} MiB address space, {} MiB per file, \
-{} processes; network {}. A match needs coverage IoU ≥ {} and ꟻLIP mean ≤ {}.</p>",
+{} processes; network {}. A scene matches when no aspect fails (geometry, shadows, reflection, \
+textures, shading; see docs/grading.md); coverage IoU and ꟻLIP (bounds {} and {}) are shown, not judged.</p>",
         s.timeout_seconds,
         s.cpu_seconds,
         s.address_space_mib,
@@ -111,6 +112,34 @@ fn row(html: &mut String, scene: &SceneResult) {
     figure(html, Some(&scene.images.reference), "ours");
     figure(html, scene.images.student.as_deref(), "student");
     figure(html, scene.images.heatmap.as_deref(), "ꟻLIP");
+    // Where each failed aspect differs: red on our image, dimmed.
+    for aspect in scene.aspects.iter().filter(|a| a.image.is_some()) {
+        let caption = format!("where {} differs", aspect.aspect.name());
+        figure(html, aspect.image.as_deref(), &caption);
+    }
+    if !scene.aspects.is_empty() {
+        html.push_str("<ul class=\"aspects\">");
+        for aspect in &scene.aspects {
+            let verdict = match (aspect.judged, aspect.pass) {
+                (false, _) => "not judged",
+                (true, true) => "passes",
+                (true, false) => "fails",
+            };
+            let _ = write!(
+                html,
+                "<li{}><b>{}</b> {verdict} ({} / {} points): {}</li>",
+                if aspect.pass { "" } else { " class=\"fail\"" },
+                aspect.aspect.name(),
+                aspect.score,
+                aspect.points,
+                escape(&aspect.detail),
+            );
+        }
+        html.push_str("</ul>");
+    }
+    if let Some(reading) = &scene.reading {
+        let _ = write!(html, "<p>{}</p>", escape(reading));
+    }
     html.push_str("</td><td>");
     if let (Some(iou), Some(flip), Some(rmse)) = (scene.coverage_iou, scene.flip, scene.rmse) {
         let psnr = scene.psnr.map_or("∞".into(), |p| format!("{p:.1} dB"));

@@ -12,6 +12,7 @@ use std::path::Path;
 use schemars::JsonSchema;
 use serde::Serialize;
 
+use super::aspects::AspectThresholds;
 use super::{SceneResult, Status};
 use crate::compare::Thresholds;
 
@@ -25,6 +26,8 @@ pub struct Summary {
     /// Points the suite is worth.
     pub max_score: f64,
     pub thresholds: Thresholds,
+    /// The bounds of each aspect's measure.
+    pub aspect_thresholds: AspectThresholds,
     pub sandbox: SandboxSummary,
     /// The student's build (`build.txt`), when there was one; when it
     /// failed, every scene is `crashed` and no scene was run.
@@ -123,6 +126,23 @@ pub fn outcome_lines(scene: &SceneResult) -> Vec<String> {
             "coverage IoU {iou:.4}; ꟻLIP mean {:.4}, p99 {:.4}; RMSE {rmse:.5}",
             flip.mean, flip.p99
         ));
+    }
+    for aspect in &scene.aspects {
+        let verdict = match (aspect.judged, aspect.pass) {
+            (false, _) => "not judged",
+            (true, true) => "passes",
+            (true, false) => "FAILS",
+        };
+        lines.push(format!(
+            "{} {verdict} ({} / {} points): {}",
+            aspect.aspect.name(),
+            aspect.score,
+            aspect.points,
+            aspect.detail
+        ));
+    }
+    if let Some(reading) = &scene.reading {
+        lines.push(reading.clone());
     }
     let ended = match (scene.exit_code, scene.signal) {
         (Some(code), _) => format!("exit code {code}"),

@@ -1,0 +1,196 @@
+//! What our reference sees at each pixel, for judging a student's image
+//! aspect by aspect: which object a camera ray meets, which lights reach
+//! that point, how much direct light arrives with and without shadows,
+//! what the mirror direction meets there, and the texture coordinates.
+//!
+//! A separate pass from [`super::render`], so the normal render path is
+//! untouched: [`buffers`] traces one ray through each pixel centre and one
+//! through each pixel corner (`(size + 1)²` of them), in `f64`, and keeps a
+//! [`Probe`] of each. A pixel whose five probes agree on a property is
+//! *stable* for it: whichever point of the pixel a tracer's camera ray
+//! passes through (centre or a corner), it sees the same.
+
+use rayon::prelude::*;
+
+use super::trace::Tracer;
+use super::{camera_ray, Accel};
+use crate::ir;
+
+/// The most lights whose visibility [`Probe::visible`] records.
+pub const MAX_PROBED_LIGHTS: usize = 64;
+
+/// What one camera ray of our reference meets.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Probe {
+    /// The object (its index in the IR) the ray meets first.
+    pub object: Option<u32>,
+    /// Bit `i` is set when light `i` lights the point: it lies in front of
+    /// the surface and the shadow ray reaches it.
+    pub visible: u64,
+    /// The luminance of the direct light that arrives, `Σ albedo ⊙ I ·
+    /// max(0, N·L̂)` over the lights that reach the point.
+    pub lit: f64,
+    /// The same sum over every light in front of the surface, as if
+    /// nothing cast a shadow.
+    pub unshadowed: f64,
+    /// The object's reflectivity (0 for a miss).
+    pub reflectivity: f64,
+    /// The object the mirror direction meets (only on a reflective object).
+    pub reflected: Option<u32>,
+    /// The luminance of our radiance along the mirror direction, each
+    /// channel clamped to 1 (only on a reflective object).
+    pub reflected_radiance: f64,
+    /// The largest cosine between the mirror direction and the direction
+    /// to a light that reaches the point: near 1 where a specular highlight
+    /// may lie.
+    pub highlight: f64,
+    /// The texture coordinates, on a textured object.
+    pub uv: Option<(f64, f64)>,
+}
+
+/// The probes of a whole frame.
+#[derive(Clone, Debug)]
+pub struct Buffers {
+    pub size: u32,
+    /// One per pixel centre, row-major, row 0 at the top.
+    pub centres: Vec<Probe>,
+    /// One per pixel corner, `(size + 1)²`, row-major: corner `(i, j)` is
+    /// the top-left corner of pixel `(i, j)`.
+    pub corners: Vec<Probe>,
+    /// Per object of the IR: whether it is textured.
+    pub textured: Vec<bool>,
+    /// Per object of the IR: whether it reflects.
+    pub reflective: Vec<bool>,
+    /// The probes of the same scene with each plane's two `dimension`
+    /// values swapped, when a plane is not square: the assignment does not
+    /// say which runs along `headup`, so a pixel is stable only where
+    /// both readings see the same.
+    pub swapped: Option<Box<Buffers>>,
+}
+
+impl Buffers {
+    /// The probe at the centre of pixel `(x, y)`.
+    pub fn centre(&self, x: u32, y: u32) -> &Probe {
+        &self.centres[(y * self.size + x) as usize]
+    }
+
+    /// The probe at corner `(x, y)`, `0..=size` each.
+    pub fn corner(&self, x: u32, y: u32) -> &Probe {
+        &self.corners[(y * (self.size + 1) + x) as usize]
+    }
+
+    /// Whether `key` is the same at the centre and the four corners of
+    /// pixel `(x, y)`.
+    /// With [`Buffers::swapped`], the same must hold there, with the same
+    /// key.
+    pub fn stable<K: PartialEq>(&self, x: u32, y: u32, key: impl Fn(&Probe) -> K) -> bool {
+        let k = key(self.centre(x, y));
+        self.agree(x, y, &key, &k)
+            && self
+                .swapped
+                .as_ref()
+                .is_none_or(|other| other.agree(x, y, &key, &k))
+    }
+
+    /// Whether `key` is `k` at the centre and the four corners of pixel
+    /// `(x, y)`, in these probes alone.
+    fn agree<K: PartialEq>(&self, x: u32, y: u32, key: &impl Fn(&Probe) -> K, k: &K) -> bool {
+        key(self.centre(x, y)) == *k
+            && [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)]
+                .iter()
+                .all(|&(i, j)| key(self.corner(i, j)) == *k)
+    }
+}
+
+/// Probe `scene` at every pixel centre and corner, reflecting up to
+/// `max_depth` times for [`Probe::reflected_radiance`].
+pub fn buffers(scene: &ir::Scene, max_depth: u32) -> Buffers {
+    let mut main = probe_all(scene, max_depth);
+    main.swapped = swapped_planes(scene).map(|other| Box::new(probe_all(&other, max_depth)));
+    main
+}
+
+/// `scene` with each plane's width and height swapped, or `None` when
+/// every plane is square.
+pub fn swapped_planes(scene: &ir::Scene) -> Option<ir::Scene> {
+    let mut other = scene.clone();
+    let mut any = false;
+    for object in &mut other.objects {
+        if let ir::Shape::Rect { width, height, .. } = &mut object.shape {
+            if width != height {
+                std::mem::swap(width, height);
+                any = true;
+            }
+        }
+    }
+    any.then_some(other)
+}
+
+/// [`buffers`] of one reading.
+fn probe_all(scene: &ir::Scene, max_depth: u32) -> Buffers {
+    let size = scene.resolution;
+    let tracer = Tracer::<f64>::with_accel(scene, max_depth, false, Accel::Auto);
+    let grid = |n: u32, offset: f64| -> Vec<Probe> {
+        (0..n * n)
+            .into_par_iter()
+            .map(|k| {
+                let (x, y) = (k % n, k / n);
+                let ray = camera_ray::<f64>(size, f64::from(x) + offset, f64::from(y) + offset);
+                tracer.probe(ray)
+            })
+            .collect()
+    };
+    Buffers {
+        size,
+        centres: grid(size, 0.5),
+        corners: grid(size + 1, 0.0),
+        textured: scene
+            .objects
+            .iter()
+            .map(|o| scene.materials[o.material as usize].texture.is_some())
+            .collect(),
+        reflective: scene
+            .objects
+            .iter()
+            .map(|o| scene.materials[o.material as usize].reflectivity > 0.0)
+            .collect(),
+        swapped: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn scene(text: &str) -> ir::Scene {
+        let loaded =
+            raytracer_scene::frontend::load_bytes("a.txt", Path::new("."), text.as_bytes());
+        ir::lower(loaded.checked.unwrap())
+    }
+
+    #[test]
+    fn a_shadowed_floor_and_a_mirror_are_probed() {
+        let s = scene(
+            "camera 20\nsphere\ndimension .5\ncenter 0 0 -3\ncolor 1 0 0\n\
+             plane\ndimension 8 8\ncenter 0 -.5 -3\nnormal 0 1 0\nheadup 0 0 -1\n\
+             color 1 1 1\nreflectivity .5\nlight\nlocation 0 3 -3\ncolor 1 1 1\n",
+        );
+        let b = buffers(&s, 4);
+        assert_eq!(b.corners.len(), 21 * 21);
+        // The middle pixel sees the sphere, lit from above.
+        let mid = b.centre(10, 8);
+        assert_eq!(mid.object, Some(0));
+        // Below the sphere, on the floor: shadowed, and the mirror shows
+        // the sphere.
+        let floor = b.centre(10, 13);
+        assert_eq!(floor.object, Some(1));
+        assert_eq!(floor.visible, 0);
+        assert!(floor.unshadowed > 0.0 && floor.lit == 0.0);
+        assert_eq!(floor.reflected, Some(0));
+        assert!(floor.reflected_radiance > 0.0);
+        // The top row misses everything.
+        assert_eq!(b.centre(0, 0).object, None);
+        assert!(b.stable(0, 0, |p| p.object));
+    }
+}
