@@ -31,7 +31,6 @@
 //! rays need any hit, not the nearest).
 
 mod collapse;
-pub mod packet;
 
 use arrayvec::ArrayVec;
 use glam::{DVec3, Vec3A, Vec4};

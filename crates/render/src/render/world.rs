@@ -12,10 +12,8 @@
 //! from the record its test just read, not from the IR's objects, which a
 //! large scene's rays would otherwise fetch from memory at random.
 
-use arrayvec::ArrayVec;
 use serde::Serialize;
 
-use super::bvh::packet::PACKET;
 use super::bvh::Bvh;
 use super::geometry::{Ray, Rect, Shape, Sphere};
 pub use super::prim::{Hit, Prim};
@@ -54,11 +52,6 @@ pub struct World<R: Real> {
     pub materials: Vec<ir::Material>,
     /// The hierarchy, when one is used.
     bvh: Option<Bvh>,
-    /// Whether a fan's rays walk the hierarchy in packets
-    /// ([`Bvh::closest_packet`]) rather than one at a time: on unless the
-    /// environment sets `RAYTRACER_PACKETS=off`, which is there to measure
-    /// the packets against the same build without them.
-    packets: bool,
 }
 
 /// Rays that leave one `origin` (and primitive `from`, or
@@ -101,7 +94,6 @@ impl<R: Real> World<R> {
             prims,
             materials: scene.materials.clone(),
             bvh,
-            packets: std::env::var_os("RAYTRACER_PACKETS").is_none_or(|v| v != "off"),
         }
     }
 
@@ -148,23 +140,6 @@ impl<R: Real> World<R> {
     pub fn closest_fan(&self, fan: Fan<'_, R>) {
         if let Some(bvh) = &self.bvh {
             let [x, y, z] = fan.dirs;
-            if self.packets {
-                let chunks = x.chunks(PACKET).zip(y.chunks(PACKET)).zip(z.chunks(PACKET));
-                let hits = fan
-                    .distances
-                    .chunks_mut(PACKET)
-                    .zip(fan.slots.chunks_mut(PACKET));
-                for (((x, y), z), (distances, slots)) in chunks.zip(hits) {
-                    let rays: ArrayVec<Ray<R>, PACKET> = x
-                        .iter()
-                        .zip(y)
-                        .zip(z)
-                        .map(|((&x, &y), &z)| Ray::from_lanes(fan.origin, (x, y, z), fan.from))
-                        .collect();
-                    bvh.closest_packet(&self.prims, &rays, distances, slots);
-                }
-                return;
-            }
             let rays = x.iter().zip(y).zip(z);
             let hits = fan.distances.iter_mut().zip(fan.slots);
             for (((&x, &y), &z), (distance, slot)) in rays.zip(hits) {
