@@ -1,6 +1,7 @@
 // The Embree side of `make bench`: renders a scene with Embree 3's
-// single-ray API (rtcIntersect1 / rtcOccluded1) on one thread, with the
-// render model of docs/rendering.md, so its time stands beside ours.
+// single-ray API (rtcIntersect1 / rtcOccluded1), or with its camera rays in
+// packets (rtcIntersect8, `--packets`), on one thread, with the render
+// model of docs/rendering.md, so its time stands beside ours.
 //
 // Input is canonical scene text (`raytracer convert SCENE --to scene`):
 // one `camera N`, then `sphere`, `plane` and `light` sections whose
@@ -12,7 +13,12 @@
 // skips of work that cannot change an 8-bit value. Geometry is single
 // precision (Embree's); colours are double, as ours.
 //
-// Usage: harness SCENE OUT.ppm [COMPARE.ppm...]
+// With --packets (before SCENE), camera rays go through Embree's packet API
+// instead, as its users trace coherent rays: tiles of 4×2 pixels, eight
+// camera rays per rtcIntersect8 (8 is the widest packet Debian's build
+// runs natively on AVX2), each ray's path then on as before.
+//
+// Usage: harness [--packets] SCENE OUT.ppm [COMPARE.ppm...]
 // Prints `key value` lines: the rays cast and the seconds spent building
 // (rtcCommitScene) and tracing; then for each COMPARE image a line
 // `diff PATH MAX MEAN`, the largest and mean absolute difference from it
@@ -293,16 +299,63 @@ class Tracer {
   // The colour seen along a camera ray, before clamping.
   Color radiance(V3 origin, V3 dir, Counters& counters) const {
     counters.primary++;
+    return path(origin, dir, nullptr, counters);
+  }
+
+  // The colours seen along the camera rays of a tile of up to 8 pixels
+  // (`valid[k]` -1 for a ray, 0 for none), their first hits found by one
+  // rtcIntersect8, before clamping.
+  void radiance8(const int* valid, const V3* dirs, Color* colors, Counters& counters) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit8 rh;
+    for (int k = 0; k < 8; k++) {
+      rh.ray.org_x[k] = 0, rh.ray.org_y[k] = 0, rh.ray.org_z[k] = 0;
+      rh.ray.dir_x[k] = dirs[k].x, rh.ray.dir_y[k] = dirs[k].y, rh.ray.dir_z[k] = dirs[k].z;
+      rh.ray.tnear[k] = 0;
+      rh.ray.tfar[k] = std::numeric_limits<float>::infinity();
+      rh.ray.time[k] = 0;
+      rh.ray.mask[k] = ~0u;
+      rh.ray.id[k] = k;
+      rh.ray.flags[k] = 0;
+      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect8(valid, rtc_, &context, &rh);
+    for (int k = 0; k < 8; k++) {
+      if (!valid[k]) continue;
+      counters.primary++;
+      First first{rh.ray.tfar[k], rh.hit.geomID[k], rh.hit.primID[k]};
+      colors[k] = path(V3{}, dirs[k], &first, counters);
+    }
+  }
+
+ private:
+  // A camera ray's first hit, found by a packet.
+  struct First {
+    float t;
+    unsigned geom, prim;
+  };
+
+  // The colour of the path of a camera ray, its first hit found already
+  // when `first` is given.
+  Color path(V3 origin, V3 dir, const First* first, Counters& counters) const {
     Color color;
     double weight = 1;
     for (int depth = 0; depth <= MAX_DEPTH; depth++) {
-      RTCIntersectContext context;
-      rtcInitIntersectContext(&context);
       RTCRayHit rh;
-      set_ray(rh.ray, origin, dir, std::numeric_limits<float>::infinity());
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-      rtcIntersect1(rtc_, &context, &rh);
+      if (depth == 0 && first) {
+        rh.ray.tfar = first->t;
+        rh.hit.geomID = first->geom;
+        rh.hit.primID = first->prim;
+      } else {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        set_ray(rh.ray, origin, dir, std::numeric_limits<float>::infinity());
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(rtc_, &context, &rh);
+      }
       if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
       V3 along = origin + dir * rh.ray.tfar;
       V3 point, normal, center;
@@ -342,7 +395,6 @@ class Tracer {
     return color;
   }
 
- private:
   static void set_ray(RTCRay& ray, V3 origin, V3 dir, float tfar) {
     ray.org_x = origin.x, ray.org_y = origin.y, ray.org_z = origin.z;
     ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
@@ -432,7 +484,9 @@ void compare(const std::string& path, int size, const std::vector<unsigned char>
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3) fail("usage: harness SCENE OUT.ppm [COMPARE.ppm...]");
+  bool packets = argc > 1 && std::strcmp(argv[1], "--packets") == 0;
+  if (packets) argc--, argv++;
+  if (argc < 3) fail("usage: harness [--packets] SCENE OUT.ppm [COMPARE.ppm...]");
   Scene scene = read_scene(argv[1]);
   RTCDevice device = rtcNewDevice("threads=1");
   if (!device) fail("cannot create an Embree device");
@@ -444,12 +498,34 @@ int main(int argc, char** argv) {
   int n = scene.resolution;
   std::vector<unsigned char> rgb(size_t(n) * n * 3);
   Counters counters;
-  for (int j = 0; j < n; j++) {
-    for (int i = 0; i < n; i++) {
-      V3 target{float(-0.5 + (i + 0.5) / n), float(0.5 - (j + 0.5) / n), -1.0f};
-      Color c = tracer.radiance(V3{}, normalize(target), counters);
-      unsigned char* p = &rgb[(size_t(j) * n + i) * 3];
-      p[0] = quantize(c.r), p[1] = quantize(c.g), p[2] = quantize(c.b);
+  auto camera = [n](int i, int j) {
+    return normalize(V3{float(-0.5 + (i + 0.5) / n), float(0.5 - (j + 0.5) / n), -1.0f});
+  };
+  auto put = [&rgb, n](int i, int j, Color c) {
+    unsigned char* p = &rgb[(size_t(j) * n + i) * 3];
+    p[0] = quantize(c.r), p[1] = quantize(c.g), p[2] = quantize(c.b);
+  };
+  if (packets) {
+    // Tiles of 4×2 pixels, lane k at (i + k % 4, j + k / 4).
+    for (int j = 0; j < n; j += 2) {
+      for (int i = 0; i < n; i += 4) {
+        alignas(32) int valid[8];
+        V3 dirs[8];
+        Color colors[8];
+        for (int k = 0; k < 8; k++) {
+          int x = i + k % 4, y = j + k / 4;
+          valid[k] = x < n && y < n ? -1 : 0;
+          dirs[k] = valid[k] ? camera(x, y) : V3{0, 0, -1};
+        }
+        tracer.radiance8(valid, dirs, colors, counters);
+        for (int k = 0; k < 8; k++) {
+          if (valid[k]) put(i + k % 4, j + k / 4, colors[k]);
+        }
+      }
+    }
+  } else {
+    for (int j = 0; j < n; j++) {
+      for (int i = 0; i < n; i++) put(i, j, tracer.radiance(V3{}, camera(i, j), counters));
     }
   }
   auto done = Clock::now();
