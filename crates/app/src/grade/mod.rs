@@ -19,6 +19,7 @@ pub mod reference;
 pub mod report;
 pub mod sandbox;
 pub mod student;
+pub mod student_image;
 pub mod suite;
 pub mod workdir;
 

@@ -66,8 +66,9 @@ pub fn prepare(
 ) -> std::io::Result<Workdir> {
     let temp = private_folder()?;
     let scene_path = Path::new(&scene.name);
-    let start = temp
-        .path()
+    // Canonical while the folder is still the grader's alone, so reading
+    // `{out}` later can refuse a link anywhere on its path.
+    let start = std::fs::canonicalize(temp.path())?
         .join(scene_path.parent().unwrap_or(Path::new("")));
     std::fs::create_dir_all(&start)?;
     if let Some(folder) = program {
