@@ -14,6 +14,7 @@
 pub mod capture;
 pub mod class;
 pub mod copy;
+pub mod jail;
 pub mod judge;
 pub mod reference;
 pub mod report;
@@ -141,7 +142,14 @@ pub fn grade_scene(
         }
     };
     let argv = plan.template.argv(&dir.scene_file, workdir::OUT, cwd);
-    let run = sandbox::run(&argv, &dir.start, plan.confinement);
+    let share = sandbox::Share {
+        read_write: vec![dir.root.clone()],
+        read_only: match &plan.programs {
+            Programs::Here(_) => program_files(&argv),
+            Programs::Folder(_) => Vec::new(),
+        },
+    };
+    let run = sandbox::run(&argv, &dir.start, &share, plan.confinement);
     let judged = judge::judge(&run.ended, &dir.out(), reference, &plan.thresholds);
     drop(dir);
 
@@ -196,6 +204,21 @@ pub fn grade_scene(
         stderr: run.stderr.text(),
         images,
     })
+}
+
+/// The files a `--tracer` command names by an absolute path (its program,
+/// a script it runs), which a box holds read-only at their paths; never
+/// the grader's own executable.
+fn program_files(argv: &[std::ffi::OsString]) -> Vec<PathBuf> {
+    let exe = std::env::current_exe()
+        .and_then(std::fs::canonicalize)
+        .ok();
+    argv.iter()
+        .map(Path::new)
+        .filter(|path| path.is_absolute())
+        .filter_map(|path| std::fs::canonicalize(path).ok())
+        .filter(|path| path.is_file() && Some(path) != exe.as_ref())
+        .collect()
 }
 
 /// A scene that did not run because of `reason`.

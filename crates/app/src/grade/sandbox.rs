@@ -83,19 +83,64 @@ pub struct Confinement {
     pub isolate_network: bool,
     /// Switch to this uid and gid (the grader is root).
     pub user: Option<u32>,
+    /// Run in a box ([`super::jail`]): PID, mount, IPC, UTS and network
+    /// namespaces and a root of our making; inside a user namespace of
+    /// its own when the grader is not root.
+    pub boxed: bool,
 }
 
+/// The first uid (and gid) of the range a root grader runs students as:
+/// the `n`th job (student) runs as `FIRST_UID + n`, so no two students
+/// share a uid. Like isolate's boxes, the range must belong to no one.
+pub const FIRST_UID: u32 = 60_000;
+
 impl Confinement {
-    /// The confinement for this process: `nobody` when root, a network
-    /// namespace when one can be had.
+    /// The confinement for this process: a box when one can be had, else
+    /// a network namespace when one can be had; `nobody` when root until
+    /// [`Confinement::for_job`] gives each job its own uid.
     pub fn new(limits: Limits) -> Confinement {
         // SAFETY: `geteuid` has no preconditions.
         let root = unsafe { libc::geteuid() } == 0;
+        let boxed = super::jail::available(root);
         Confinement {
             limits,
-            isolate_network: network_isolation(root),
+            isolate_network: boxed || network_isolation(root),
             user: root.then_some(NOBODY),
+            boxed,
         }
+    }
+
+    /// The confinement of the `job`th tracer graded: a uid of its own from
+    /// [`FIRST_UID`] when root.
+    pub fn for_job(self, job: usize) -> Confinement {
+        Confinement {
+            user: self.user.map(|_| FIRST_UID + job as u32),
+            ..self
+        }
+    }
+
+    /// The names of the mechanisms that confine each run.
+    pub fn mechanisms(&self) -> Vec<String> {
+        let mut names = Vec::new();
+        if self.boxed {
+            names.extend(["pid_namespace", "mount_namespace", "ipc_namespace"]);
+            if !self.root() {
+                names.push("user_namespace");
+            }
+        }
+        if self.isolate_network {
+            names.push("network_namespace");
+        }
+        if self.root() {
+            names.push("uid");
+        }
+        names.extend(["rlimits", "no_new_privs"]);
+        names.into_iter().map(String::from).collect()
+    }
+
+    /// Whether the grader runs as root (and so switches uids).
+    pub fn root(&self) -> bool {
+        self.user.is_some()
     }
 }
 
@@ -109,8 +154,9 @@ pub fn become_subreaper() {
     }
 }
 
-/// Run `argv` in `dir` under `confinement`.
-pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
+/// Run `argv` in `dir` under `confinement`; in a box, `share` says what
+/// of the grader's file system the box holds besides the system folders.
+pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinement) -> Run {
     let start = Instant::now();
     let limits = confinement.limits;
     let mut command = Command::new(&argv[0]);
@@ -130,9 +176,31 @@ pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
-    // SAFETY: `confine` makes only async-signal-safe system calls.
+    let plan = if confinement.boxed {
+        match super::jail::Plan::new(dir, share, &confinement) {
+            Ok(plan) => Some(plan),
+            Err(error) => {
+                return Run {
+                    ended: Ended::NotStarted(format!(
+                        "cannot prepare the box: {}",
+                        raytracer_scene::diagnostic::io_reason(&error)
+                    )),
+                    seconds: start.elapsed().as_secs_f64(),
+                    stdout: Captured::default(),
+                    stderr: Captured::default(),
+                }
+            }
+        }
+    } else {
+        None
+    };
+    // SAFETY: `confine` and `jail::enter` make only async-signal-safe
+    // system calls, on data prepared before the fork.
     unsafe {
-        command.pre_exec(move || confine(&confinement));
+        command.pre_exec(move || match &plan {
+            Some(plan) => super::jail::enter(plan, &confinement),
+            None => confine(&confinement),
+        });
     }
     let mut child = match command.spawn() {
         Ok(child) => child,
@@ -185,8 +253,21 @@ pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
     }
 }
 
-/// In the forked child, before `exec`: the confinement of the module doc.
-fn confine(confinement: &Confinement) -> io::Result<()> {
+/// What of the grader's file system a box holds: folders bound
+/// read-write (the run's working folder) and files bound read-only (a
+/// `--tracer` program named by its path), each at its own path.
+#[derive(Clone, Debug, Default)]
+pub struct Share {
+    pub read_write: Vec<std::path::PathBuf>,
+    pub read_only: Vec<std::path::PathBuf>,
+}
+
+/// Drop to the run's user and set the limits: the last steps in the
+/// child, box or not.
+///
+/// # Safety
+/// Only async-signal-safe system calls: called between fork and exec.
+pub(super) unsafe fn drop_to_user(confinement: &Confinement) -> io::Result<()> {
     let check = |result: libc::c_int| {
         if result == -1 {
             Err(io::Error::last_os_error())
@@ -195,12 +276,7 @@ fn confine(confinement: &Confinement) -> io::Result<()> {
         }
     };
     let limits = confinement.limits;
-    // SAFETY: plain system calls on this (single-threaded) child.
     unsafe {
-        check(libc::setpgid(0, 0))?;
-        if confinement.isolate_network {
-            check(libc::unshare(namespaces(confinement.user.is_some())))?;
-        }
         if let Some(id) = confinement.user {
             check(libc::setgroups(0, std::ptr::null()))?;
             check(libc::setgid(id))?;
@@ -225,8 +301,30 @@ fn confine(confinement: &Confinement) -> io::Result<()> {
         limit(libc::RLIMIT_FSIZE, limits.file_size)?;
         limit(libc::RLIMIT_NPROC, limits.processes)?;
         limit(libc::RLIMIT_CORE, 0)?;
+        check(libc::prctl(libc::PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0))?;
     }
     Ok(())
+}
+
+/// In the forked child, before `exec`, without a box: a process group of
+/// its own, a network namespace when one can be had, then
+/// [`drop_to_user`].
+fn confine(confinement: &Confinement) -> io::Result<()> {
+    let check = |result: libc::c_int| {
+        if result == -1 {
+            Err(io::Error::last_os_error())
+        } else {
+            Ok(())
+        }
+    };
+    // SAFETY: plain system calls on this (single-threaded) child.
+    unsafe {
+        check(libc::setpgid(0, 0))?;
+        if confinement.isolate_network {
+            check(libc::unshare(namespaces(confinement.root())))?;
+        }
+        drop_to_user(confinement)
+    }
 }
 
 /// The namespaces to unshare: the network's, inside a user namespace of
