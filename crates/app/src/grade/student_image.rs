@@ -145,6 +145,14 @@ pub fn read(out: &Path, reference: &Picture) -> Read {
                 .map(|&v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
                 .collect(),
         }),
+        Err(texture::DecodeError::Image(image::ImageError::IoError(error)))
+            if error.kind() == std::io::ErrorKind::UnexpectedEof =>
+        {
+            bad(format!(
+                "`{}` ends before its last texel",
+                out.file_name().unwrap_or_default().to_string_lossy()
+            ))
+        }
         Err(error) => bad(format!("cannot decode the image: {error}")),
     }
 }
