@@ -493,6 +493,7 @@ fn a_tracer_sees_only_the_system_and_its_folder() {
          ls -A /tmp | tr '\\n' ' '; echo\n\
          ls -A /dev/shm | tr '\\n' ' '; echo\n\
          ls -A $CASE | tr '\\n' ' '; echo\n\
+         cat /proc/[0-9]*/cmdline | tr '\\0' ' '; echo\n\
          echo secret > /tmp/left-behind; echo secret > /dev/shm/left-behind\n\
          exec \"$RAYTRACER\" render \"$1\" \"$2\"",
     );
@@ -529,6 +530,12 @@ fn a_tracer_sees_only_the_system_and_its_folder() {
             // Of the attack's folder only the tracer's own files.
             let case: Vec<&str> = lines[3].split_whitespace().collect();
             assert_eq!(case, ["tracer.sh"], "{kind:?}");
+            // The box's processes: none names the report or the cache.
+            assert!(
+                !lines[4].contains("report-") && !lines[4].contains("cache-"),
+                "{kind:?}: {}",
+                lines[4]
+            );
         }
     }
 }
@@ -558,5 +565,98 @@ END"#,
             "{kind:?}: {scene}"
         );
         assert!(scene["images"]["student"].is_null(), "{kind:?}: {scene}");
+    }
+}
+
+/// Students of a class cannot reach one another: what one leaves in /tmp
+/// and /dev/shm, and a daemon it starts, are gone before the next runs; no
+/// report or other student's folder is in its box; in a root run each
+/// has a uid of its own; every student is graded and class.csv written.
+#[test]
+fn students_of_a_class_cannot_reach_one_another() {
+    let dir = open_folder("grade-class-attack-");
+    let d = dir.path();
+    std::fs::create_dir_all(d.join("suite")).unwrap();
+    std::fs::write(
+        d.join("suite/ball.txt"),
+        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n\
+         light\n  location 6 4 -3\n  color 1 1 1\n",
+    )
+    .unwrap();
+    let student = |name: &str, script: &str| {
+        let folder = d.join("class").join(name);
+        std::fs::create_dir_all(&folder).unwrap();
+        std::fs::write(folder.join("tracer.txt"), "bash tracer.sh {scene} {out}\n").unwrap();
+        std::fs::write(folder.join("tracer.sh"), script).unwrap();
+        std::fs::copy(crate::grade_cli::student_binary(), folder.join("renderer")).unwrap();
+        for path in [folder.clone(), d.join("class")] {
+            std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        }
+    };
+    student(
+        "a-mallory",
+        "echo secret > /tmp/mallory; echo secret > /dev/shm/mallory\n\
+         setsid sleep 4244 </dev/null >/dev/null 2>&1 &\n\
+         find / -name summary.json 2>/dev/null\n\
+         ls /proc/*/cwd/ 2>/dev/null | head -3\n\
+         exec ./renderer render \"$1\" \"$2\"\n",
+    );
+    student(
+        "b-victim",
+        "id -u; ls -A /tmp /dev/shm; ls -d /*/*mallory* 2>/dev/null\n\
+         exec ./renderer render \"$1\" \"$2\"\n",
+    );
+    for kind in kinds() {
+        let report = d.join(format!("report-{kind:?}"));
+        let mut command = match kind {
+            Kind::Root => Command::new(binary()),
+            Kind::User => {
+                let mut c = Command::new("setpriv");
+                c.args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
+                    .arg(binary());
+                c
+            }
+        };
+        let output = command
+            .args(["grade", "--timeout", "5", "--class"])
+            .arg(d.join("class"))
+            .arg("-o")
+            .arg(&report)
+            .arg("--cache")
+            .arg(d.join(format!("cache-{kind:?}")))
+            .arg(d.join("suite"))
+            .env("HOME", d)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(0), "{kind:?}: {stderr}");
+        let csv = std::fs::read_to_string(report.join("class.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 3, "{kind:?}: {csv}");
+        let read = |name: &str| -> Value {
+            serde_json::from_slice(&std::fs::read(report.join(name).join("summary.json")).unwrap())
+                .unwrap()
+        };
+        let (mallory, victim) = (read("a-mallory"), read("b-victim"));
+        let seen = mallory["scenes"][0]["stdout"].as_str().unwrap();
+        assert!(!seen.contains("summary.json"), "{kind:?}: {seen}");
+        let seen = victim["scenes"][0]["stdout"].as_str().unwrap();
+        assert!(!seen.contains("mallory"), "{kind:?}: {seen}");
+        if kind == Kind::Root {
+            assert_ne!(
+                mallory["sandbox"]["user"], victim["sandbox"]["user"],
+                "{kind:?}"
+            );
+            assert_eq!(
+                seen.lines().next(),
+                victim["sandbox"]["user"].to_string().as_str().into()
+            );
+        }
+        let left = std::fs::read_dir("/proc")
+            .unwrap()
+            .flatten()
+            .filter_map(|e| std::fs::read(e.path().join("cmdline")).ok())
+            .filter(|c| String::from_utf8_lossy(c).contains("4244"))
+            .count();
+        assert_eq!(left, 0, "{kind:?}: the daemon survived");
     }
 }
