@@ -77,7 +77,7 @@ pub(crate) fn class_folder() -> tempfile::TempDir {
         "alice",
         &[
             ("build.txt", "# the build\nsh build.sh\n"),
-            ("build.sh", &build),
+            ("build.sh", build),
             ("tracer.txt", "./tracer.sh {scene} {out}\n"),
         ],
     );

@@ -205,8 +205,11 @@ enum Kind {
 /// user only the user run (CI runs as root, so there it is a failure).
 fn kinds() -> Vec<Kind> {
     if support::is_root() {
-        if !support::tool_available("setpriv", "the user-run attacks", "apt-get install util-linux")
-        {
+        if !support::tool_available(
+            "setpriv",
+            "the user-run attacks",
+            "apt-get install util-linux",
+        ) {
             return vec![Kind::Root];
         }
         vec![Kind::Root, Kind::User]

@@ -187,8 +187,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     let confinement = Confinement::new(limits(&args.sandbox));
     if !confinement.boxed && !args.sandbox.unprotected {
         return Err(GradeError::NoBox {
-            reason: "this kernel or container refuses a mount or PID namespace to this user"
-                .into(),
+            reason: "this kernel or container refuses a mount or PID namespace to this user".into(),
         }
         .into());
     }

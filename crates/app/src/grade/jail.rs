@@ -151,9 +151,7 @@ impl Plan {
             c(&root)?,
             CString::new(format!("mode=0755,{tmpfs_size}")).unwrap_or_default(),
         ));
-        let exe = std::env::current_exe()
-            .and_then(std::fs::canonicalize)
-            .ok();
+        let exe = std::env::current_exe().and_then(std::fs::canonicalize).ok();
         let mut masked = None;
         for dir in SYSTEM {
             let host = Path::new(dir);
@@ -526,7 +524,9 @@ unsafe fn build_root(plan: &Plan) -> io::Result<()> {
                     check(fd)?;
                     libc::close(fd);
                 }
-                Step::Symlink(target, link) => check(libc::symlink(target.as_ptr(), link.as_ptr()))?,
+                Step::Symlink(target, link) => {
+                    check(libc::symlink(target.as_ptr(), link.as_ptr()))?
+                }
                 Step::Proc(path) => check(libc::mount(
                     c"proc".as_ptr(),
                     path.as_ptr(),

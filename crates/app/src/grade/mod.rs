@@ -210,9 +210,7 @@ pub fn grade_scene(
 /// a script it runs), which a box holds read-only at their paths; never
 /// the grader's own executable.
 fn program_files(argv: &[std::ffi::OsString]) -> Vec<PathBuf> {
-    let exe = std::env::current_exe()
-        .and_then(std::fs::canonicalize)
-        .ok();
+    let exe = std::env::current_exe().and_then(std::fs::canonicalize).ok();
     argv.iter()
         .map(Path::new)
         .filter(|path| path.is_absolute())

@@ -3,16 +3,22 @@
 //! The program runs from an argument vector (no shell) in a folder of its
 //! own, with stdin closed, stdout and stderr captured ([`super::capture`]),
 //! and only `PATH`, `HOME` (the folder) and `LANG` in its environment.
-//! Before it starts, in the forked child ([`confine`]): a process group of
-//! its own; a network namespace of its own when the kernel allows it
-//! (probed once by [`network_isolation`]); when the grader is root, the
-//! user and group `nobody` (65534), because root ignores the process-count
-//! limit; and the resource limits (CPU seconds, address space, file size,
-//! processes, no core files). On the wall-clock timeout, and again after
-//! the program ends, its whole process group is killed. `grade` is the
-//! subreaper of everything the program starts, so a process that leaves
-//! the group is still reparented to `grade`, and [`reap_orphans`] kills
-//! and reaps it. An interrupted `grade` kills every running group
+//! Where the kernel allows it (probed once, [`super::jail::available`]) it
+//! runs in a box ([`super::jail`]): PID, mount, IPC, UTS and network
+//! namespaces and a root holding only the system folders and what
+//! [`Share`] names, so nothing it starts outlives the run. Without one
+//! (`--unprotected`), in the forked child ([`confine`]): a process group
+//! of its own and a network namespace when one can be had. Either way,
+//! last ([`drop_to_user`]): when the grader is root, a uid of the
+//! student's own ([`FIRST_UID`] on, [`Confinement::for_job`]), because
+//! root ignores the process-count limit; the resource limits (CPU
+//! seconds, address space, file size, processes, no core files) and
+//! `PR_SET_NO_NEW_PRIVS`. On the wall-clock timeout, and again after the
+//! program ends, its whole process group is killed (in a box, that kills
+//! the box's pid 1 and so everything in it). `grade` is the subreaper of
+//! everything the program starts, so a process that leaves the group
+//! outside a box is still reparented to `grade`, and [`reap_orphans`]
+//! kills and reaps it. An interrupted `grade` kills every running group
 //! ([`kill_running`]) before it exits.
 
 use std::ffi::OsString;

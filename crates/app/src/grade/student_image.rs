@@ -81,7 +81,12 @@ pub fn read(out: &Path, reference: &Picture) -> Read {
             Err(error) => return bad(io_reason(&error)),
         },
         Some(Err(error)) if error.raw_os_error() == Some(libc::ENOENT) => return Read::Missing,
-        Some(Err(error)) => return bad(format!("its folder cannot be opened: {}", io_reason(&error))),
+        Some(Err(error)) => {
+            return bad(format!(
+                "its folder cannot be opened: {}",
+                io_reason(&error)
+            ))
+        }
         None => return Read::Missing,
     };
     let mut file = match open_no_links(out) {
