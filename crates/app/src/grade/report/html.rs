@@ -63,6 +63,12 @@ pub fn page(summary: &Summary) -> String {
         summary.thresholds.min_coverage,
         summary.thresholds.max_flip,
     );
+    let _ = writeln!(
+        html,
+        "<p id=\"sandbox\">Sandbox: {}; held: {}.</p>",
+        if s.boxed { "a box per run" } else { "no box" },
+        escape(&s.mechanisms.join(", "))
+    );
     if let Some(build) = &summary.build {
         let outcome = match &build.reason {
             None => "built".to_string(),
