@@ -663,3 +663,26 @@ fn students_of_a_class_cannot_reach_one_another() {
         assert_eq!(left, 0, "{kind:?}: the daemon survived");
     }
 }
+
+/// Memory is bounded per run where a control group can be made (a root
+/// run here): four processes of 60 MiB each under `--memory 128` do not
+/// all live; without one (a user run) each process alone is bounded.
+#[test]
+fn memory_is_bounded_per_run_by_a_control_group() {
+    let attack = Attack::new(
+        "for i in 1 2 3 4; do python3 -c 'import time; b = bytearray(60 << 20); time.sleep(2)' & done\n\
+         status=0; for job in $(jobs -p); do wait $job || status=1; done\n\
+         exit $status",
+    );
+    for kind in kinds() {
+        let (_, scene, sandbox) = attack.grade(kind, None, &["--memory", "128"], &[]);
+        let mechanisms = sandbox["mechanisms"].to_string();
+        if kind == Kind::Root && std::path::Path::new("/sys/fs/cgroup/memory").is_dir() {
+            assert!(mechanisms.contains("cgroup"), "{sandbox}");
+            assert_eq!(status(&scene), "crashed", "{kind:?}: {scene}");
+        } else {
+            assert!(!mechanisms.contains("cgroup"), "{sandbox}");
+            assert_eq!(status(&scene), "no_image", "{kind:?}: {scene}");
+        }
+    }
+}

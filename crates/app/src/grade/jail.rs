@@ -567,6 +567,7 @@ pub fn available(root: bool) -> bool {
         isolate_network: true,
         user: root.then_some(super::sandbox::NOBODY),
         boxed: true,
+        cgroup: false,
     };
     let Ok(plan) = Plan::new(Path::new("/"), &Share::default(), &confinement) else {
         return false;

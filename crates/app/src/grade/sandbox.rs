@@ -93,6 +93,10 @@ pub struct Confinement {
     /// namespaces and a root of our making; inside a user namespace of
     /// its own when the grader is not root.
     pub boxed: bool,
+    /// Hold each run in control groups of its own (cgroup v1 `memory` and
+    /// `pids`, as root): `--memory` for the whole run, `--max-processes`
+    /// for the run's processes alone.
+    pub cgroup: bool,
 }
 
 /// The first uid (and gid) of the range a root grader runs students as:
@@ -113,6 +117,7 @@ impl Confinement {
             isolate_network: boxed || network_isolation(root),
             user: root.then_some(NOBODY),
             boxed,
+            cgroup: root && ControlGroup::available(),
         }
     }
 
@@ -139,6 +144,9 @@ impl Confinement {
         }
         if self.root() {
             names.push("uid");
+        }
+        if self.cgroup {
+            names.push("cgroup");
         }
         names.extend(["rlimits", "no_new_privs"]);
         names.into_iter().map(String::from).collect()
@@ -200,12 +208,26 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
     } else {
         None
     };
+    let group_of_run = if confinement.cgroup {
+        ControlGroup::new(&limits)
+    } else {
+        None
+    };
+    let procs: Vec<std::ffi::CString> = group_of_run
+        .as_ref()
+        .map(ControlGroup::procs)
+        .unwrap_or_default();
     // SAFETY: `confine` and `jail::enter` make only async-signal-safe
     // system calls, on data prepared before the fork.
     unsafe {
-        command.pre_exec(move || match &plan {
-            Some(plan) => super::jail::enter(plan, &confinement),
-            None => confine(&confinement),
+        command.pre_exec(move || {
+            for path in &procs {
+                join_group(path)?;
+            }
+            match &plan {
+                Some(plan) => super::jail::enter(plan, &confinement),
+                None => confine(&confinement),
+            }
         });
     }
     let mut child = match command.spawn() {
@@ -251,6 +273,7 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
     let seconds = start.elapsed().as_secs_f64();
     kill_group(group);
     running().retain(|&g| g != group);
+    drop(group_of_run);
     Run {
         ended,
         seconds,
@@ -423,4 +446,100 @@ fn parent_and_group(pid: i32) -> Option<(i32, i32)> {
     let parent = fields.next()?.parse().ok()?;
     let group = fields.next()?.parse().ok()?;
     Some((parent, group))
+}
+
+/// The cgroup v1 hierarchies a run is held in, and the file of each that
+/// takes its limit.
+const CONTROLLERS: [(&str, &str); 2] = [("memory", "memory.limit_in_bytes"), ("pids", "pids.max")];
+
+/// A run's control groups (cgroup v1 `memory` and `pids`), removed when
+/// dropped, once the run's processes are gone.
+pub struct ControlGroup {
+    folders: Vec<std::path::PathBuf>,
+}
+
+impl ControlGroup {
+    /// Whether this grader can make control groups: root, with cgroup v1's
+    /// `memory` and `pids` hierarchies mounted and writable.
+    fn available() -> bool {
+        let limits = Limits {
+            timeout: Duration::from_secs(1),
+            cpu_seconds: 1,
+            address_space: 1 << 30,
+            file_size: 1 << 20,
+            processes: 8,
+            output: 0,
+        };
+        ControlGroup::new(&limits).is_some()
+    }
+
+    /// A run's groups with `limits`' memory and processes, or `None`.
+    fn new(limits: &Limits) -> Option<ControlGroup> {
+        use std::sync::atomic::{AtomicU64, Ordering};
+        static RUNS: AtomicU64 = AtomicU64::new(0);
+        let name = format!(
+            "raytracer-grade-{}-{}",
+            std::process::id(),
+            RUNS.fetch_add(1, Ordering::Relaxed)
+        );
+        let mut group = ControlGroup {
+            folders: Vec::new(),
+        };
+        for (controller, file) in CONTROLLERS {
+            let folder = Path::new("/sys/fs/cgroup").join(controller).join(&name);
+            std::fs::create_dir(&folder).ok()?;
+            group.folders.push(folder.clone());
+            let value = match controller {
+                "memory" => limits.address_space,
+                _ => limits.processes,
+            };
+            std::fs::write(folder.join(file), value.to_string()).ok()?;
+        }
+        Some(group)
+    }
+
+    /// The `cgroup.procs` file of each group.
+    fn procs(&self) -> Vec<std::ffi::CString> {
+        use std::os::unix::ffi::OsStrExt;
+        self.folders
+            .iter()
+            .filter_map(|f| {
+                std::ffi::CString::new(f.join("cgroup.procs").as_os_str().as_bytes()).ok()
+            })
+            .collect()
+    }
+}
+
+impl Drop for ControlGroup {
+    fn drop(&mut self) {
+        for folder in &self.folders {
+            // A killed process leaves its group a moment after it is reaped.
+            for _ in 0..200 {
+                if std::fs::remove_dir(folder).is_ok() || !folder.exists() {
+                    break;
+                }
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        }
+    }
+}
+
+/// Move this process into the group whose `cgroup.procs` is `path`.
+///
+/// # Safety
+/// Async-signal-safe: called between fork and exec.
+fn join_group(path: &std::ffi::CStr) -> io::Result<()> {
+    // SAFETY: a NUL-terminated path; plain system calls.
+    unsafe {
+        let fd = libc::open(path.as_ptr(), libc::O_WRONLY | libc::O_CLOEXEC);
+        if fd == -1 {
+            return Err(io::Error::last_os_error());
+        }
+        let written = libc::write(fd, b"0".as_ptr().cast(), 1);
+        libc::close(fd);
+        if written != 1 {
+            return Err(io::Error::last_os_error());
+        }
+    }
+    Ok(())
 }

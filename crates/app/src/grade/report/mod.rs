@@ -69,7 +69,7 @@ pub struct SandboxSummary {
     pub boxed: bool,
     /// The mechanisms that held for every run of this report, by name:
     /// `pid_namespace`, `mount_namespace`, `network_namespace`,
-    /// `user_namespace`, `uid`, `rlimits`, `no_new_privs`.
+    /// `user_namespace`, `uid`, `cgroup`, `rlimits`, `no_new_privs`.
     pub mechanisms: Vec<String>,
 }
 
