@@ -362,6 +362,7 @@ fn the_reference_cache_is_out_of_reach() {
          ls $CASE/cache-* >&2\n\
          exit 0",
     );
+    let script = std::fs::read(attack.path().join("tracer.sh")).unwrap();
     for kind in kinds() {
         // The first run renders the reference; the second is attacked.
         let _ = attack.grade(kind, None, &[], &[]);
@@ -376,6 +377,19 @@ fn the_reference_cache_is_out_of_reach() {
             "{kind:?}: the cache is visible in the box: {scene}"
         );
         assert_eq!(std::fs::read(cached[0].path()).unwrap(), before, "{kind:?}");
+        // The tracer knows the cached file's path: a link to it is not
+        // read (the grader does not follow it), and no copy can be made.
+        let path = cached[0].path().display().to_string();
+        for (script, expected) in [
+            (format!("ln -sf {path} \"$2\""), "bad_image"),
+            (format!("cat {path} > \"$2\""), "crashed"),
+        ] {
+            let text = format!("#!/bin/bash\n{script}\n");
+            std::fs::write(attack.path().join("tracer.sh"), text).unwrap();
+            let (_, scene, _) = attack.grade(kind, None, &[], &[]);
+            assert_eq!(status(&scene), expected, "{kind:?}: {scene}");
+        }
+        std::fs::write(attack.path().join("tracer.sh"), &script).unwrap();
         let mode = cached[0].metadata().unwrap().permissions().mode() & 0o777;
         assert_eq!(mode, 0o600, "{kind:?}");
         let mode = cache.metadata().unwrap().permissions().mode() & 0o777;
