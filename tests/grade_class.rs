@@ -18,7 +18,7 @@ use std::path::Path;
 use percent_encoding::percent_decode_str;
 use serde_json::Value;
 
-use crate::grade_cli::{binary, open_folder};
+use crate::grade_cli::{open_folder, student_binary};
 use crate::support::{self, run};
 
 /// Two small scenes: a ball, and a red ball off centre.
@@ -71,18 +71,18 @@ pub(crate) fn class_folder() -> tempfile::TempDir {
             write_executable(&folder.join(file), text);
         }
     };
-    let build = format!(
-        "printf '#!/bin/sh\\nexec %s render \"$1\" \"$2\"\\n' '{}' > tracer.sh\nchmod 755 tracer.sh\n",
-        binary().display()
-    );
+    let build =
+        "printf '#!/bin/sh\\nexec ./renderer render \"$1\" \"$2\"\\n' > tracer.sh\nchmod 755 tracer.sh\n";
     student(
         "alice",
         &[
             ("build.txt", "# the build\nsh build.sh\n"),
-            ("build.sh", &build),
+            ("build.sh", build),
             ("tracer.txt", "./tracer.sh {scene} {out}\n"),
         ],
     );
+    // Alice's own renderer (a copy: the grader's executable is not in the box).
+    std::fs::copy(student_binary(), d.join("students/alice/renderer")).unwrap();
     student(
         "bob",
         &[
@@ -298,7 +298,8 @@ fn a_student_folder_runs_as_at_home_and_is_only_read() {
     std::fs::create_dir_all(&folder).unwrap();
     std::fs::set_permissions(&folder, std::fs::Permissions::from_mode(0o755)).unwrap();
     std::fs::write(folder.join("tracer.txt"), "sh tracer.sh {scene} {out}\n").unwrap();
-    std::fs::write(folder.join("renderer"), binary().display().to_string()).unwrap();
+    std::fs::copy(student_binary(), folder.join("tracer-bin")).unwrap();
+    std::fs::write(folder.join("renderer"), "./tracer-bin").unwrap();
     write_executable(
         &folder.join("tracer.sh"),
         "exec \"$(cat renderer)\" render \"$1\" \"$2\"\n",

@@ -192,3 +192,511 @@ fn a_link_swapped_into_a_working_folder_never_redirects_the_chown() {
         "{summary}"
     );
 }
+
+/// The two kinds of run every attack is tried in: `grade` as root (CI's
+/// kind), and as an ordinary user (`nobody`, through `setpriv`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    Root,
+    User,
+}
+
+/// The kinds of run this machine can try: both as root; as an ordinary
+/// user only the user run (CI runs as root, so there it is a failure).
+fn kinds() -> Vec<Kind> {
+    if support::is_root() {
+        if !support::tool_available(
+            "setpriv",
+            "the user-run attacks",
+            "apt-get install util-linux",
+        ) {
+            return vec![Kind::Root];
+        }
+        vec![Kind::Root, Kind::User]
+    } else {
+        assert!(!support::under_ci(), "CI runs as root");
+        support::skipped("the root-run attacks: the tests do not run as root");
+        vec![Kind::User]
+    }
+}
+
+/// An attack's folder: a one-scene suite, the attacker's script, the
+/// report and the cache, open to `nobody`.
+struct Attack {
+    dir: tempfile::TempDir,
+}
+
+impl Attack {
+    /// `script` is the tracer's body (bash; `$1` the scene, `$2` the image,
+    /// `$RAYTRACER` a copy of the renderer the student may ship).
+    fn new(script: &str) -> Attack {
+        let dir = open_folder("grade-attack-");
+        let d = dir.path();
+        std::fs::create_dir(d.join("suite")).unwrap();
+        std::fs::write(
+            d.join("suite/ball.txt"),
+            "camera 32\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n\
+             light\n  location 6 4 -3\n  color 1 1 1\n",
+        )
+        .unwrap();
+        let text = format!(
+            "#!/bin/bash\nRAYTRACER={}\nCASE={}\n{script}\n",
+            crate::grade_cli::student_binary().display(),
+            d.display()
+        );
+        let tracer = d.join("tracer.sh");
+        std::fs::write(&tracer, text).unwrap();
+        std::fs::set_permissions(&tracer, std::fs::Permissions::from_mode(0o755)).unwrap();
+        Attack { dir }
+    }
+
+    fn path(&self) -> &Path {
+        self.dir.path()
+    }
+
+    /// Grade with `tracer` (default: the script, with the student's
+    /// renderer as a word so the box holds it) in a run of `kind`; the
+    /// exit code, the scene's entry and summary.json's sandbox.
+    fn grade(
+        &self,
+        kind: Kind,
+        tracer: Option<&str>,
+        extra: &[&str],
+        env: &[(&str, &str)],
+    ) -> (i32, Value, Value) {
+        let d = self.path();
+        let report = d.join(format!("report-{kind:?}"));
+        let _ = std::fs::remove_dir_all(&report);
+        let default = format!(
+            "{} {{scene}} {{out}} {}",
+            d.join("tracer.sh").display(),
+            crate::grade_cli::student_binary().display()
+        );
+        let mut command = match kind {
+            Kind::Root => Command::new(binary()),
+            Kind::User => {
+                let mut c = Command::new("setpriv");
+                c.args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
+                    .arg(binary());
+                c
+            }
+        };
+        command
+            .args(["grade", "--tracer", tracer.unwrap_or(&default)])
+            .args(if extra.contains(&"--timeout") {
+                &[][..]
+            } else {
+                &["--timeout", "5"][..]
+            })
+            .args(extra)
+            .arg("-o")
+            .arg(&report)
+            .arg("--cache")
+            .arg(d.join(format!("cache-{kind:?}")))
+            .arg(d.join("suite"))
+            .env("HOME", d)
+            .stdin(Stdio::null());
+        for (key, value) in env {
+            command.env(key, value);
+        }
+        let output = command.output().unwrap();
+        let summary: Value = serde_json::from_slice(
+            &std::fs::read(report.join("summary.json")).unwrap_or_else(|_| {
+                panic!(
+                    "{kind:?}: no summary: {}",
+                    String::from_utf8_lossy(&output.stderr)
+                )
+            }),
+        )
+        .unwrap();
+        (
+            output.status.code().unwrap_or(-1),
+            summary["scenes"][0].clone(),
+            summary["sandbox"].clone(),
+        )
+    }
+}
+
+use serde_json::Value;
+
+fn status(scene: &Value) -> &str {
+    scene["status"].as_str().unwrap()
+}
+
+/// A tracer that runs the grader's own executable, by its path, by PATH
+/// or through a wrapper script, never matches: the executable is not in
+/// the box. The student's own copy of a renderer does (the control).
+#[test]
+fn the_graders_own_executable_is_out_of_reach() {
+    let grader = binary().display().to_string();
+    let folder = binary().parent().unwrap().display().to_string();
+    let wrapper = Attack::new(&format!("exec {grader} render \"$1\" \"$2\""));
+    let honest = Attack::new("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    for kind in kinds() {
+        let (_, scene, sandbox) = honest.grade(kind, None, &[], &[]);
+        assert_eq!(status(&scene), "match", "{kind:?} control: {scene}");
+        assert_eq!(sandbox["boxed"], true, "{kind:?}: {sandbox}");
+        let by_path = format!("{grader} render {{scene}} {{out}}");
+        let (_, scene, _) = wrapper.grade(kind, Some(&by_path), &[], &[]);
+        assert_ne!(status(&scene), "match", "{kind:?} by path: {scene}");
+        let path = format!("{folder}:/usr/bin:/bin");
+        let (_, scene, _) = wrapper.grade(
+            kind,
+            Some("raytracer render {scene} {out}"),
+            &[],
+            &[("PATH", &path)],
+        );
+        assert_ne!(status(&scene), "match", "{kind:?} by PATH: {scene}");
+        let (_, scene, _) = wrapper.grade(kind, None, &[], &[]);
+        assert_ne!(status(&scene), "match", "{kind:?} by a wrapper: {scene}");
+    }
+}
+
+/// The reference cache: a link to a cached reference is not read, a copy
+/// cannot be made, and the cache cannot be overwritten.
+#[test]
+fn the_reference_cache_is_out_of_reach() {
+    let attack = Attack::new(
+        "for f in $CASE/cache-*/*.png; do ln -sf \"$f\" \"$2\"; \
+         printf 'P3 1 1 255 0 0 0\\n' > \"$f\"; done\n\
+         ls $CASE/cache-* >&2\n\
+         exit 0",
+    );
+    let script = std::fs::read(attack.path().join("tracer.sh")).unwrap();
+    for kind in kinds() {
+        // The first run renders the reference; the second is attacked.
+        let _ = attack.grade(kind, None, &[], &[]);
+        let cache = attack.path().join(format!("cache-{kind:?}"));
+        let cached: Vec<_> = std::fs::read_dir(&cache).unwrap().flatten().collect();
+        assert_eq!(cached.len(), 1);
+        let before = std::fs::read(cached[0].path()).unwrap();
+        let (_, scene, _) = attack.grade(kind, None, &[], &[]);
+        assert_ne!(status(&scene), "match", "{kind:?}: {scene}");
+        assert!(
+            scene["stderr"].as_str().unwrap().contains("No such file"),
+            "{kind:?}: the cache is visible in the box: {scene}"
+        );
+        assert_eq!(std::fs::read(cached[0].path()).unwrap(), before, "{kind:?}");
+        // The tracer knows the cached file's path: a link to it is not
+        // read (the grader does not follow it), and no copy can be made.
+        let path = cached[0].path().display().to_string();
+        for (script, expected) in [
+            (format!("ln -sf {path} \"$2\""), "bad_image"),
+            (format!("cat {path} > \"$2\""), "crashed"),
+        ] {
+            let text = format!("#!/bin/bash\n{script}\n");
+            std::fs::write(attack.path().join("tracer.sh"), text).unwrap();
+            let (_, scene, _) = attack.grade(kind, None, &[], &[]);
+            assert_eq!(status(&scene), expected, "{kind:?}: {scene}");
+        }
+        std::fs::write(attack.path().join("tracer.sh"), &script).unwrap();
+        let mode = cached[0].metadata().unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o600, "{kind:?}");
+        let mode = cache.metadata().unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o700, "{kind:?}");
+    }
+}
+
+/// `{out}` as a link to a file only root may read is refused without
+/// saying anything of the file; a hard link cannot even be made.
+#[test]
+fn an_image_that_is_a_link_is_not_read() {
+    let soft = Attack::new("ln -s /etc/shadow \"$2\"");
+    let hard = Attack::new("ln /etc/shadow \"$2\" 2>/dev/null || ln /etc/passwd \"$2\"");
+    for kind in kinds() {
+        let (_, scene, _) = soft.grade(kind, None, &[], &[]);
+        assert_eq!(status(&scene), "bad_image", "{kind:?}: {scene}");
+        assert!(
+            scene["reason"].as_str().unwrap().contains("symbolic link"),
+            "{kind:?}: {scene}"
+        );
+        let (_, scene, _) = hard.grade(kind, None, &[], &[]);
+        assert_ne!(status(&scene), "match", "{kind:?}: {scene}");
+        assert!(scene["images"]["student"].is_null(), "{kind:?}: {scene}");
+    }
+}
+
+/// No process the program started outlives the run: a daemon in a
+/// session of its own, a double fork, a `PR_SET_PDEATHSIG` heir (here a
+/// child that ignores SIGHUP and SIGTERM) and decoys.
+#[test]
+fn no_process_of_a_run_survives_it() {
+    let attack = Attack::new(
+        "setsid sleep 4243 </dev/null >/dev/null 2>&1 &\n\
+         ( ( trap '' HUP TERM; exec -a keeper-4243 sleep 4243 ) & ) </dev/null >/dev/null 2>&1\n\
+         for i in 1 2 3 4 5; do nohup sleep 4243 </dev/null >/dev/null 2>&1 & done\n\
+         exec \"$RAYTRACER\" render \"$1\" \"$2\"",
+    );
+    for kind in kinds() {
+        let (_, scene, _) = attack.grade(kind, None, &[], &[]);
+        assert_eq!(status(&scene), "match", "{kind:?}: {scene}");
+        let left: Vec<String> = std::fs::read_dir("/proc")
+            .unwrap()
+            .flatten()
+            .filter_map(|e| std::fs::read(e.path().join("cmdline")).ok())
+            .map(|c| String::from_utf8_lossy(&c).replace('\0', " "))
+            .filter(|c| c.contains("4243"))
+            .collect();
+        assert!(left.is_empty(), "{kind:?}: survivors: {left:?}");
+    }
+}
+
+/// A program that stops its parent (and pid 1) stops neither the grader
+/// nor its clock: the run ends at the timeout.
+#[test]
+fn a_program_cannot_stop_the_grader() {
+    let attack = Attack::new(
+        "kill -STOP $PPID 2>/dev/null; kill -STOP 1 2>/dev/null; \
+         kill -STOP -1 2>/dev/null; exec sleep 30",
+    );
+    for kind in kinds() {
+        let start = std::time::Instant::now();
+        let (_, scene, _) = attack.grade(kind, None, &["--timeout", "2"], &[]);
+        assert_eq!(status(&scene), "timeout", "{kind:?}: {scene}");
+        assert!(
+            start.elapsed().as_secs_f64() < 10.0,
+            "{kind:?}: {:?}",
+            start.elapsed()
+        );
+    }
+}
+
+/// A UNIX socket file of the grader's machine and an abstract socket are
+/// out of reach; so is the network.
+#[test]
+fn sockets_outside_the_box_are_out_of_reach() {
+    let dir = open_folder("grade-socket-");
+    let file = dir.path().join("socket");
+    let _listener = std::os::unix::net::UnixListener::bind(&file).unwrap();
+    std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o777)).unwrap();
+    let name = format!("raytracer-grade-test-{}", std::process::id());
+    let abstract_address =
+        <std::os::unix::net::SocketAddr as std::os::linux::net::SocketAddrExt>::from_abstract_name(
+            name.as_bytes(),
+        )
+        .unwrap();
+    let _abstract = std::os::unix::net::UnixListener::bind_addr(&abstract_address).unwrap();
+    let attack = Attack::new(&format!(
+        r#"python3 - <<'END' || exit 3
+import socket, sys
+for address in ['{}', '\0{name}']:
+    s = socket.socket(socket.AF_UNIX)
+    try:
+        s.connect(address)
+        sys.exit(0)
+    except OSError as e:
+        print(address, e, file=sys.stderr)
+sys.exit(1)
+END
+exec "$RAYTRACER" render "$1" "$2""#,
+        file.display()
+    ));
+    for kind in kinds() {
+        let (_, scene, _) = attack.grade(kind, None, &[], &[]);
+        assert_eq!(status(&scene), "crashed", "{kind:?}: {scene}");
+        assert_eq!(scene["exit_code"], 3, "{kind:?}: {scene}");
+        let stderr = scene["stderr"].as_str().unwrap();
+        assert_eq!(stderr.matches("Errno").count(), 2, "{kind:?}: {stderr}");
+    }
+}
+
+/// What a tracer sees of `/`, `/tmp` and `/dev/shm`: the system folders
+/// and its own working folder, nothing of the grader's, nothing another
+/// run left; what it leaves in /tmp and /dev/shm dies with its box.
+#[test]
+fn a_tracer_sees_only_the_system_and_its_folder() {
+    let attack = Attack::new(
+        "ls -A / | tr '\\n' ' '; echo\n\
+         ls -A /tmp | tr '\\n' ' '; echo\n\
+         ls -A /dev/shm | tr '\\n' ' '; echo\n\
+         ls -A $CASE | tr '\\n' ' '; echo\n\
+         cat /proc/[0-9]*/cmdline | tr '\\0' ' '; echo\n\
+         echo secret > /tmp/left-behind; echo secret > /dev/shm/left-behind\n\
+         exec \"$RAYTRACER\" render \"$1\" \"$2\"",
+    );
+    for kind in kinds() {
+        for _ in 0..2 {
+            let (_, scene, _) = attack.grade(kind, None, &[], &[]);
+            assert_eq!(status(&scene), "match", "{kind:?}: {scene}");
+            let stdout = scene["stdout"].as_str().unwrap().to_string();
+            let lines: Vec<&str> = stdout.lines().collect();
+            let root: Vec<&str> = lines[0].split_whitespace().collect();
+            let allowed = [
+                "bin", "dev", "etc", "lib", "lib32", "lib64", "libx32", "proc", "sbin", "tmp",
+                "usr", "var",
+            ];
+            assert!(
+                root.iter().all(|e| allowed.contains(e)),
+                "{kind:?}: / holds {root:?}"
+            );
+            let tmp: Vec<&str> = lines[1].split_whitespace().collect();
+            let attack_folder = attack.path().file_name().unwrap().to_string_lossy();
+            let renderer = crate::grade_cli::student_binary()
+                .file_name()
+                .unwrap()
+                .to_string_lossy();
+            let mine: Vec<&&str> = tmp
+                .iter()
+                .filter(|e| **e != attack_folder && **e != renderer)
+                .collect();
+            // Its working folder, and the folders of the files the command
+            // names (bound read-only, alone), nothing else.
+            assert_eq!(mine.len(), 1, "{kind:?}: /tmp holds {tmp:?}");
+            assert!(mine[0].starts_with("raytracer-grade-"), "{kind:?}: {tmp:?}");
+            assert_eq!(lines[2].trim(), "", "{kind:?}: /dev/shm holds {}", lines[2]);
+            // Of the attack's folder only the tracer's own files.
+            let case: Vec<&str> = lines[3].split_whitespace().collect();
+            assert_eq!(case, ["tracer.sh"], "{kind:?}");
+            // The box's processes: none names the report or the cache.
+            assert!(
+                !lines[4].contains("report-") && !lines[4].contains("cache-"),
+                "{kind:?}: {}",
+                lines[4]
+            );
+        }
+    }
+}
+
+/// An image larger than the camera is judged `size` without being
+/// decoded, and the report keeps no copy of it.
+#[test]
+fn an_image_larger_than_the_camera_is_not_decoded() {
+    let attack = Attack::new(
+        r#"python3 - "$2" <<'END'
+import struct, sys, zlib
+w, h = 16384, 1024
+def chunk(kind, data):
+    c = struct.pack('>I', len(data)) + kind + data
+    return c + struct.pack('>I', zlib.crc32(kind + data) & 0xffffffff)
+rows = zlib.compress(b'\0' * ((w * 3 + 1) * h), 9)
+png = b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 2, 0, 0, 0))
+png += chunk(b'IDAT', rows) + chunk(b'IEND', b'')
+open(sys.argv[1], 'wb').write(png)
+END"#,
+    );
+    for kind in kinds() {
+        let (_, scene, _) = attack.grade(kind, None, &[], &[]);
+        assert_eq!(status(&scene), "differs", "{kind:?}: {scene}");
+        assert!(
+            scene["reason"].as_str().unwrap().contains("not decoded"),
+            "{kind:?}: {scene}"
+        );
+        assert!(scene["images"]["student"].is_null(), "{kind:?}: {scene}");
+    }
+}
+
+/// Students of a class cannot reach one another: what one leaves in /tmp
+/// and /dev/shm, and a daemon it starts, are gone before the next runs; no
+/// report or other student's folder is in its box; in a root run each
+/// has a uid of its own; every student is graded and class.csv written.
+#[test]
+fn students_of_a_class_cannot_reach_one_another() {
+    let dir = open_folder("grade-class-attack-");
+    let d = dir.path();
+    std::fs::create_dir_all(d.join("suite")).unwrap();
+    std::fs::write(
+        d.join("suite/ball.txt"),
+        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n\
+         light\n  location 6 4 -3\n  color 1 1 1\n",
+    )
+    .unwrap();
+    let student = |name: &str, script: &str| {
+        let folder = d.join("class").join(name);
+        std::fs::create_dir_all(&folder).unwrap();
+        std::fs::write(folder.join("tracer.txt"), "bash tracer.sh {scene} {out}\n").unwrap();
+        std::fs::write(folder.join("tracer.sh"), script).unwrap();
+        std::fs::copy(crate::grade_cli::student_binary(), folder.join("renderer")).unwrap();
+        for path in [folder.clone(), d.join("class")] {
+            std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        }
+    };
+    student(
+        "a-mallory",
+        "echo secret > /tmp/mallory; echo secret > /dev/shm/mallory\n\
+         setsid sleep 4244 </dev/null >/dev/null 2>&1 &\n\
+         find / -name summary.json 2>/dev/null\n\
+         ls /proc/*/cwd/ 2>/dev/null | head -3\n\
+         exec ./renderer render \"$1\" \"$2\"\n",
+    );
+    student(
+        "b-victim",
+        "id -u; ls -A /tmp /dev/shm; ls -d /*/*mallory* 2>/dev/null\n\
+         exec ./renderer render \"$1\" \"$2\"\n",
+    );
+    for kind in kinds() {
+        let report = d.join(format!("report-{kind:?}"));
+        let mut command = match kind {
+            Kind::Root => Command::new(binary()),
+            Kind::User => {
+                let mut c = Command::new("setpriv");
+                c.args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
+                    .arg(binary());
+                c
+            }
+        };
+        let output = command
+            .args(["grade", "--timeout", "5", "--class"])
+            .arg(d.join("class"))
+            .arg("-o")
+            .arg(&report)
+            .arg("--cache")
+            .arg(d.join(format!("cache-{kind:?}")))
+            .arg(d.join("suite"))
+            .env("HOME", d)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(0), "{kind:?}: {stderr}");
+        let csv = std::fs::read_to_string(report.join("class.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 3, "{kind:?}: {csv}");
+        let read = |name: &str| -> Value {
+            serde_json::from_slice(&std::fs::read(report.join(name).join("summary.json")).unwrap())
+                .unwrap()
+        };
+        let (mallory, victim) = (read("a-mallory"), read("b-victim"));
+        let seen = mallory["scenes"][0]["stdout"].as_str().unwrap();
+        assert!(!seen.contains("summary.json"), "{kind:?}: {seen}");
+        let seen = victim["scenes"][0]["stdout"].as_str().unwrap();
+        assert!(!seen.contains("mallory"), "{kind:?}: {seen}");
+        if kind == Kind::Root {
+            assert_ne!(
+                mallory["sandbox"]["user"], victim["sandbox"]["user"],
+                "{kind:?}"
+            );
+            assert_eq!(
+                seen.lines().next(),
+                victim["sandbox"]["user"].to_string().as_str().into()
+            );
+        }
+        let left = std::fs::read_dir("/proc")
+            .unwrap()
+            .flatten()
+            .filter_map(|e| std::fs::read(e.path().join("cmdline")).ok())
+            .filter(|c| String::from_utf8_lossy(c).contains("4244"))
+            .count();
+        assert_eq!(left, 0, "{kind:?}: the daemon survived");
+    }
+}
+
+/// Memory is bounded per run where a control group can be made (a root
+/// run here): four processes of 60 MiB each under `--memory 128` do not
+/// all live; without one (a user run) each process alone is bounded.
+#[test]
+fn memory_is_bounded_per_run_by_a_control_group() {
+    let attack = Attack::new(
+        "for i in 1 2 3 4; do python3 -c 'import time; b = bytearray(60 << 20); time.sleep(2)' & done\n\
+         status=0; for job in $(jobs -p); do wait $job || status=1; done\n\
+         exit $status",
+    );
+    for kind in kinds() {
+        let (_, scene, sandbox) = attack.grade(kind, None, &["--memory", "128"], &[]);
+        let mechanisms = sandbox["mechanisms"].to_string();
+        if kind == Kind::Root && std::path::Path::new("/sys/fs/cgroup/memory").is_dir() {
+            assert!(mechanisms.contains("cgroup"), "{sandbox}");
+            assert_eq!(status(&scene), "crashed", "{kind:?}: {scene}");
+        } else {
+            assert!(!mechanisms.contains("cgroup"), "{sandbox}");
+            assert_eq!(status(&scene), "no_image", "{kind:?}: {scene}");
+        }
+    }
+}

@@ -254,7 +254,10 @@ fn an_instructors_reference_is_used_and_cached() {
         "camera 32\nsphere\ndimension 1\ncenter 0 0 -5\ncolor .9 .6 .3\n\
          light\nlocation 6 4 -3\ncolor 1 1 1\n",
     );
-    let ours = format!("{} render {{scene}} {{out}}", support::bin());
+    // A copy of our renderer as the student's tracer: the grader's own
+    // executable is not in the box.
+    let renderer = crate::grade_cli::student_binary();
+    let ours = format!("{} render {{scene}} {{out}}", renderer.display());
     let cache = d.join("cache");
     let grade = |extra: &[&str]| {
         let mut args = vec![
@@ -275,14 +278,12 @@ fn an_instructors_reference_is_used_and_cached() {
         run(&args)
     };
     // The instructor's tracer draws the ball blue: ours then differs in
-    // shading, from the instructor's image, not from our own.
+    // shading, from the instructor's image, not from our own. It names the
+    // renderer it runs in its command, so the box holds it.
     let instructor = d.join("instructor.sh");
     std::fs::write(
         &instructor,
-        format!(
-            "#!/bin/sh\nsed 's/color .9 .6 .3/color .3 .6 .9/' \"$1\" > blue.txt && exec {} render blue.txt \"$2\"\n",
-            support::bin()
-        ),
+        "#!/bin/sh\nsed 's/color .9 .6 .3/color .3 .6 .9/' \"$1\" > blue.txt && exec \"$3\" render blue.txt \"$2\"\n",
     )
     .unwrap();
     std::fs::set_permissions(
@@ -290,7 +291,11 @@ fn an_instructors_reference_is_used_and_cached() {
         std::os::unix::fs::PermissionsExt::from_mode(0o755),
     )
     .unwrap();
-    let command = format!("{} {{scene}} {{out}}", instructor.display());
+    let command = format!(
+        "{} {{scene}} {{out}} {}",
+        instructor.display(),
+        renderer.display()
+    );
     for round in 0..2 {
         let out = grade(&["--reference-tracer", &command]);
         let stderr = String::from_utf8_lossy(&out.stderr);

@@ -483,6 +483,11 @@ pub struct SandboxArgs {
     /// Bytes of stdout and of stderr kept per scene, in KiB.
     #[arg(long, value_name = "KIB", default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..))]
     pub max_output: u32,
+    /// Grade even where no box (mount and PID namespaces) can be had, with
+    /// only limits, a uid and a network namespace: the program can then
+    /// read whatever its user may read (docs/grading.md, "The sandbox").
+    #[arg(long)]
+    pub unprotected: bool,
 }
 
 #[derive(Debug, Args)]

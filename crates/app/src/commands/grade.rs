@@ -67,6 +67,13 @@ pub enum GradeError {
     #[diagnostic(transparent)]
     Class(#[from] ClassError),
 
+    #[error("no box can be had here for the students' programs: {reason}")]
+    #[diagnostic(
+        code(grade::sandbox),
+        help("the box needs mount and PID namespaces: run `grade` as root, or allow unprivileged user namespaces (docs/grading.md, \"The sandbox\"); `--unprotected` grades without one")
+    )]
+    NoBox { reason: String },
+
     #[error("no folder for the reference cache: neither `XDG_CACHE_HOME` nor `HOME` is set")]
     #[diagnostic(code(usage::no_cache), help("give one with `--cache DIR`"))]
     NoCache,
@@ -169,6 +176,12 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     let scenes = suite::load(&paths).map_err(GradeError::from)?;
 
     let confinement = Confinement::new(limits(&args.sandbox));
+    if !confinement.boxed && !args.sandbox.unprotected {
+        return Err(GradeError::NoBox {
+            reason: "this kernel or container refuses a mount or PID namespace to this user".into(),
+        }
+        .into());
+    }
     sandbox::become_subreaper();
     let instructor = match &args.reference_tracer {
         Some(command) => Some((command, Template::parse(command).map_err(GradeError::from)?)),
@@ -218,8 +231,14 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         pool: &pool,
     };
     let mut all_match = true;
-    for job in &jobs {
-        let summary = grade_job(job, &graded, &args)?;
+    for (index, job) in jobs.iter().enumerate() {
+        let graded = Graded {
+            confinement: graded.confinement.for_job(index),
+            ..graded
+        };
+        let summary = grade_job(job, &graded, &args);
+        crate::grade::jail::remove_staging_if(index + 1 == jobs.len());
+        let summary = summary?;
         all_match &= summary.all_match();
         let matched = summary
             .scenes
@@ -359,6 +378,8 @@ fn sandbox_summary(args: &SandboxArgs, confinement: &Confinement) -> SandboxSumm
         max_output_kib: args.max_output,
         network_isolated: confinement.isolate_network,
         user: confinement.user,
+        boxed: confinement.boxed,
+        mechanisms: confinement.mechanisms(),
     }
 }
 

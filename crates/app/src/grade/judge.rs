@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use super::aspects::{self, AspectPoints, AspectThresholds, Judged};
 use super::sandbox::Ended;
+use super::student_image;
 use crate::compare::{self, Comparison, Picture, Thresholds, Verdict};
 use raytracer_render::render::probe::Buffers;
 
@@ -67,15 +68,24 @@ pub fn judge(ended: &Ended, out: &Path, against: &Against) -> Judgement {
     if let Some((status, reason)) = failure(ended) {
         return plain(status, reason);
     }
-    if !out.exists() {
-        return plain(
-            Status::NoImage,
-            format!("no `{}` was written", super::workdir::OUT),
-        );
-    }
-    let picture = match compare::read(out) {
-        Ok((picture, _)) => picture,
-        Err(error) => return plain(Status::BadImage, error.to_string()),
+    let picture = match super::student_image::read(out, reference) {
+        student_image::Read::Picture(picture) => picture,
+        student_image::Read::Missing => {
+            return plain(
+                Status::NoImage,
+                format!("no `{}` was written", super::workdir::OUT),
+            )
+        }
+        student_image::Read::TooLarge { width, height } => {
+            return plain(
+                Status::Differs,
+                format!(
+                    "size: expected {} × {}, found {width} × {height} (not decoded: larger than the camera)",
+                    reference.width, reference.height
+                ),
+            )
+        }
+        student_image::Read::Bad(reason) => return plain(Status::BadImage, reason),
     };
     let comparison = compare::compare(reference, &picture, against.thresholds);
     let judged = (comparison.verdict != Verdict::Size).then(|| {

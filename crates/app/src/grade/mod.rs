@@ -16,11 +16,13 @@ pub mod aspects;
 pub mod capture;
 pub mod class;
 pub mod copy;
+pub mod jail;
 pub mod judge;
 pub mod reference;
 pub mod report;
 pub mod sandbox;
 pub mod student;
+pub mod student_image;
 pub mod suite;
 pub mod workdir;
 
@@ -151,7 +153,14 @@ pub fn grade_scene(
         }
     };
     let argv = plan.template.argv(&dir.scene_file, workdir::OUT, cwd);
-    let run = sandbox::run(&argv, &dir.start, plan.confinement);
+    let share = sandbox::Share {
+        read_write: vec![dir.root.clone()],
+        read_only: match &plan.programs {
+            Programs::Here(_) => program_files(&argv),
+            Programs::Folder(_) => Vec::new(),
+        },
+    };
+    let run = sandbox::run(&argv, &dir.start, &share, plan.confinement);
     let against = judge::Against {
         reference,
         buffers,
@@ -230,6 +239,19 @@ pub fn grade_scene(
         stderr: run.stderr.text(),
         images,
     })
+}
+
+/// The files a `--tracer` command names by an absolute path (its program,
+/// a script it runs), which a box holds read-only at their paths; never
+/// the grader's own executable.
+pub(crate) fn program_files(argv: &[std::ffi::OsString]) -> Vec<PathBuf> {
+    let exe = std::env::current_exe().and_then(std::fs::canonicalize).ok();
+    argv.iter()
+        .map(Path::new)
+        .filter(|path| path.is_absolute())
+        .filter_map(|path| std::fs::canonicalize(path).ok())
+        .filter(|path| path.is_file() && Some(path) != exe.as_ref())
+        .collect()
 }
 
 /// A scene that did not run because of `reason`.

@@ -10,6 +10,14 @@
 //! cached the same way (`instructor-KEY.png`, the key hashing the command,
 //! its program's files and the scene's). What each pixel sees (the probes
 //! the aspects are judged with) is always our renderer's.
+//!
+//! The cache is private: its folder is the grader's own, mode 0700 (made
+//! so when it is created, corrected when it is the grader's and is not),
+//! and a folder that is a link or someone else's is refused. A cached
+//! image is read without following a link and only when it is a regular
+//! file of the grader's, with one name and no permission for anyone else
+//! (mode 0600, as written); anything else is rendered again and replaced.
+//! No box ever sees the cache ([`super::sandbox`]).
 
 use std::path::{Path, PathBuf};
 
@@ -41,9 +49,40 @@ pub fn default_folder() -> Option<PathBuf> {
 }
 
 impl Cache {
-    /// The cache in `folder` (created), for the renderer of this executable.
+    /// The cache in `folder` (created, private), for the renderer of this
+    /// executable.
     pub fn open(folder: &Path) -> std::io::Result<Cache> {
-        std::fs::create_dir_all(folder)?;
+        use std::os::unix::fs::{DirBuilderExt, MetadataExt, OpenOptionsExt, PermissionsExt};
+        if let Some(parent) = folder.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(parent)?;
+        }
+        match std::fs::DirBuilder::new().mode(0o700).create(folder) {
+            Ok(()) => {}
+            Err(error) if error.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(error) => return Err(error),
+        }
+        let dir = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(libc::O_DIRECTORY | libc::O_NOFOLLOW)
+            .open(folder)
+            .map_err(|error| {
+                if error.raw_os_error() == Some(libc::ELOOP) {
+                    std::io::Error::other("the cache folder is a symbolic link: refused")
+                } else {
+                    error
+                }
+            })?;
+        let meta = dir.metadata()?;
+        // SAFETY: `geteuid` has no preconditions.
+        if meta.uid() != unsafe { libc::geteuid() } {
+            return Err(std::io::Error::other(format!(
+                "the cache folder belongs to uid {}, not to the grader: refused",
+                meta.uid()
+            )));
+        }
+        if meta.mode() & 0o077 != 0 {
+            dir.set_permissions(std::fs::Permissions::from_mode(0o700))?;
+        }
         let exe = std::fs::read(std::env::current_exe()?)?;
         Ok(Cache {
             folder: folder.to_path_buf(),
@@ -55,7 +94,7 @@ impl Cache {
     /// and stored. Says whether it was rendered.
     pub fn reference(&self, scene: &SuiteScene) -> std::io::Result<(Picture, bool)> {
         let path = self.folder.join(format!("{}.png", self.key(scene)?));
-        if let Ok((picture, _)) = compare::read(&path) {
+        if let Some(picture) = read_private(&path) {
             return Ok((picture, false));
         }
         let (image, _) = render::render(Precision::F64, &scene.scene, &Options::default(), &|| {});
@@ -64,10 +103,24 @@ impl Cache {
             height: image.size,
             rgb: image.rgb,
         };
-        raytracer_render::output::write_atomically(&path, |out| {
-            compare::encode_png(&picture, out)
-        })?;
+        self.write_private(&path, &picture)?;
         Ok((picture, true))
+    }
+
+    /// Store `picture` at `path` in the cache: written 0600 (a temporary
+    /// file's mode) and renamed over whatever was there, a link included.
+    fn write_private(&self, path: &Path, picture: &Picture) -> std::io::Result<()> {
+        let mut temp = tempfile::Builder::new()
+            .prefix(".reference-")
+            .permissions(std::os::unix::fs::PermissionsExt::from_mode(0o600))
+            .tempfile_in(&self.folder)?;
+        {
+            let mut out = std::io::BufWriter::new(temp.as_file_mut());
+            compare::encode_png(picture, &mut out)?;
+            std::io::Write::flush(&mut out)?;
+        }
+        temp.persist(path).map_err(|e| e.error)?;
+        Ok(())
     }
 
     /// The hex SHA-256 of the renderer and the scene's files.
@@ -167,12 +220,16 @@ impl Cache {
         hash.update(self.key(scene)?.as_bytes());
         let key: String = hash.finalize().iter().map(|b| format!("{b:02x}")).collect();
         let path = self.folder.join(format!("instructor-{key}.png"));
-        if let Ok((picture, _)) = compare::read(&path) {
+        if let Some(picture) = read_private(&path) {
             return Ok((picture, false));
         }
         let dir = workdir::prepare(scene, None, confinement.user)?;
         let argv = template.argv(&dir.scene_file, workdir::OUT, Some(cwd));
-        let run = sandbox::run(&argv, &dir.start, confinement);
+        let share = sandbox::Share {
+            read_write: vec![dir.root.clone()],
+            read_only: super::program_files(&argv),
+        };
+        let run = sandbox::run(&argv, &dir.start, &share, confinement);
         if let Some((_, reason)) = judge::failure(&run.ended) {
             return Err(std::io::Error::other(format!(
                 "the reference tracer failed on `{}`: {reason}",
@@ -185,9 +242,40 @@ impl Cache {
                 scene.name
             ))
         })?;
-        raytracer_render::output::write_atomically(&path, |out| {
-            compare::encode_png(&picture, out)
-        })?;
+        self.write_private(&path, &picture)?;
         Ok((picture, true))
     }
+}
+
+/// The cached image at `path` when it is a regular file of the grader's,
+/// with one name, closed to everyone else, reached without a link.
+fn read_private(path: &Path) -> Option<Picture> {
+    use std::io::Read;
+    use std::os::unix::fs::MetadataExt;
+    let mut file = super::student_image::open_no_links(path).ok()?;
+    let meta = file.metadata().ok()?;
+    // SAFETY: `geteuid` has no preconditions.
+    let mine = meta.uid() == unsafe { libc::geteuid() };
+    if !meta.is_file() || !mine || meta.nlink() != 1 || meta.mode() & 0o077 != 0 {
+        return None;
+    }
+    let mut bytes = Vec::new();
+    file.by_ref()
+        .take(raytracer_scene::limits::MAX_TEXTURE_TEXELS * 4)
+        .read_to_end(&mut bytes)
+        .ok()?;
+    let (width, height, texels) = raytracer_scene::texture::decode(
+        std::io::Cursor::new(bytes),
+        raytracer_scene::limits::MAX_TEXTURE_TEXELS,
+    )
+    .ok()?;
+    Some(Picture {
+        width,
+        height,
+        rgb: texels
+            .iter()
+            .flatten()
+            .map(|&v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+            .collect(),
+    })
 }

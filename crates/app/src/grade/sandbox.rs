@@ -3,16 +3,22 @@
 //! The program runs from an argument vector (no shell) in a folder of its
 //! own, with stdin closed, stdout and stderr captured ([`super::capture`]),
 //! and only `PATH`, `HOME` (the folder) and `LANG` in its environment.
-//! Before it starts, in the forked child ([`confine`]): a process group of
-//! its own; a network namespace of its own when the kernel allows it
-//! (probed once by [`network_isolation`]); when the grader is root, the
-//! user and group `nobody` (65534), because root ignores the process-count
-//! limit; and the resource limits (CPU seconds, address space, file size,
-//! processes, no core files). On the wall-clock timeout, and again after
-//! the program ends, its whole process group is killed. `grade` is the
-//! subreaper of everything the program starts, so a process that leaves
-//! the group is still reparented to `grade`, and [`reap_orphans`] kills
-//! and reaps it. An interrupted `grade` kills every running group
+//! Where the kernel allows it (probed once, [`super::jail::available`]) it
+//! runs in a box ([`super::jail`]): PID, mount, IPC, UTS and network
+//! namespaces and a root holding only the system folders and what
+//! [`Share`] names, so nothing it starts outlives the run. Without one
+//! (`--unprotected`), in the forked child ([`confine`]): a process group
+//! of its own and a network namespace when one can be had. Either way,
+//! last ([`drop_to_user`]): when the grader is root, a uid of the
+//! student's own ([`FIRST_UID`] on, [`Confinement::for_job`]), because
+//! root ignores the process-count limit; the resource limits (CPU
+//! seconds, address space, file size, processes, no core files) and
+//! `PR_SET_NO_NEW_PRIVS`. On the wall-clock timeout, and again after the
+//! program ends, its whole process group is killed (in a box, that kills
+//! the box's pid 1 and so everything in it). `grade` is the subreaper of
+//! everything the program starts, so a process that leaves the group
+//! outside a box is still reparented to `grade`, and [`reap_orphans`]
+//! kills and reaps it. An interrupted `grade` kills every running group
 //! ([`kill_running`]) before it exits.
 
 use std::ffi::OsString;
@@ -36,6 +42,13 @@ pub struct Limits {
     /// Bytes of stdout, and of stderr, kept.
     pub output: usize,
 }
+
+/// Held for writing while a program is started, and for reading while
+/// the grader has a file open for writing that a program may run (a
+/// student's copied program): a fork made then would inherit the open
+/// descriptor, and a program run from that file meanwhile would fail with
+/// `text file busy` (`ETXTBSY`) until the fork's child execs.
+pub static SPAWNING: std::sync::RwLock<()> = std::sync::RwLock::new(());
 
 /// The process groups of the programs running now, for [`kill_running`].
 static RUNNING: Mutex<Vec<libc::pid_t>> = Mutex::new(Vec::new());
@@ -83,19 +96,72 @@ pub struct Confinement {
     pub isolate_network: bool,
     /// Switch to this uid and gid (the grader is root).
     pub user: Option<u32>,
+    /// Run in a box ([`super::jail`]): PID, mount, IPC, UTS and network
+    /// namespaces and a root of our making; inside a user namespace of
+    /// its own when the grader is not root.
+    pub boxed: bool,
+    /// Hold each run in control groups of its own (cgroup v1 `memory` and
+    /// `pids`, as root): `--memory` for the whole run, `--max-processes`
+    /// for the run's processes alone.
+    pub cgroup: bool,
 }
 
+/// The first uid (and gid) of the range a root grader runs students as:
+/// the `n`th job (student) runs as `FIRST_UID + n`, so no two students
+/// share a uid. Like isolate's boxes, the range must belong to no one.
+pub const FIRST_UID: u32 = 60_000;
+
 impl Confinement {
-    /// The confinement for this process: `nobody` when root, a network
-    /// namespace when one can be had.
+    /// The confinement for this process: a box when one can be had, else
+    /// a network namespace when one can be had; `nobody` when root until
+    /// [`Confinement::for_job`] gives each job its own uid.
     pub fn new(limits: Limits) -> Confinement {
         // SAFETY: `geteuid` has no preconditions.
         let root = unsafe { libc::geteuid() } == 0;
+        let boxed = super::jail::available(root);
         Confinement {
             limits,
-            isolate_network: network_isolation(root),
+            isolate_network: boxed || network_isolation(root),
             user: root.then_some(NOBODY),
+            boxed,
+            cgroup: root && ControlGroup::available(),
         }
+    }
+
+    /// The confinement of the `job`th tracer graded: a uid of its own from
+    /// [`FIRST_UID`] when root.
+    pub fn for_job(self, job: usize) -> Confinement {
+        Confinement {
+            user: self.user.map(|_| FIRST_UID + job as u32),
+            ..self
+        }
+    }
+
+    /// The names of the mechanisms that confine each run.
+    pub fn mechanisms(&self) -> Vec<String> {
+        let mut names = Vec::new();
+        if self.boxed {
+            names.extend(["pid_namespace", "mount_namespace", "ipc_namespace"]);
+            if !self.root() {
+                names.push("user_namespace");
+            }
+        }
+        if self.isolate_network {
+            names.push("network_namespace");
+        }
+        if self.root() {
+            names.push("uid");
+        }
+        if self.cgroup {
+            names.push("cgroup");
+        }
+        names.extend(["rlimits", "no_new_privs"]);
+        names.into_iter().map(String::from).collect()
+    }
+
+    /// Whether the grader runs as root (and so switches uids).
+    pub fn root(&self) -> bool {
+        self.user.is_some()
     }
 }
 
@@ -109,8 +175,9 @@ pub fn become_subreaper() {
     }
 }
 
-/// Run `argv` in `dir` under `confinement`.
-pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
+/// Run `argv` in `dir` under `confinement`; in a box, `share` says what
+/// of the grader's file system the box holds besides the system folders.
+pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinement) -> Run {
     let start = Instant::now();
     let limits = confinement.limits;
     let mut command = Command::new(&argv[0]);
@@ -130,11 +197,53 @@ pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
-    // SAFETY: `confine` makes only async-signal-safe system calls.
+    let plan = if confinement.boxed {
+        match super::jail::Plan::new(dir, share, &confinement) {
+            Ok(plan) => Some(plan),
+            Err(error) => {
+                return Run {
+                    ended: Ended::NotStarted(format!(
+                        "cannot prepare the box: {}",
+                        raytracer_scene::diagnostic::io_reason(&error)
+                    )),
+                    seconds: start.elapsed().as_secs_f64(),
+                    stdout: Captured::default(),
+                    stderr: Captured::default(),
+                }
+            }
+        }
+    } else {
+        None
+    };
+    let group_of_run = if confinement.cgroup {
+        ControlGroup::new(&limits)
+    } else {
+        None
+    };
+    let procs: Vec<std::ffi::CString> = group_of_run
+        .as_ref()
+        .map(ControlGroup::procs)
+        .unwrap_or_default();
+    // SAFETY: `confine` and `jail::enter` make only async-signal-safe
+    // system calls, on data prepared before the fork.
     unsafe {
-        command.pre_exec(move || confine(&confinement));
+        command.pre_exec(move || {
+            for path in &procs {
+                join_group(path)?;
+            }
+            match &plan {
+                Some(plan) => super::jail::enter(plan, &confinement),
+                None => confine(&confinement),
+            }
+        });
     }
-    let mut child = match command.spawn() {
+    let spawned = {
+        let _alone = SPAWNING
+            .write()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        command.spawn()
+    };
+    let mut child = match spawned {
         Ok(child) => child,
         Err(error) => {
             return Run {
@@ -177,6 +286,7 @@ pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
     let seconds = start.elapsed().as_secs_f64();
     kill_group(group);
     running().retain(|&g| g != group);
+    drop(group_of_run);
     Run {
         ended,
         seconds,
@@ -185,8 +295,21 @@ pub fn run(argv: &[OsString], dir: &Path, confinement: Confinement) -> Run {
     }
 }
 
-/// In the forked child, before `exec`: the confinement of the module doc.
-fn confine(confinement: &Confinement) -> io::Result<()> {
+/// What of the grader's file system a box holds: folders bound
+/// read-write (the run's working folder) and files bound read-only (a
+/// `--tracer` program named by its path), each at its own path.
+#[derive(Clone, Debug, Default)]
+pub struct Share {
+    pub read_write: Vec<std::path::PathBuf>,
+    pub read_only: Vec<std::path::PathBuf>,
+}
+
+/// Drop to the run's user and set the limits: the last steps in the
+/// child, box or not.
+///
+/// # Safety
+/// Only async-signal-safe system calls: called between fork and exec.
+pub(super) unsafe fn drop_to_user(confinement: &Confinement) -> io::Result<()> {
     let check = |result: libc::c_int| {
         if result == -1 {
             Err(io::Error::last_os_error())
@@ -195,12 +318,7 @@ fn confine(confinement: &Confinement) -> io::Result<()> {
         }
     };
     let limits = confinement.limits;
-    // SAFETY: plain system calls on this (single-threaded) child.
     unsafe {
-        check(libc::setpgid(0, 0))?;
-        if confinement.isolate_network {
-            check(libc::unshare(namespaces(confinement.user.is_some())))?;
-        }
         if let Some(id) = confinement.user {
             check(libc::setgroups(0, std::ptr::null()))?;
             check(libc::setgid(id))?;
@@ -225,8 +343,30 @@ fn confine(confinement: &Confinement) -> io::Result<()> {
         limit(libc::RLIMIT_FSIZE, limits.file_size)?;
         limit(libc::RLIMIT_NPROC, limits.processes)?;
         limit(libc::RLIMIT_CORE, 0)?;
+        check(libc::prctl(libc::PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0))?;
     }
     Ok(())
+}
+
+/// In the forked child, before `exec`, without a box: a process group of
+/// its own, a network namespace when one can be had, then
+/// [`drop_to_user`].
+fn confine(confinement: &Confinement) -> io::Result<()> {
+    let check = |result: libc::c_int| {
+        if result == -1 {
+            Err(io::Error::last_os_error())
+        } else {
+            Ok(())
+        }
+    };
+    // SAFETY: plain system calls on this (single-threaded) child.
+    unsafe {
+        check(libc::setpgid(0, 0))?;
+        if confinement.isolate_network {
+            check(libc::unshare(namespaces(confinement.root())))?;
+        }
+        drop_to_user(confinement)
+    }
 }
 
 /// The namespaces to unshare: the network's, inside a user namespace of
@@ -319,4 +459,100 @@ fn parent_and_group(pid: i32) -> Option<(i32, i32)> {
     let parent = fields.next()?.parse().ok()?;
     let group = fields.next()?.parse().ok()?;
     Some((parent, group))
+}
+
+/// The cgroup v1 hierarchies a run is held in, and the file of each that
+/// takes its limit.
+const CONTROLLERS: [(&str, &str); 2] = [("memory", "memory.limit_in_bytes"), ("pids", "pids.max")];
+
+/// A run's control groups (cgroup v1 `memory` and `pids`), removed when
+/// dropped, once the run's processes are gone.
+pub struct ControlGroup {
+    folders: Vec<std::path::PathBuf>,
+}
+
+impl ControlGroup {
+    /// Whether this grader can make control groups: root, with cgroup v1's
+    /// `memory` and `pids` hierarchies mounted and writable.
+    fn available() -> bool {
+        let limits = Limits {
+            timeout: Duration::from_secs(1),
+            cpu_seconds: 1,
+            address_space: 1 << 30,
+            file_size: 1 << 20,
+            processes: 8,
+            output: 0,
+        };
+        ControlGroup::new(&limits).is_some()
+    }
+
+    /// A run's groups with `limits`' memory and processes, or `None`.
+    fn new(limits: &Limits) -> Option<ControlGroup> {
+        use std::sync::atomic::{AtomicU64, Ordering};
+        static RUNS: AtomicU64 = AtomicU64::new(0);
+        let name = format!(
+            "raytracer-grade-{}-{}",
+            std::process::id(),
+            RUNS.fetch_add(1, Ordering::Relaxed)
+        );
+        let mut group = ControlGroup {
+            folders: Vec::new(),
+        };
+        for (controller, file) in CONTROLLERS {
+            let folder = Path::new("/sys/fs/cgroup").join(controller).join(&name);
+            std::fs::create_dir(&folder).ok()?;
+            group.folders.push(folder.clone());
+            let value = match controller {
+                "memory" => limits.address_space,
+                _ => limits.processes,
+            };
+            std::fs::write(folder.join(file), value.to_string()).ok()?;
+        }
+        Some(group)
+    }
+
+    /// The `cgroup.procs` file of each group.
+    fn procs(&self) -> Vec<std::ffi::CString> {
+        use std::os::unix::ffi::OsStrExt;
+        self.folders
+            .iter()
+            .filter_map(|f| {
+                std::ffi::CString::new(f.join("cgroup.procs").as_os_str().as_bytes()).ok()
+            })
+            .collect()
+    }
+}
+
+impl Drop for ControlGroup {
+    fn drop(&mut self) {
+        for folder in &self.folders {
+            // A killed process leaves its group a moment after it is reaped.
+            for _ in 0..200 {
+                if std::fs::remove_dir(folder).is_ok() || !folder.exists() {
+                    break;
+                }
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        }
+    }
+}
+
+/// Move this process into the group whose `cgroup.procs` is `path`.
+///
+/// # Safety
+/// Async-signal-safe: called between fork and exec.
+fn join_group(path: &std::ffi::CStr) -> io::Result<()> {
+    // SAFETY: a NUL-terminated path; plain system calls.
+    unsafe {
+        let fd = libc::open(path.as_ptr(), libc::O_WRONLY | libc::O_CLOEXEC);
+        if fd == -1 {
+            return Err(io::Error::last_os_error());
+        }
+        let written = libc::write(fd, b"0".as_ptr().cast(), 1);
+        libc::close(fd);
+        if written != 1 {
+            return Err(io::Error::last_os_error());
+        }
+    }
+    Ok(())
 }

@@ -105,11 +105,14 @@ impl Student {
     /// and built there; the build's summary when there is `build.txt`.
     pub fn prepare(&self, confinement: Confinement) -> std::io::Result<Prepared> {
         let folder = workdir::private_folder()?;
+        // Canonical while the folder is still the grader's alone: a box
+        // binds it by this path.
+        let path = std::fs::canonicalize(folder.path())?;
         copy_folder(&self.folder, folder.path(), STUDENT_FOLDER)?;
         if let Some(id) = confinement.user {
             workdir::give(folder.path(), id)?;
         }
-        let build = self.build(folder.path(), confinement);
+        let build = self.build(&path, confinement);
         Ok(Prepared { folder, build })
     }
 
@@ -117,7 +120,11 @@ impl Student {
     fn build(&self, folder: &Path, confinement: Confinement) -> Option<BuildSummary> {
         let (command, template) = self.build.as_ref()?;
         let argv = template.argv_as_written();
-        let run = sandbox::run(&argv, folder, confinement);
+        let share = sandbox::Share {
+            read_write: vec![folder.to_path_buf()],
+            read_only: Vec::new(),
+        };
+        let run = sandbox::run(&argv, folder, &share, confinement);
         let (exit_code, signal) = match run.ended {
             Ended::Exited(code) => (Some(code), None),
             Ended::Signalled(signal) => (None, Some(signal)),

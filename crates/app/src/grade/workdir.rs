@@ -35,6 +35,8 @@ pub const OUT: &str = "out.ppm";
 /// A prepared folder: removed when dropped.
 pub struct Workdir {
     pub temp: TempDir,
+    /// `temp`'s canonical path: what a box binds read-write.
+    pub root: PathBuf,
     /// Where the program starts: the scene's folder inside `temp`.
     pub start: PathBuf,
     /// The scene's file name, for `{scene}`.
@@ -66,9 +68,10 @@ pub fn prepare(
 ) -> std::io::Result<Workdir> {
     let temp = private_folder()?;
     let scene_path = Path::new(&scene.name);
-    let start = temp
-        .path()
-        .join(scene_path.parent().unwrap_or(Path::new("")));
+    // Canonical while the folder is still the grader's alone, so reading
+    // `{out}` later can refuse a link anywhere on its path.
+    let root = std::fs::canonicalize(temp.path())?;
+    let start = root.join(scene_path.parent().unwrap_or(Path::new("")));
     std::fs::create_dir_all(&start)?;
     if let Some(folder) = program {
         copy_folder(folder, &start, STUDENT_FOLDER)?;
@@ -87,6 +90,7 @@ pub fn prepare(
         give(temp.path(), id)?;
     }
     Ok(Workdir {
+        root,
         start,
         scene_file: scene_path
             .file_name()

@@ -64,6 +64,12 @@ textures, shading; see docs/grading.md); coverage IoU and ꟻLIP (bounds {} and 
         summary.thresholds.min_coverage,
         summary.thresholds.max_flip,
     );
+    let _ = writeln!(
+        html,
+        "<p id=\"sandbox\">Sandbox: {}; held: {}.</p>",
+        if s.boxed { "a box per run" } else { "no box" },
+        escape(&s.mechanisms.join(", "))
+    );
     if let Some(build) = &summary.build {
         let outcome = match &build.reason {
             None => "built".to_string(),

@@ -66,6 +66,14 @@ pub struct SandboxSummary {
     pub network_isolated: bool,
     /// The uid the programs ran as, when `grade` ran as root.
     pub user: Option<u32>,
+    /// The programs ran in a box: PID, mount, IPC, UTS and network
+    /// namespaces and a root holding only the system folders and the
+    /// run's working folder (docs/grading.md, "The sandbox").
+    pub boxed: bool,
+    /// The mechanisms that held for every run of this report, by name:
+    /// `pid_namespace`, `mount_namespace`, `network_namespace`,
+    /// `user_namespace`, `uid`, `cgroup`, `rlimits`, `no_new_privs`.
+    pub mechanisms: Vec<String>,
 }
 
 impl Summary {

@@ -1,0 +1,587 @@
+//! The box a student's program runs in (Linux), after IOI's `isolate`:
+//! namespaces and a root file system of our making.
+//!
+//! In the forked child ([`enter`], between fork and exec, so only
+//! async-signal-safe system calls on data [`Plan::new`] prepared before
+//! the fork), the process that `grade` started (the keeper's child, "C0")
+//! makes a process group of its own and unshares the mount, PID, network,
+//! IPC and UTS namespaces; when the grader is not root, inside a user
+//! namespace of its own that maps only the grader's uid and gid to
+//! themselves (so the program has no capability once it runs). Its first
+//! child ("C1") is pid 1 of the new PID namespace, dies with C0
+//! (`PR_SET_PDEATHSIG`), and builds the root: a tmpfs holding read-only
+//! binds of `/usr`, `/bin`, `/sbin`, `/lib*` and `/etc` (links stay
+//! links), a minimal `/dev` (null, zero, full, random, urandom; a private
+//! tmpfs `/dev/shm`), private tmpfs `/tmp` and `/var/tmp`, a fresh `/proc`
+//! of the new PID namespace, and [`Share`]'s paths bound at their own
+//! paths (the run's working folder read-write, a `--tracer` program's file
+//! read-only); the grader's own executable is covered by `/dev/null` if it
+//! lies under a bound system folder. It then pivots into that root,
+//! detaches the old one, makes `/` read-only, and forks the program
+//! ("C2"), which drops to the run's uid, takes the limits and
+//! `PR_SET_NO_NEW_PRIVS`, and execs. C1 reaps whatever is reparented to
+//! it and exits when the program does, handing the program's wait status
+//! to C0 through a pipe; C0 exits the same way. When C1 exits, or is
+//! killed with C0's group at the timeout, the kernel kills every process
+//! left in the namespace: nothing the program started survives the run.
+//! Everything else of the grader's file system (its executable, the
+//! reference cache, the reports, home folders, other students' folders)
+//! is simply absent, and the network namespace has only a loopback that
+//! is down; abstract UNIX sockets are per network namespace, and socket
+//! files of the host are not in the box.
+
+use std::ffi::CString;
+use std::io;
+use std::os::unix::ffi::OsStrExt;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use super::sandbox::{drop_to_user, Confinement, Share};
+
+/// The system folders bound read-only (links among them stay links).
+const SYSTEM: &[&str] = &[
+    "/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32", "/etc",
+];
+
+/// A flag of ours in [`Step::Bind`]'s flags (no mount flag uses this
+/// bit): open the source in the child with `openat2(RESOLVE_NO_SYMLINKS)`
+/// and bind from that descriptor, so a link planted anywhere on a shared
+/// path is refused, not followed.
+const NO_LINKS: libc::c_ulong = 1 << 40;
+
+/// The devices bound into the box's `/dev`.
+const DEVICES: &[&str] = &["null", "zero", "full", "random", "urandom"];
+
+/// One step of building the box's root, in C1.
+#[derive(Debug)]
+enum Step {
+    Mkdir(CString),
+    /// A tmpfs with these options.
+    Tmpfs(CString, CString),
+    /// Bind `from` onto `to`, read-only with the source's locked flags.
+    Bind {
+        from: CString,
+        to: CString,
+        read_only: bool,
+        flags: libc::c_ulong,
+    },
+    /// An empty file to bind a file onto.
+    Touch(CString),
+    Symlink(CString, CString),
+    Proc(CString),
+}
+
+/// Everything the child needs, prepared before the fork.
+#[derive(Debug)]
+pub struct Plan {
+    root: CString,
+    steps: Vec<Step>,
+    start: CString,
+    uid_map: CString,
+    gid_map: CString,
+    /// The grader's command line in memory (`arg_start..arg_end` of
+    /// `/proc/self/stat`), which C1, a fork of the grader, blanks: the
+    /// box's `/proc/1/cmdline` names no report or cache.
+    arguments: Option<(usize, usize)>,
+}
+
+fn c(path: &Path) -> io::Result<CString> {
+    CString::new(path.as_os_str().as_bytes())
+        .map_err(|_| io::Error::new(io::ErrorKind::InvalidInput, "a path holds a NUL byte"))
+}
+
+/// The folder every box's root is mounted on (in the box's own mount
+/// namespace, so many boxes share it): the grader's, empty, 0700.
+fn staging() -> io::Result<&'static Path> {
+    static STAGING: OnceLock<Option<PathBuf>> = OnceLock::new();
+    STAGING
+        .get_or_init(|| {
+            let dir = tempfile::Builder::new()
+                .prefix("raytracer-box-")
+                .tempdir()
+                .ok()?;
+            // Kept for the grader's lifetime; [`remove_staging`] removes it.
+            Some(dir.keep())
+        })
+        .as_deref()
+        .ok_or_else(|| io::Error::other("cannot make the box's mount point"))
+}
+
+/// Remove the box's mount point when `last`: what `grade` does after
+/// its last job.
+pub fn remove_staging_if(last: bool) {
+    if let (true, Ok(dir)) = (last, staging()) {
+        let _ = std::fs::remove_dir(dir);
+    }
+}
+
+/// The locked mount flags of the file system holding `path`, which a
+/// read-only remount inside a user namespace must keep.
+fn locked_flags(path: &Path) -> libc::c_ulong {
+    let Ok(name) = c(path) else { return 0 };
+    // SAFETY: `statvfs` writes into the zeroed struct we pass.
+    let mut st: libc::statvfs = unsafe { std::mem::zeroed() };
+    if unsafe { libc::statvfs(name.as_ptr(), &mut st) } != 0 {
+        return 0;
+    }
+    let mut flags = 0;
+    for (st_flag, ms_flag) in [
+        (libc::ST_NOSUID, libc::MS_NOSUID),
+        (libc::ST_NODEV, libc::MS_NODEV),
+        (libc::ST_NOEXEC, libc::MS_NOEXEC),
+        (libc::ST_NOATIME, libc::MS_NOATIME),
+        (libc::ST_NODIRATIME, libc::MS_NODIRATIME),
+        (libc::ST_RELATIME, libc::MS_RELATIME),
+    ] {
+        if st.f_flag & st_flag != 0 {
+            flags |= ms_flag;
+        }
+    }
+    flags
+}
+
+impl Plan {
+    /// The box for a program starting in `start`, holding `share`.
+    pub fn new(start: &Path, share: &Share, confinement: &Confinement) -> io::Result<Plan> {
+        let root = staging()?.to_path_buf();
+        let inside = |path: &Path| root.join(path.strip_prefix("/").unwrap_or(path));
+        let mut steps = Vec::new();
+        let tmpfs_size = format!("size={}", confinement.limits.file_size.max(1 << 20) * 4);
+        steps.push(Step::Tmpfs(
+            c(&root)?,
+            CString::new(format!("mode=0755,{tmpfs_size}")).unwrap_or_default(),
+        ));
+        let exe = std::env::current_exe().and_then(std::fs::canonicalize).ok();
+        let mut masked = None;
+        for dir in SYSTEM {
+            let host = Path::new(dir);
+            let Ok(meta) = host.symlink_metadata() else {
+                continue;
+            };
+            if meta.file_type().is_symlink() {
+                let target = std::fs::read_link(host)?;
+                steps.push(Step::Symlink(c(&target)?, c(&inside(host))?));
+            } else if meta.is_dir() {
+                steps.push(Step::Mkdir(c(&inside(host))?));
+                steps.push(Step::Bind {
+                    from: c(host)?,
+                    to: c(&inside(host))?,
+                    read_only: true,
+                    flags: locked_flags(host),
+                });
+                if let Some(exe) = exe.as_ref().filter(|exe| exe.starts_with(host)) {
+                    masked = Some(exe.clone());
+                }
+            }
+        }
+        if let Some(exe) = masked {
+            steps.push(Step::Bind {
+                from: c(Path::new("/dev/null"))?,
+                to: c(&inside(&exe))?,
+                read_only: true,
+                flags: locked_flags(&exe),
+            });
+        }
+        let dev = root.join("dev");
+        steps.push(Step::Mkdir(c(&dev)?));
+        steps.push(Step::Tmpfs(c(&dev)?, c(Path::new("mode=0755,size=64k"))?));
+        for device in DEVICES {
+            let to = dev.join(device);
+            steps.push(Step::Touch(c(&to)?));
+            steps.push(Step::Bind {
+                from: c(&Path::new("/dev").join(device))?,
+                to: c(&to)?,
+                read_only: false,
+                flags: 0,
+            });
+        }
+        for (name, target) in [
+            ("fd", "/proc/self/fd"),
+            ("stdin", "/proc/self/fd/0"),
+            ("stdout", "/proc/self/fd/1"),
+            ("stderr", "/proc/self/fd/2"),
+        ] {
+            steps.push(Step::Symlink(c(Path::new(target))?, c(&dev.join(name))?));
+        }
+        let sticky = CString::new(format!("mode=1777,{tmpfs_size}")).unwrap_or_default();
+        for tmp in ["dev/shm", "tmp", "var", "var/tmp"] {
+            steps.push(Step::Mkdir(c(&root.join(tmp))?));
+            if tmp != "var" {
+                steps.push(Step::Tmpfs(c(&root.join(tmp))?, sticky.clone()));
+            }
+        }
+        steps.push(Step::Mkdir(c(&root.join("proc"))?));
+        steps.push(Step::Proc(c(&root.join("proc"))?));
+        for (paths, read_only) in [(&share.read_write, false), (&share.read_only, true)] {
+            for path in paths {
+                let meta = path.symlink_metadata()?;
+                let to = inside(path);
+                for ancestor in to.ancestors().collect::<Vec<_>>().into_iter().rev() {
+                    if ancestor.starts_with(&root) && ancestor != root && ancestor != to {
+                        steps.push(Step::Mkdir(c(ancestor)?));
+                    }
+                }
+                steps.push(if meta.is_dir() {
+                    Step::Mkdir(c(&to)?)
+                } else {
+                    Step::Touch(c(&to)?)
+                });
+                steps.push(Step::Bind {
+                    from: c(path)?,
+                    to: c(&to)?,
+                    read_only,
+                    flags: locked_flags(path) | NO_LINKS,
+                });
+            }
+        }
+        // SAFETY: `getuid`/`getgid` have no preconditions.
+        let (uid, gid) = unsafe { (libc::getuid(), libc::getgid()) };
+        Ok(Plan {
+            root: c(&root)?,
+            steps,
+            start: c(start)?,
+            uid_map: CString::new(format!("{uid} {uid} 1\n")).unwrap_or_default(),
+            gid_map: CString::new(format!("{gid} {gid} 1\n")).unwrap_or_default(),
+            arguments: arguments(),
+        })
+    }
+}
+
+/// Where this process's command line lies in its memory.
+fn arguments() -> Option<(usize, usize)> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let fields: Vec<&str> = stat[stat.rfind(')')? + 2..].split(' ').collect();
+    // Fields 48 and 49 of stat(5), counted from 3 after the command name.
+    let start = fields.get(48 - 3)?.parse().ok()?;
+    let end = fields.get(49 - 3)?.parse().ok()?;
+    (start < end).then_some((start, end))
+}
+
+fn check(result: libc::c_int) -> io::Result<()> {
+    if result == -1 {
+        Err(io::Error::last_os_error())
+    } else {
+        Ok(())
+    }
+}
+
+/// Write `bytes` to the file `path` (a `/proc` map).
+///
+/// # Safety
+/// Async-signal-safe: called between fork and exec.
+unsafe fn write_file(path: &[u8], bytes: &[u8]) -> io::Result<()> {
+    unsafe {
+        let fd = libc::open(path.as_ptr().cast(), libc::O_WRONLY | libc::O_CLOEXEC);
+        check(fd)?;
+        let written = libc::write(fd, bytes.as_ptr().cast(), bytes.len());
+        libc::close(fd);
+        if written != bytes.len() as isize {
+            return Err(io::Error::last_os_error());
+        }
+    }
+    Ok(())
+}
+
+/// In the child `grade` forked, before exec: the box of the module doc.
+/// Returns (to exec the program) only in the program's process.
+///
+/// # Safety
+/// Async-signal-safe: called between fork and exec, on `plan` prepared
+/// before the fork.
+pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
+    unsafe {
+        check(libc::setpgid(0, 0))?;
+        let mut flags = libc::CLONE_NEWNS
+            | libc::CLONE_NEWPID
+            | libc::CLONE_NEWNET
+            | libc::CLONE_NEWIPC
+            | libc::CLONE_NEWUTS;
+        if !confinement.root() {
+            flags |= libc::CLONE_NEWUSER;
+        }
+        check(libc::unshare(flags))?;
+        if !confinement.root() {
+            write_file(b"/proc/self/setgroups\0", b"deny")?;
+            write_file(b"/proc/self/uid_map\0", plan.uid_map.as_bytes())?;
+            write_file(b"/proc/self/gid_map\0", plan.gid_map.as_bytes())?;
+        }
+        let mut status_pipe = [0; 2];
+        check(libc::pipe2(status_pipe.as_mut_ptr(), libc::O_CLOEXEC))?;
+        let [read_end, write_end] = status_pipe;
+        let init = libc::fork();
+        check(init)?;
+        if init > 0 {
+            keeper(init, read_end, write_end);
+        }
+        // C1: pid 1 of the new namespace.
+        libc::close(read_end);
+        check(libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL, 0, 0, 0))?;
+        if libc::getppid() != 0 {
+            // C0 already died: nothing to run for.
+            libc::_exit(1);
+        }
+        if let Some((start, end)) = plan.arguments {
+            std::ptr::write_bytes(start as *mut u8, 0, end - start);
+        }
+        build_root(plan)?;
+        let program = libc::fork();
+        check(program)?;
+        if program == 0 {
+            libc::close(write_end);
+            libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL, 0, 0, 0);
+            return drop_to_user(confinement);
+        }
+        // Nothing in the box may use the grader's descriptors through us.
+        close_all_but(write_end);
+        libc::prctl(libc::PR_SET_DUMPABLE, 0, 0, 0, 0);
+        loop {
+            let mut status = 0;
+            let pid = libc::waitpid(-1, &mut status, 0);
+            if pid == program {
+                let bytes = status.to_ne_bytes();
+                libc::write(write_end, bytes.as_ptr().cast(), bytes.len());
+                libc::_exit(0);
+            }
+            if pid == -1 && *libc::__errno_location() == libc::ECHILD {
+                libc::_exit(1);
+            }
+        }
+    }
+}
+
+/// Close every descriptor from 3 on but `keep`.
+unsafe fn close_all_but(keep: libc::c_int) {
+    unsafe {
+        if keep > 3 {
+            libc::syscall(libc::SYS_close_range, 3u32, (keep - 1) as u32, 0u32);
+        }
+        libc::syscall(libc::SYS_close_range, (keep + 1) as u32, u32::MAX, 0u32);
+    }
+}
+
+/// C0 after forking C1: wait for the program's status and end as it did.
+unsafe fn keeper(init: libc::pid_t, read_end: libc::c_int, write_end: libc::c_int) -> ! {
+    unsafe {
+        libc::close(write_end);
+        close_all_but(read_end);
+        let mut bytes = [0u8; 4];
+        let mut got = 0;
+        while got < 4 {
+            let n = libc::read(read_end, bytes[got..].as_mut_ptr().cast(), 4 - got);
+            if n > 0 {
+                got += n as usize;
+            } else if n == 0 || *libc::__errno_location() != libc::EINTR {
+                break;
+            }
+        }
+        let mut init_status = 0;
+        while libc::waitpid(init, &mut init_status, 0) == -1
+            && *libc::__errno_location() == libc::EINTR
+        {}
+        let status = if got == 4 {
+            i32::from_ne_bytes(bytes)
+        } else {
+            init_status
+        };
+        if libc::WIFSIGNALED(status) {
+            let signal = libc::WTERMSIG(status);
+            libc::signal(signal, libc::SIG_DFL);
+            libc::kill(libc::getpid(), signal);
+            libc::_exit(128 + signal);
+        }
+        libc::_exit(if libc::WIFEXITED(status) {
+            libc::WEXITSTATUS(status)
+        } else {
+            1
+        })
+    }
+}
+
+/// Whether a bind step asks for its source to be opened without links.
+fn step_no_links(step: &Step) -> bool {
+    matches!(step, Step::Bind { flags, .. } if flags & NO_LINKS != 0)
+}
+
+/// Open `path` as a place (`O_PATH`), refusing a link anywhere on it.
+///
+/// # Safety
+/// Async-signal-safe: called between fork and exec.
+unsafe fn open_no_links(path: &CString) -> io::Result<libc::c_int> {
+    unsafe {
+        let mut how: libc::open_how = std::mem::zeroed();
+        how.flags = (libc::O_PATH | libc::O_NOFOLLOW | libc::O_CLOEXEC) as u64;
+        how.resolve = libc::RESOLVE_NO_SYMLINKS | libc::RESOLVE_NO_MAGICLINKS;
+        let fd = libc::syscall(
+            libc::SYS_openat2,
+            libc::AT_FDCWD,
+            path.as_ptr(),
+            &how as *const libc::open_how,
+            std::mem::size_of::<libc::open_how>(),
+        );
+        if fd < 0 {
+            return Err(io::Error::last_os_error());
+        }
+        Ok(fd as libc::c_int)
+    }
+}
+
+/// `/proc/self/fd/FD` written into `buffer` without allocating.
+fn fd_path(fd: libc::c_int, buffer: &mut [u8; 32]) -> *const libc::c_char {
+    let prefix = b"/proc/self/fd/";
+    buffer[..prefix.len()].copy_from_slice(prefix);
+    let mut digits = [0u8; 12];
+    let mut n = fd.max(0) as u32;
+    let mut count = 0;
+    loop {
+        digits[count] = b'0' + (n % 10) as u8;
+        count += 1;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    for i in 0..count {
+        buffer[prefix.len() + i] = digits[count - 1 - i];
+    }
+    buffer[prefix.len() + count] = 0;
+    buffer.as_ptr().cast()
+}
+
+/// C1: build the box's root from the plan, pivot into it, and go to the
+/// program's folder.
+unsafe fn build_root(plan: &Plan) -> io::Result<()> {
+    let null = std::ptr::null::<libc::c_char>();
+    unsafe {
+        check(libc::mount(
+            null,
+            c"/".as_ptr(),
+            null,
+            libc::MS_REC | libc::MS_PRIVATE,
+            std::ptr::null(),
+        ))?;
+        for step in &plan.steps {
+            match step {
+                Step::Mkdir(path) => {
+                    if libc::mkdir(path.as_ptr(), 0o755) == -1
+                        && *libc::__errno_location() != libc::EEXIST
+                    {
+                        return Err(io::Error::last_os_error());
+                    }
+                }
+                Step::Tmpfs(path, options) => check(libc::mount(
+                    c"tmpfs".as_ptr(),
+                    path.as_ptr(),
+                    c"tmpfs".as_ptr(),
+                    libc::MS_NOSUID | libc::MS_NODEV,
+                    options.as_ptr().cast(),
+                ))?,
+                Step::Bind {
+                    from,
+                    to,
+                    read_only,
+                    flags,
+                } => {
+                    let flags = &(*flags & !NO_LINKS);
+                    let mut through = [0u8; 32];
+                    let mut fd = -1;
+                    let source = if step_no_links(step) {
+                        fd = open_no_links(from)?;
+                        fd_path(fd, &mut through)
+                    } else {
+                        from.as_ptr()
+                    };
+                    let bound = libc::mount(
+                        source,
+                        to.as_ptr(),
+                        null,
+                        libc::MS_BIND | libc::MS_REC,
+                        std::ptr::null(),
+                    );
+                    if fd >= 0 {
+                        libc::close(fd);
+                    }
+                    check(bound)?;
+                    if *read_only {
+                        check(libc::mount(
+                            null,
+                            to.as_ptr(),
+                            null,
+                            libc::MS_REMOUNT
+                                | libc::MS_BIND
+                                | libc::MS_RDONLY
+                                | libc::MS_NOSUID
+                                | *flags,
+                            std::ptr::null(),
+                        ))?;
+                    }
+                }
+                Step::Touch(path) => {
+                    let fd = libc::open(
+                        path.as_ptr(),
+                        libc::O_CREAT | libc::O_WRONLY | libc::O_CLOEXEC,
+                        0o644,
+                    );
+                    check(fd)?;
+                    libc::close(fd);
+                }
+                Step::Symlink(target, link) => {
+                    check(libc::symlink(target.as_ptr(), link.as_ptr()))?
+                }
+                Step::Proc(path) => check(libc::mount(
+                    c"proc".as_ptr(),
+                    path.as_ptr(),
+                    c"proc".as_ptr(),
+                    libc::MS_NOSUID | libc::MS_NODEV | libc::MS_NOEXEC,
+                    std::ptr::null(),
+                ))?,
+            }
+        }
+        check(libc::chdir(plan.root.as_ptr()))?;
+        check(libc::syscall(libc::SYS_pivot_root, c".".as_ptr(), c".".as_ptr()) as libc::c_int)?;
+        check(libc::umount2(c".".as_ptr(), libc::MNT_DETACH))?;
+        check(libc::chdir(c"/".as_ptr()))?;
+        check(libc::mount(
+            null,
+            c"/".as_ptr(),
+            null,
+            libc::MS_REMOUNT | libc::MS_BIND | libc::MS_RDONLY | libc::MS_NOSUID | libc::MS_NODEV,
+            std::ptr::null(),
+        ))?;
+        check(libc::chdir(plan.start.as_ptr()))?;
+        libc::sethostname(c"box".as_ptr(), 3);
+    }
+    Ok(())
+}
+
+/// Whether a box can be had here: run `sh -c :` in one.
+pub fn available(root: bool) -> bool {
+    let confinement = Confinement {
+        limits: super::sandbox::Limits {
+            timeout: std::time::Duration::from_secs(10),
+            cpu_seconds: 10,
+            address_space: 1 << 32,
+            file_size: 1 << 20,
+            processes: 64,
+            output: 1024,
+        },
+        isolate_network: true,
+        user: root.then_some(super::sandbox::NOBODY),
+        boxed: true,
+        cgroup: false,
+    };
+    let Ok(plan) = Plan::new(Path::new("/"), &Share::default(), &confinement) else {
+        return false;
+    };
+    let mut probe = std::process::Command::new("sh");
+    probe
+        .args(["-c", ":"])
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null());
+    // SAFETY: `enter` makes only async-signal-safe calls on the plan.
+    unsafe {
+        use std::os::unix::process::CommandExt;
+        probe.pre_exec(move || enter(&plan, &confinement));
+    }
+    probe.status().is_ok_and(|s| s.success())
+}
