@@ -238,9 +238,13 @@ fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option
     } else if attrs.line(&AttrName::Texture).is_some() {
         ok = false;
     }
-    if let (Some(color), Some(texture)) =
-        (attrs.line(&AttrName::Color), attrs.line(&AttrName::Texture))
-    {
+    // A `texture` line without a path sets no colour (its count is
+    // reported): the `color` line is still the surface's.
+    if let (Some(color), Some(texture), Some(_)) = (
+        attrs.line(&AttrName::Color),
+        attrs.line(&AttrName::Texture),
+        attrs.path(&AttrName::Texture),
+    ) {
         let fix = cx.removal(
             "remove the `color` line; the texture sets the surface colour",
             Applicability::Safe,
