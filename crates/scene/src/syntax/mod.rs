@@ -418,11 +418,25 @@ impl<'a> Cursor<'a> {
             unreachable!("section() is only called on a word");
         };
         self.rest = rest;
-        let kind = match punctuation::section_keyword(keyword) {
-            Some(kind) => {
-                self.errors
-                    .push(punctuation::keyword_case(keyword, kind.as_str(), kw_span));
-                kind
+        let mut kw_span = kw_span;
+        let kind = match punctuation::keyword(keyword) {
+            Some(written) => {
+                let start = kw_span.start();
+                let end = start + written.len;
+                if written.case {
+                    self.errors.push(punctuation::keyword_case(
+                        &keyword[..written.len],
+                        written.kind.as_str(),
+                        Span::new(start, end),
+                    ));
+                }
+                if written.marks > 0 {
+                    self.marks.push(Span::new(end, end + written.marks));
+                }
+                // The values start after the marks, in the same word or not.
+                self.rest = &self.src[end + written.marks..];
+                kw_span = Span::new(start, end);
+                written.kind
             }
             None => SectionKind::from_word(keyword),
         };
@@ -439,7 +453,7 @@ impl<'a> Cursor<'a> {
                 Some(name) => (name, None),
                 None => match punctuation::attribute_name(w) {
                     Some(written) => (written.name.clone(), Some(written)),
-                    None if punctuation::section_keyword(w).is_some() => break,
+                    None if punctuation::keyword(w).is_some() => break,
                     None if starts_section(w) => break,
                     None => (AttrName::Unknown(w.into()), None),
                 },
@@ -576,7 +590,14 @@ impl<'a> Cursor<'a> {
                         && !SectionKind::KEYWORDS.contains(&w)
                         && !AttrName::KEYWORDS.contains(&w) =>
                 {
-                    values.push(Spanned::new(span, Value::Text(w.into())));
+                    match punctuation::marked_path(w, span.start()) {
+                        Some((found, path)) => {
+                            marks.extend(found);
+                            let text = &self.src[path.start()..path.end()];
+                            values.push(Spanned::new(path, Value::Text(text.into())));
+                        }
+                        None => values.push(Spanned::new(span, Value::Text(w.into()))),
+                    }
                 }
                 Token::Word(w) if looks_numeric(w) || is_non_finite_word(w) => {
                     let value = self

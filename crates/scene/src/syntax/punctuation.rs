@@ -117,12 +117,69 @@ pub fn attribute_name(word: &str) -> Option<Name> {
     })
 }
 
-/// The section keyword `word` is in another case: `Camera`, `SPHERE`.
-pub fn section_keyword(word: &str) -> Option<SectionKind> {
-    if SectionKind::known(word).is_some() {
+/// How a section keyword was written with `=` or `:` after it, or in
+/// another case: `camera=400`, `Camera:`, `SPHERE`.
+pub struct Keyword {
+    pub kind: SectionKind,
+    /// The bytes of the keyword itself.
+    pub len: usize,
+    /// The bytes of the `=` or `:` after it (0 for none).
+    pub marks: usize,
+    /// Whether it was written in another case than the keyword's.
+    pub case: bool,
+}
+
+/// The section keyword `word` names with `=` or `:` after it, or in
+/// another case; `None` when it names none that way.
+pub fn keyword(word: &str) -> Option<Keyword> {
+    let len = word.find(['=', ':']).unwrap_or(word.len());
+    let after = &word[len..];
+    let marks = after.len() - after.trim_start_matches(['=', ':']).len();
+    let written = &word[..len];
+    if let Some(kind) = SectionKind::known(written) {
+        return (marks > 0).then_some(Keyword {
+            kind,
+            len,
+            marks,
+            case: false,
+        });
+    }
+    let kind = SectionKind::known(&written.to_ascii_lowercase())?;
+    Some(Keyword {
+        kind,
+        len,
+        marks,
+        case: true,
+    })
+}
+
+/// A path with marks around it: `(wood.ppm)`, `[wood.ppm]`, `wood.ppm;`.
+/// Returns the spans of the marks and of the path, offset by `start`;
+/// `None` for a path without them. Brackets count only in pairs, as a
+/// file's name may start or end with one.
+pub fn marked_path(word: &str, start: usize) -> Option<(Vec<Span>, Span)> {
+    let trail = word.len() - word.trim_end_matches([';', ',']).len();
+    let body = &word[..word.len() - trail];
+    let paired = ["()", "[]", "{}"].iter().any(|pair| {
+        let (open, close) = pair.split_at(1);
+        body.len() > 2 && body.starts_with(open) && body.ends_with(close)
+    });
+    let (lead, inner_end) = if paired {
+        (1, body.len() - 1)
+    } else {
+        (0, body.len())
+    };
+    if (lead == 0 && trail == 0) || inner_end <= lead {
         return None;
     }
-    SectionKind::known(&word.to_ascii_lowercase())
+    let mut marks = Vec::new();
+    if lead > 0 {
+        marks.push(Span::new(start, start + 1));
+    }
+    if word.len() > inner_end {
+        marks.push(Span::new(start + inner_end, start + word.len()));
+    }
+    Some((marks, Span::new(start + lead, start + inner_end)))
 }
 
 /// The diagnostic for a keyword written in another case.
@@ -194,11 +251,16 @@ pub fn diagnostic(
     };
     let line = written.join(" ");
     let spaced = src[..start].ends_with([' ', '\t']) || line.is_empty();
-    let content = if spaced {
+    let mut content = if spaced {
         line.clone()
     } else {
         format!(" {line}")
     };
+    // A closing mark on a later line (`}` under the last attribute): the
+    // line break stays.
+    if src[start..end].contains('\n') {
+        content.push('\n');
+    }
     let shown = if line.is_empty() {
         name.to_string()
     } else {
@@ -259,7 +321,11 @@ mod tests {
         assert_eq!((name.len, name.marks, name.case), (6, 1, true));
         assert!(attribute_name("center").is_none());
         assert!(attribute_name("colr").is_none());
-        assert_eq!(section_keyword("Camera"), Some(SectionKind::Camera));
-        assert_eq!(section_keyword("camera"), None);
+        assert_eq!(keyword("Camera").unwrap().kind, SectionKind::Camera);
+        assert_eq!(keyword("camera=400").unwrap().marks, 1);
+        assert!(keyword("camera").is_none());
+        let (marks, path) = marked_path("[wood.ppm];", 0).unwrap();
+        assert_eq!((marks.len(), path), (2, Span::new(1, 9)));
+        assert!(marked_path("wood(1).ppm", 0).is_none());
     }
 }
