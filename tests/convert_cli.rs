@@ -175,7 +175,8 @@ fn fix_rewrites_json_numbers_in_place() {
     let dir = tempfile::tempdir().unwrap();
     let json = r#"{"format": "raytracer-scene/1", "camera": {"resolution": 4},
   "objects": [{"type": "plane", "center": [0, -1, -5], "width": 4, "height": 4,
-               "normal": [0, 2, 0], "headup": [0, 1, 1]}]}
+               "normal": [0, 2, 0], "headup": [0, 1, 1]}],
+  "lights": [{"location": [0, 5, 0], "color": [1, 1, 1]}]}
 "#;
     std::fs::write(dir.path().join("p.json"), json).unwrap();
     let fix = raytracer(&["check", "p.json", "--fix"], dir.path());

@@ -94,6 +94,10 @@ pub const WITHOUT_FIX: &[(&str, &str)] = &[
         "which objects to drop is a choice about the picture, not a correction",
     ),
     (
+        "scene::nothing_in_view",
+        "where the objects belong, or where the camera was meant to look, is the author's call",
+    ),
+    (
         "scene::light_inside_sphere",
         "where the light belongs is the author's call",
     ),
