@@ -7,7 +7,7 @@ CARGO ?= cargo
 CARGO_FLAGS ?=
 BIN := target/release/raytracer
 
-.PHONY: all build test cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
+.PHONY: all build test man cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
 	vsix preview-screenshot preview-latency grading-screenshot
 
 all: raytracer
@@ -30,6 +30,11 @@ test: raytracer
 	$(CARGO) clippy --release --locked --workspace --all-targets -- -D warnings
 	$(CARGO) test --release --locked --workspace --lib --tests $(CARGO_FLAGS)
 	$(CARGO) test --release --locked --workspace --doc
+
+# The man page, generated from the command line's definition (clap_mangen):
+# `man ./raytracer.1`, or copy it to a folder of MANPATH.
+man: raytracer
+	./raytracer man > raytracer.1
 
 # The cold times in README.md, measured from bare clones of HEAD
 # (scripts/cold-times.sh; 15 to 20 minutes on 2 cores).
