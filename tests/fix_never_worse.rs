@@ -75,7 +75,10 @@ fn text_of(sections: &[(String, Vec<String>)], camera: &str) -> String {
 /// The mistakes, each a name and how it rewrites `name v1 v2 …`; the flag
 /// says the mistake is only punctuation or case, so the fix must give the
 /// line back as meant.
-const MISTAKES: [(&str, bool, fn(&str, &[&str]) -> String); 13] = [
+/// How a mistake rewrites an attribute's name and values.
+type Rewrite = fn(&str, &[&str]) -> String;
+
+const MISTAKES: [(&str, bool, Rewrite); 13] = [
     ("equals", true, |n, v| format!("{n} = {}", v.join(" "))),
     ("equals, tight", true, |n, v| format!("{n}={}", v.join(" "))),
     ("parentheses", true, |n, v| {
