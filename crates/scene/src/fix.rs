@@ -75,7 +75,7 @@ pub const WITHOUT_FIX: &[(&str, &str)] = &[
     ),
     (
         "scene::texture_not_found",
-        "the file the path was meant to name is unknown",
+        "the file the path was meant to name is unknown, unless a near path names one (with `/` for a backslash, without quotes, in another case or from another folder), which an unsafe fix then writes",
     ),
     (
         "scene::texture_not_a_file",

@@ -309,6 +309,10 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// A near path that names a file (`textures/wood_tex.ppm` for
+        /// `textures\wood_tex.ppm`), written in the path's place (unsafe:
+        /// a likely intent).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a texture path names a folder or another non-file.
@@ -511,9 +515,9 @@ impl CheckError {
             | CheckError::MissingCamera { fix, .. }
             | CheckError::NoLight { fix, .. }
             | CheckError::SectionValues { fix, .. }
-            | CheckError::TextDirectionControl { fix, .. } => fix.as_deref(),
+            | CheckError::TextDirectionControl { fix, .. }
+            | CheckError::TextureNotFound { fix, .. } => fix.as_deref(),
             CheckError::NothingInView { .. }
-            | CheckError::TextureNotFound { .. }
             | CheckError::TextureNotAFile { .. }
             | CheckError::TextureNotAnImage { .. }
             | CheckError::TextureTooLarge { .. }

@@ -387,7 +387,7 @@ impl<'a> Checker<'a> {
         Checker {
             source,
             problems: Problems::default(),
-            textures: textures::Textures::new(&source.dir, textures),
+            textures: textures::Textures::new(&source.dir, &source.text, textures),
             inside: inside::LightsInSpheres::default(),
             scene_text: false,
             in_view: false,
