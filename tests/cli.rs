@@ -630,3 +630,17 @@ fn make_man_writes_the_man_page() {
         "the Makefile's `man` target writes raytracer.1 from `raytracer man`"
     );
 }
+
+/// The shipped scenes are laid out as `fmt` lays them out, so the README's
+/// first commands leave a student's copy unchanged under `fmt --check`.
+#[test]
+fn the_shipped_scenes_pass_fmt_check() {
+    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
+    let output = run(&["fmt", "--check", scenes]);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&output.stdout)
+    );
+}

@@ -310,3 +310,29 @@ fn stdout_paths_are_relative_to_the_working_directory() {
         [absolute.clone(), absolute]
     );
 }
+
+/// `-o` into a folder that does not exist: the message names the folder,
+/// not the temporary file the output was to be written to first.
+#[test]
+fn output_into_a_missing_folder_names_the_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("s.txt"),
+        "camera 4\nsphere dimension 1 center 0 0 -5\nlight location 0 5 0 color 1 1 1\n",
+    )
+    .unwrap();
+    let output = raytracer(
+        &["convert", "s.txt", "--to", "json", "-o", "missing/s.json"],
+        dir.path(),
+    );
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = text(&output.stderr);
+    assert!(
+        stderr.contains("cannot write `missing/s.json`: the folder `missing` does not exist"),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains(".tmp") && !stderr.contains(".raytracer-"),
+        "{stderr}"
+    );
+}
