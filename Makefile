@@ -7,7 +7,7 @@ CARGO ?= cargo
 CARGO_FLAGS ?=
 BIN := target/release/raytracer
 
-.PHONY: all build test web test-web cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
+.PHONY: all build test man web test-web cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
 	vsix preview-screenshot preview-latency grading-screenshot playground-screenshot
 
 all: raytracer
@@ -45,6 +45,11 @@ web:
 # `make web` built; .ci/run runs it after `make test`.
 test-web: web
 	$(CARGO) test --release --locked --test playground $(CARGO_FLAGS)
+
+# The man page, generated from the command line's definition (clap_mangen):
+# `man ./raytracer.1`, or copy it to a folder of MANPATH.
+man: raytracer
+	./raytracer man > raytracer.1
 
 # The cold times in README.md, measured from bare clones of HEAD
 # (scripts/cold-times.sh; 15 to 20 minutes on 2 cores).

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `make cold-times`: how long a newcomer waits, measured from bare clones of
-# this repository's HEAD and written into README.md between its
+# this repository's HEAD and written into docs/contributing.md between its
 # `cold-times:begin` and `cold-times:end` markers.
 #
 # With the cargo registry warm (`cargo fetch` first, not timed), it times:
@@ -19,7 +19,7 @@ set -euo pipefail
 
 cd "$(dirname "$0")/.."
 ROOT=$PWD
-DOC=README.md
+DOC=docs/contributing.md
 OUT=$ROOT/target/cold-times
 COMMIT=$(git rev-parse --short HEAD)
 WORK=$(mktemp -d)

@@ -6,7 +6,7 @@ use std::process::Output;
 use crate::support::{run, write};
 
 const CLEAN: &str = "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\n  reflectivity .5\nlight location 0 5 0 color 1 1 1\n";
-const WARNS: &str = "camera 4\nplane\n\tdimension 4 4\n\tcenter 0 -1 -5\n\tnormal 0 -1 -1   # tilted\n\theadup 0 1 0\n";
+const WARNS: &str = "camera 4\nplane\n\tdimension 4 4\n\tcenter 0 -1 -5\n\tnormal 0 -1 -1   # tilted\n\theadup 0 1 0\nlight location 0 5 0 color 1 1 1\n";
 const ERRORS: &str = "camera 4\nsphere\n  dimension -1\n  center 0 -5\n";
 
 fn check(args: &[&str]) -> Output {
@@ -73,7 +73,7 @@ fn human_output_ends_with_a_summary_and_the_effects_used() {
     );
     assert!(out.contains("scene::headup_not_perpendicular"), "{out}");
     assert!(
-        out.contains("warns.txt: 0 errors, 1 warning; effects: none\n"),
+        out.contains("warns.txt: 0 errors, 1 warning; effects: shadows\n"),
         "{out}"
     );
     // Not a terminal: no colour codes.
@@ -136,10 +136,10 @@ fn fix_rewrites_only_the_fixed_values_and_rechecks() {
         out.contains("warns.txt:6:11: fixed: projected `headup` onto the plane"),
         "{out}"
     );
-    assert!(out.contains("warns.txt: ok; effects: none"), "{out}");
+    assert!(out.contains("warns.txt: ok; effects: shadows"), "{out}");
     assert_eq!(
         std::fs::read_to_string(&warns).unwrap(),
-        "camera 4\nplane\n\tdimension 4 4\n\tcenter 0 -1 -5\n\tnormal 0 -1 -1   # tilted\n\theadup 0 0.5 -0.5\n"
+        "camera 4\nplane\n\tdimension 4 4\n\tcenter 0 -1 -5\n\tnormal 0 -1 -1   # tilted\n\theadup 0 0.5 -0.5\nlight location 0 5 0 color 1 1 1\n"
     );
     // Nothing is left to fix, and no temporary file is left behind.
     let again = stdout(&check(&["--fix", &warns]));
@@ -193,11 +193,11 @@ fn folders_are_walked_in_order_and_non_scenes_skipped() {
         [
             "README.txt: skipped, not a scene: its first word `Submissions` is not a section keyword",
             "a.txt: ok; effects: shadows, reflection",
-            "c.json: ok; effects: none",
+            "c.json: 0 errors, 2 warnings; effects: none",
             "package.json: skipped, not a scene: a JSON file without `\"raytracer-scene/` in its first 64 KiB",
-            "sub/b.txt: 0 errors, 1 warning; effects: none",
+            "sub/b.txt: 0 errors, 1 warning; effects: shadows",
             "z_last.scene: 2 errors, 0 warnings",
-            "checked 4 files: 2 errors, 1 warning; 2 files skipped (not a scene)",
+            "checked 4 files: 2 errors, 3 warnings; 2 files skipped (not a scene)",
         ],
         "{out}"
     );
@@ -226,7 +226,7 @@ fn a_folder_and_a_file_together_get_one_total() {
     let out = stdout(&output);
     assert!(
         out.ends_with(
-            "warns.txt: 0 errors, 1 warning; effects: none\nchecked 2 files: 0 errors, 1 warning\n"
+            "warns.txt: 0 errors, 1 warning; effects: shadows\nchecked 2 files: 0 errors, 1 warning\n"
         ),
         "{out}"
     );

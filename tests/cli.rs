@@ -565,3 +565,82 @@ fn unreadable_scenes_are_io_errors() {
     assert_fails(&output, 2, &["io::read_scene"]);
     assert_eq!(listing(dir.path()), Vec::<String>::new());
 }
+
+#[test]
+fn completions_are_generated_for_every_shell() {
+    for shell in ["bash", "zsh", "fish", "elvish", "powershell"] {
+        let output = run(&["completions", shell]);
+        assert_eq!(output.status.code(), Some(0), "{shell}");
+        let script = String::from_utf8(output.stdout).expect("UTF-8");
+        for command in ["render", "check", "fmt", "preview", "completions"] {
+            assert!(script.contains(command), "{shell} lacks `{command}`");
+        }
+    }
+    let output = run(&["completions", "nosh"]);
+    assert_eq!(output.status.code(), Some(2));
+}
+
+#[test]
+fn bash_completion_is_valid_bash() {
+    if !support::tool_available(
+        "bash",
+        "bash_completion_is_valid_bash",
+        "apt-get install bash",
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = write(
+        dir.path(),
+        "raytracer.bash",
+        run(&["completions", "bash"]).stdout,
+    );
+    let status = Command::new("bash").args(["-n", &script]).status().unwrap();
+    assert!(status.success());
+}
+
+#[test]
+fn the_man_page_names_every_command() {
+    let output = run(&["man"]);
+    assert_eq!(output.status.code(), Some(0));
+    let page = String::from_utf8(output.stdout).expect("UTF-8");
+    assert!(page.contains(".TH raytracer 1"), "{page}");
+    assert!(
+        page.contains("Render and check scenes of the raytracer scene language"),
+        "{page}"
+    );
+    for command in [
+        "render",
+        "check",
+        "convert",
+        "fmt",
+        "preview",
+        "completions",
+    ] {
+        assert!(page.contains(command), "the man page lacks `{command}`");
+    }
+}
+
+#[test]
+fn make_man_writes_the_man_page() {
+    let makefile = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/Makefile"))
+        .expect("Makefile");
+    assert!(
+        makefile.contains("\nman: raytracer\n\t./raytracer man > raytracer.1\n"),
+        "the Makefile's `man` target writes raytracer.1 from `raytracer man`"
+    );
+}
+
+/// The shipped scenes are laid out as `fmt` lays them out, so the README's
+/// first commands leave a student's copy unchanged under `fmt --check`.
+#[test]
+fn the_shipped_scenes_pass_fmt_check() {
+    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
+    let output = run(&["fmt", "--check", scenes]);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&output.stdout)
+    );
+}

@@ -179,6 +179,10 @@ fn unreadable_files_exit_2_with_the_reason() {
         assert_eq!(output.status.code(), Some(2), "{stderr}");
         assert!(stderr.contains(says), "{stderr}");
         assert!(output.stdout.is_empty());
+        // The reason once, not again as a cause; the formats only for a
+        // file that is there and does not decode.
+        assert_eq!(stderr.matches(says).count(), 1, "{stderr}");
+        assert_eq!(stderr.contains("reads PPM"), path != &missing, "{stderr}");
     }
     let bad_threshold = run(&["compare", "--max-flip", "2", &reference, &reference]);
     assert_eq!(bad_threshold.status.code(), Some(2));

@@ -175,7 +175,8 @@ fn fix_rewrites_json_numbers_in_place() {
     let dir = tempfile::tempdir().unwrap();
     let json = r#"{"format": "raytracer-scene/1", "camera": {"resolution": 4},
   "objects": [{"type": "plane", "center": [0, -1, -5], "width": 4, "height": 4,
-               "normal": [0, 2, 0], "headup": [0, 1, 1]}]}
+               "normal": [0, 2, 0], "headup": [0, 1, 1]}],
+  "lights": [{"location": [0, 5, 0], "color": [1, 1, 1]}]}
 "#;
     std::fs::write(dir.path().join("p.json"), json).unwrap();
     let fix = raytracer(&["check", "p.json", "--fix"], dir.path());
@@ -307,5 +308,31 @@ fn stdout_paths_are_relative_to_the_working_directory() {
     assert_eq!(
         texture_paths(&text(&convert.stdout)),
         [absolute.clone(), absolute]
+    );
+}
+
+/// `-o` into a folder that does not exist: the message names the folder,
+/// not the temporary file the output was to be written to first.
+#[test]
+fn output_into_a_missing_folder_names_the_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("s.txt"),
+        "camera 4\nsphere dimension 1 center 0 0 -5\nlight location 0 5 0 color 1 1 1\n",
+    )
+    .unwrap();
+    let output = raytracer(
+        &["convert", "s.txt", "--to", "json", "-o", "missing/s.json"],
+        dir.path(),
+    );
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = text(&output.stderr);
+    assert!(
+        stderr.contains("cannot write `missing/s.json`: the folder `missing` does not exist"),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains(".tmp") && !stderr.contains(".raytracer-"),
+        "{stderr}"
     );
 }

@@ -500,3 +500,66 @@ proptest! {
         }
     }
 }
+
+/// A texture path that names no file, where a near one does (written
+/// with `\`, in curly quotes, in another case, relative to the wrong
+/// folder): the help asks "did you mean" the path that names it, and the
+/// fix (unsafe) writes it, after which the scene checks clean.
+#[test]
+fn a_near_texture_path_is_suggested_and_fixed() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    let ppm = "P3 1 1 255 200 100 50\n";
+    std::fs::create_dir_all(root.join("textures")).unwrap();
+    std::fs::create_dir_all(root.join("scenes")).unwrap();
+    std::fs::write(root.join("textures/wood_tex.ppm"), ppm).unwrap();
+    std::fs::write(root.join("scenes/Wood.ppm"), ppm).unwrap();
+    let scene = |texture: &str| {
+        format!(
+            "camera 4\nsphere dimension 1 center 0 0 -5 texture {texture}\nlight location 0 5 0 color 1 1 1\n"
+        )
+    };
+    for (file, written, meant) in [
+        ("a.txt", "textures\\wood_tex.ppm", "textures/wood_tex.ppm"),
+        ("b.txt", "wood_tex.ppm", "textures/wood_tex.ppm"),
+        ("scenes/c.txt", "wood.ppm", "Wood.ppm"),
+        (
+            "scenes/d.txt",
+            "\u{201C}wood_tex.ppm\u{201D}",
+            "../textures/wood_tex.ppm",
+        ),
+        (
+            "scenes/e.txt",
+            "\"textures/wood_tex.ppm\"",
+            "../textures/wood_tex.ppm",
+        ),
+    ] {
+        let path = root.join(file);
+        let text = scene(written);
+        std::fs::write(&path, &text).unwrap();
+        let loaded = raytracer_scene::frontend::load(&path).unwrap();
+        let entries: Vec<_> = loaded.report.entries().collect();
+        assert_eq!(entries.len(), 1, "{written}: {entries:?}");
+        assert_eq!(entries[0].code, "scene::texture_not_found");
+        assert_eq!(
+            entries[0].help.as_deref(),
+            Some(format!("did you mean `{meant}`?").as_str()),
+            "{written}"
+        );
+        let fixes = loaded
+            .report
+            .fixes_up_to(raytracer_scene::fix::Applicability::Unsafe);
+        let (fixed, applied) = raytracer_scene::fix::apply(&text, fixes);
+        assert_eq!(applied.len(), 1, "{written}");
+        std::fs::write(&path, &fixed).unwrap();
+        let again = raytracer_scene::frontend::load(&path).unwrap();
+        assert_eq!(again.report.entries().count(), 0, "{written}: {fixed}");
+    }
+    // Nothing near: the path that was looked for, and no fix.
+    let path = root.join("f.txt");
+    std::fs::write(&path, scene("marble.ppm")).unwrap();
+    let loaded = raytracer_scene::frontend::load(&path).unwrap();
+    let entry = loaded.report.entries().next().unwrap();
+    assert!(entry.help.unwrap().starts_with("looked for"));
+    assert!(entry.fix.is_none());
+}

@@ -379,3 +379,64 @@ fn no_crate_has_a_module_cycle() {
         }
     }
 }
+
+/// A page's `## ` headings, outside code blocks.
+fn headings(page: &str) -> Vec<&str> {
+    let mut in_code = false;
+    let mut found = Vec::new();
+    for line in page.lines() {
+        if line.starts_with("```") {
+            in_code = !in_code;
+        } else if !in_code {
+            if let Some(heading) = line.strip_prefix("## ") {
+                found.push(heading);
+            }
+        }
+    }
+    found
+}
+
+/// GitHub's anchor for a heading: lowercase, punctuation but `-` and `_`
+/// dropped, spaces as `-`.
+fn anchor(heading: &str) -> String {
+    heading
+        .to_lowercase()
+        .chars()
+        .filter(|c| c.is_alphanumeric() || matches!(c, '-' | '_' | ' '))
+        .map(|c| if c == ' ' { '-' } else { c })
+        .collect()
+}
+
+/// Every long page (over 300 lines) links each of its `## ` sections from
+/// its top (a `## Contents` list, or a table such as diagnostics.md's
+/// codes), so a reader finds a section without scrolling through the page.
+#[test]
+fn every_long_page_has_a_table_of_contents() {
+    let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs");
+    let mut long = 0;
+    for entry in std::fs::read_dir(&docs).expect("docs/") {
+        let path = entry.expect("entry").path();
+        if path.extension().is_none_or(|e| e != "md") {
+            continue;
+        }
+        let page = std::fs::read_to_string(&path).expect("a page");
+        if page.lines().count() <= 300 {
+            continue;
+        }
+        long += 1;
+        let sections: Vec<&str> = headings(&page)
+            .into_iter()
+            .filter(|h| *h != "Contents")
+            .collect();
+        let first = sections.first().expect("a long page has sections");
+        let top = &page[..page.find(&format!("\n## {first}\n")).expect("heading")];
+        for section in &sections {
+            assert!(
+                top.contains(&format!("](#{})", anchor(section))),
+                "{} does not link `## {section}` from its top (`## Contents`)",
+                path.display()
+            );
+        }
+    }
+    assert!(long >= 5, "only {long} long pages");
+}

@@ -216,3 +216,71 @@ fn docs_give_the_reason_a_code_has_no_fix() {
         );
     }
 }
+
+/// The **Fix.** paragraph of `code` in docs/diagnostics.md.
+fn fix_paragraph(docs: &str, code: &str) -> String {
+    let heading = format!("\n## `{code}`\n");
+    let start = docs.find(&heading).expect("a section") + heading.len();
+    let section = &docs[start..];
+    let section = &section[..section.find("\n## ").unwrap_or(section.len())];
+    let fix = section.find("**Fix.**").expect("a Fix paragraph");
+    section[fix..]
+        .split("\n\n")
+        .next()
+        .unwrap_or_default()
+        .to_string()
+}
+
+/// What docs/diagnostics.md says each fix does is what the program does:
+/// a code whose fixture carries a fix says whether it is safe or unsafe
+/// as the fix is, and the edits of `headup_not_perpendicular`'s fix leave
+/// the `normal` as written, as language.md says (the page once said
+/// `--fix` normalised it).
+#[test]
+fn docs_say_what_each_fix_does() {
+    let docs = std::fs::read_to_string(root().join("docs/diagnostics.md")).expect("docs");
+    let mut wrong = Vec::new();
+    for fixture in fixtures() {
+        let code = code_of(&fixture);
+        let loaded = load(&fixture);
+        let Some(fix) = loaded
+            .report
+            .entries()
+            .filter(|e| e.code == code)
+            .find_map(|e| e.fix)
+        else {
+            continue;
+        };
+        let paragraph = fix_paragraph(&docs, &code);
+        let word = match fix.applicability {
+            raytracer_scene::fix::Applicability::Safe => "safe",
+            raytracer_scene::fix::Applicability::Unsafe => "unsafe",
+        };
+        let says = paragraph.match_indices(word).any(|(at, _)| {
+            !paragraph[..at].ends_with(|c: char| c.is_alphabetic())
+                && !paragraph[at + word.len()..].starts_with(|c: char| c.is_alphabetic())
+        });
+        if !says {
+            wrong.push(format!(
+                "`{code}` should say its fix is {word}: {paragraph}"
+            ));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+    let fixture = Path::new("tests/ui/scene/headup_not_perpendicular.txt");
+    let loaded = load(fixture);
+    let text = std::fs::read_to_string(root().join(fixture)).expect("fixture");
+    let fixes = loaded
+        .report
+        .fixes_up_to(raytracer_scene::fix::Applicability::Unsafe);
+    let (fixed, _) = raytracer_scene::fix::apply(&text, fixes);
+    let normal = |t: &str| {
+        t.lines()
+            .find(|l| l.trim_start().starts_with("normal"))
+            .map(str::to_string)
+    };
+    assert_eq!(normal(&fixed), normal(&text), "--fix leaves the normal");
+    assert!(
+        !fix_paragraph(&docs, "scene::headup_not_perpendicular").contains("normalises the normal")
+    );
+}

@@ -1,8 +1,8 @@
 //! The Vim syntax of `editors/vim/` in real editors: headless Neovim
 //! (Debian's 0.7, which has no semantic tokens) and Vim each run
 //! tests/editors/syntax.vim with only `editors/vim/` and their own runtime
-//! on the runtime path. A `.txt` scene must be detected by its first word
-//! and a `.txt` note must not; the highlight group under the cursor at a
+//! on the runtime path. A `.txt` scene must be detected by its first word,
+//! in any case (`Camera`), and a `.txt` note must not; the highlight group under the cursor at a
 //! comment, a section keyword, an attribute, a number, a string and a
 //! texture path must be ours, link to the standard group, and end where
 //! the standard group ends (`synIDattr(synIDtrans(synID(…)))`).
@@ -45,6 +45,9 @@ const EXPECTED: [&str; 11] = [
 fn report(editor: &str, args: &[&str], dir: &Path) -> String {
     let scene = support::write(dir, "scene.txt", SCENE);
     let plain = support::write(dir, "notes.txt", "Some notes\nsphere of influence\n");
+    // A scene whose first keyword is in another case is still a scene (the
+    // parser reads it, with a `syntax::keyword_case` fix).
+    let capital = support::write(dir, "hw1.txt", "Camera 40\nsphere dimension 1\n");
     let out = dir.join(format!("{editor}.out"));
     let probes: Vec<&str> = EXPECTED
         .iter()
@@ -56,6 +59,7 @@ fn report(editor: &str, args: &[&str], dir: &Path) -> String {
         .env("RAYTRACER_VIM", RUNTIME)
         .env("SCENE", &scene)
         .env("PLAIN", &plain)
+        .env("CAPITAL", &capital)
         .env("PROBES", probes.join(" "))
         .env("OUT", &out)
         .env("HOME", dir)
@@ -91,6 +95,7 @@ fn check(editor: &str, args: &[&str]) {
     let report = report(editor, args, dir.path());
     let mut expected = vec![
         "plain filetype text",
+        "capital filetype raytracer",
         "scene filetype raytracer",
         "commentstring # %s",
     ];

@@ -3,7 +3,8 @@
 " runtime) on the runtime path:
 "   RAYTRACER_VIM=editors/vim SCENE=a.txt PLAIN=b.txt PROBES='1:1 2:8' OUT=out \
 "     nvim --headless -u NONE -i NONE -n -S tests/editors/syntax.vim
-" It writes to $OUT the file type of each file, the scene's commentstring,
+" It writes to $OUT the file type of each file (CAPITAL a scene whose
+" keyword is written `Camera`), the scene's commentstring,
 " and at each probe `LINE:COL` the syntax group there, the group that links
 " to, and where the links end (`synIDtrans`). Any error exits non-zero.
 
@@ -22,6 +23,8 @@ function! s:Run() abort
   let out = []
   execute 'edit ' . fnameescape($PLAIN)
   call add(out, 'plain filetype ' . &filetype)
+  execute 'edit ' . fnameescape($CAPITAL)
+  call add(out, 'capital filetype ' . &filetype)
   execute 'edit ' . fnameescape($SCENE)
   call add(out, 'scene filetype ' . &filetype)
   call add(out, 'commentstring ' . &commentstring)

@@ -15,7 +15,7 @@ use raytracer_render::tile::Band;
 
 /// Render and check scenes of the raytracer scene language.
 #[derive(Debug, Parser)]
-#[command(name = "raytracer", version, about, long_about = None)]
+#[command(name = "raytracer", version, long_about = None)]
 #[command(
     after_help = "`raytracer SCENE OUT` is short for `raytracer render SCENE OUT`.\n\
 Exit codes: 0 success, 1 the scene has errors, 2 usage, I/O or internal error,\n\
@@ -52,6 +52,35 @@ pub enum Command {
     /// Grade a ray tracer: run it on a suite of scenes in a sandbox and
     /// compare each image with ours, into an HTML report.
     Grade(GradeArgs),
+    /// Print a completion script for SHELL to stdout, as in
+    /// `raytracer completions bash > ~/.local/share/bash-completion/completions/raytracer`.
+    Completions(CompletionsArgs),
+    /// Print the man page, in roff, to stdout (`make man` writes raytracer.1).
+    Man,
+}
+
+/// `raytracer completions SHELL`.
+#[derive(Debug, Args)]
+pub struct CompletionsArgs {
+    /// The shell to complete in.
+    pub shell: clap_complete::Shell,
+}
+
+/// The completion script for `shell`, generated from this command line.
+pub fn completions(shell: clap_complete::Shell) -> Vec<u8> {
+    let mut command = <Cli as clap::CommandFactory>::command();
+    let mut out = Vec::new();
+    clap_complete::generate(shell, &mut command, "raytracer", &mut out);
+    out
+}
+
+/// The man page of `raytracer`, in roff, generated from this command line.
+pub fn man_page() -> Vec<u8> {
+    let command = <Cli as clap::CommandFactory>::command();
+    let mut out = Vec::new();
+    // Writing to a vector cannot fail.
+    let _ = clap_mangen::Man::new(command).render(&mut out);
+    out
 }
 
 /// `--accel`: the renderer's [`Accel`] as the command line spells it.

@@ -75,7 +75,7 @@ pub const WITHOUT_FIX: &[(&str, &str)] = &[
     ),
     (
         "scene::texture_not_found",
-        "the file the path was meant to name is unknown",
+        "the file the path was meant to name is unknown, unless a near path names one (with `/` for a backslash, without quotes, in another case or from another folder), which an unsafe fix then writes",
     ),
     (
         "scene::texture_not_a_file",
@@ -92,6 +92,10 @@ pub const WITHOUT_FIX: &[(&str, &str)] = &[
     (
         "scene::too_many_objects",
         "which objects to drop is a choice about the picture, not a correction",
+    ),
+    (
+        "scene::nothing_in_view",
+        "where the objects belong, or where the camera was meant to look, is the author's call",
     ),
     (
         "scene::light_inside_sphere",

@@ -48,6 +48,33 @@ pub trait TextureLoader {
     /// `max_texels` texels (or beyond [`MAX_TEXTURE_TEXELS`]); a loader
     /// that decodes does so only after the header passed.
     fn load(&mut self, path: &Path, max_texels: u64) -> Result<Header, TextureError>;
+
+    /// The names of the entries of `folder` (at most a few thousand), for
+    /// the "did you mean" of a texture that is not found; none for a
+    /// loader without a file system to look in.
+    fn entries(&mut self, folder: &Path) -> Vec<String> {
+        let _ = folder;
+        Vec::new()
+    }
+}
+
+/// The names in `folder`, at most 4096, for [`TextureLoader::entries`].
+pub fn folder_entries(folder: &Path) -> Vec<String> {
+    // A scene named without a folder is in the working one.
+    let folder = if folder.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        folder
+    };
+    std::fs::read_dir(folder)
+        .map(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .take(4096)
+                .filter_map(|e| e.file_name().into_string().ok())
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 /// Reads headers only: validating a scene costs a few bytes per texture,
@@ -66,6 +93,10 @@ impl TextureLoader for HeaderReader {
             });
         }
         Ok(header)
+    }
+
+    fn entries(&mut self, folder: &Path) -> Vec<String> {
+        folder_entries(folder)
     }
 }
 
@@ -88,6 +119,10 @@ impl TextureLoader for Decoder {
         let header = texture.header();
         self.decoded.insert(header.path.clone(), texture);
         Ok(header)
+    }
+
+    fn entries(&mut self, folder: &Path) -> Vec<String> {
+        folder_entries(folder)
     }
 }
 

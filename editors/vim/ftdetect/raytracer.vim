@@ -3,7 +3,7 @@
 " A scene is detected by its content, not only by its name, since scenes are
 " commonly plain `.txt` files: `*.scene` is always a scene, and a `*.txt`
 " file is one when its first word that is not in a comment is a section
-" keyword (`camera`, `sphere`, `plane` or `light`), the way every scene
+" keyword in any case (`camera`, `Camera`, `SPHERE`, …), the way every scene
 " starts. Other `.txt` files keep the `text` file type.
 "
 " `set filetype` rather than `setfiletype`: the runtime's own rule has
@@ -16,7 +16,7 @@ function! s:StartsLikeScene() abort
     if line =~# '^\s*\%(#.*\)\=$'
       continue
     endif
-    return line =~# '^\s*\%(camera\|sphere\|plane\|light\)\%(\s\|#\|$\)'
+    return line =~? '^\s*\%(camera\|sphere\|plane\|light\)\%(\s\|#\|$\)'
   endfor
   return 0
 endfunction

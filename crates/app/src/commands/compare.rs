@@ -18,18 +18,36 @@ use raytracer_scene::diagnostic::BoxedDiagnostic;
 /// Why `compare` could not judge.
 #[derive(Debug, thiserror::Error, Diagnostic)]
 pub enum CompareError {
-    /// An image could not be read or decoded.
-    #[error("{0}")]
-    #[diagnostic(
-        code(io::read_image),
-        help("`compare` reads PPM (P3 or P6), PNG and JPEG, recognised by their bytes")
-    )]
-    Read(#[from] compare::ReadImageError),
+    /// An image could not be read or decoded. Its message is the reason,
+    /// once (not again as a cause); the formats `compare` reads are named
+    /// only when the file was there and did not decode.
+    #[error("{error}")]
+    #[diagnostic(code(io::read_image))]
+    Read {
+        error: compare::ReadImageError,
+        #[help]
+        help: Option<String>,
+    },
 
     /// The heat map could not be written.
     #[error(transparent)]
     #[diagnostic(transparent)]
     Heatmap(#[from] output::OutputError),
+}
+
+impl CompareError {
+    /// The failure to read an image, with the formats in its help when the
+    /// file was read and did not decode.
+    fn read(error: compare::ReadImageError) -> CompareError {
+        let help = matches!(
+            error.0,
+            raytracer_scene::texture::TextureError::Decode { .. }
+                | raytracer_scene::texture::TextureError::Truncated { .. }
+                | raytracer_scene::texture::TextureError::Empty { .. }
+        )
+        .then(|| "`compare` reads PPM (P3 or P6), PNG and JPEG, recognised by their bytes".into());
+        CompareError::Read { error, help }
+    }
 }
 
 /// What `--format json` prints.
@@ -58,9 +76,9 @@ struct Side<'a> {
 pub fn run(args: CompareArgs) -> Result<Outcome, BoxedDiagnostic> {
     let thresholds = args.thresholds.thresholds();
     let (reference, reference_format) =
-        compare::read(&args.reference).map_err(CompareError::from)?;
+        compare::read(&args.reference).map_err(CompareError::read)?;
     let (candidate, candidate_format) =
-        compare::read(&args.candidate).map_err(CompareError::from)?;
+        compare::read(&args.candidate).map_err(CompareError::read)?;
     let comparison = compare::compare(&reference, &candidate, &thresholds);
     let heatmap = match (&args.heatmap, comparison.metrics.is_some()) {
         (Some(path), true) => {

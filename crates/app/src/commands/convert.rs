@@ -24,7 +24,27 @@ use raytracer_scene::frontend::load;
 #[diagnostic(code(io::write_output))]
 pub struct WriteOutputError {
     pub path: String,
-    pub reason: std::io::Error,
+    /// In words, without the temporary file's name the error carries.
+    pub reason: String,
+}
+
+impl WriteOutputError {
+    /// The failure to write `path`, worded for the user: a folder that
+    /// does not exist is named, and the temporary file beside the target
+    /// (an internal name) is not.
+    pub fn new(path: &Path, error: &std::io::Error) -> WriteOutputError {
+        let folder = path.parent().filter(|p| !p.as_os_str().is_empty());
+        let reason = match folder {
+            Some(folder) if !folder.is_dir() => {
+                format!("the folder `{}` does not exist", folder.display())
+            }
+            _ => raytracer_scene::diagnostic::io_reason(error),
+        };
+        WriteOutputError {
+            path: path.display().to_string(),
+            reason,
+        }
+    }
 }
 
 /// Run `raytracer convert`.
@@ -66,10 +86,7 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, BoxedDiagnostic> {
             let textures = checked.textures.values().map(|t| Path::new(&t.path));
             check_not_input(path, scene.into_iter().chain(textures))?;
             write_atomically(path, |out| out.write_all(text.as_bytes())).map_err(|reason| {
-                Box::new(WriteOutputError {
-                    path: path.display().to_string(),
-                    reason,
-                }) as BoxedDiagnostic
+                Box::new(WriteOutputError::new(path, &reason)) as BoxedDiagnostic
             })?
         }
         None => {

@@ -117,6 +117,16 @@ impl From<std::io::Error> for WriteStdoutError {
     }
 }
 
+/// Write generated text (a completion script, the man page) to stdout.
+fn print_bytes(bytes: &[u8]) -> Result<Outcome, BoxedDiagnostic> {
+    let mut stdout = std::io::stdout().lock();
+    stdout
+        .write_all(bytes)
+        .and_then(|()| stdout.flush())
+        .map_err(stdout_error)?;
+    Ok(Outcome::Success)
+}
+
 /// Run a parsed command line and return the process exit code.
 pub fn run(cli: Cli) -> ExitCode {
     let result = match cli.command {
@@ -129,6 +139,8 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Accuracy(args) => accuracy::run(args),
         Command::Preview(args) => preview::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Completions(args) => print_bytes(&crate::cli::completions(args.shell)),
+        Command::Man => print_bytes(&crate::cli::man_page()),
         #[cfg(unix)]
         Command::Grade(args) => grade::run(args),
         #[cfg(not(unix))]

@@ -309,6 +309,10 @@ pub enum CheckError {
         span: SourceSpan,
         #[help]
         help: String,
+        /// A near path that names a file (`textures/wood_tex.ppm` for
+        /// `textures\wood_tex.ppm`), written in the path's place (unsafe:
+        /// a likely intent).
+        fix: Option<Box<Fix>>,
     },
 
     /// Fires when a texture path names a folder or another non-file.
@@ -390,6 +394,35 @@ pub enum CheckError {
         help: String,
         /// Negating the centre's z, when it is above 0 (unsafe).
         fix: Option<Box<Fix>>,
+    },
+
+    /// Fires when a scene without errors has no light: every surface
+    /// shows only its ambient term, a tenth of its colour.
+    #[error("the scene has no light, so it renders nearly black")]
+    #[diagnostic(code(scene::no_light), severity(Warning))]
+    NoLight {
+        #[label("lit by nothing but the ambient tenth of each colour")]
+        span: SourceSpan,
+        /// A light, in the file's own language.
+        #[help]
+        help: String,
+        /// A white light above the origin, at the end of the file
+        /// (unsafe: where the light goes is the author's call).
+        fix: Option<Box<Fix>>,
+    },
+
+    /// Fires when a scene without errors has no object in the camera's
+    /// view (none at all, or each outside the pyramid it sees): the image
+    /// is black.
+    #[error("no object is in the camera's view, so the image is black")]
+    #[diagnostic(
+        code(scene::nothing_in_view),
+        severity(Warning),
+        help("the camera is at the origin looking down −z and sees x and y within ±z/2; put an object there, as in `center 0 0 -5`")
+    )]
+    NothingInView {
+        #[label("sees nothing")]
+        span: SourceSpan,
     },
 
     /// Fires when a light is strictly inside a sphere: it lights only the
@@ -480,9 +513,11 @@ impl CheckError {
             | CheckError::NotANumber { fix, .. }
             | CheckError::MissingAttribute { fix, .. }
             | CheckError::MissingCamera { fix, .. }
+            | CheckError::NoLight { fix, .. }
             | CheckError::SectionValues { fix, .. }
-            | CheckError::TextDirectionControl { fix, .. } => fix.as_deref(),
-            CheckError::TextureNotFound { .. }
+            | CheckError::TextDirectionControl { fix, .. }
+            | CheckError::TextureNotFound { fix, .. } => fix.as_deref(),
+            CheckError::NothingInView { .. }
             | CheckError::TextureNotAFile { .. }
             | CheckError::TextureNotAnImage { .. }
             | CheckError::TextureTooLarge { .. }

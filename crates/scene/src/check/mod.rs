@@ -185,6 +185,14 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
         }
     }
 
+    /// Tell the check that an earlier stage (the parser, the JSON reader)
+    /// reported an error: the picture is not the one the file will give
+    /// once mended, so the whole-scene warnings about it (no light,
+    /// nothing in view) are not said.
+    pub fn after_errors(&mut self) {
+        self.cx.problems.mark_incomplete();
+    }
+
     /// The checks that need the whole file, then what the sink makes of
     /// the scene when there were no errors, and every diagnostic in the
     /// order found.
@@ -222,6 +230,47 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
                 span: Span::point(0).into(),
                 fix,
             });
+        }
+        // A scene that renders black, or nearly: said only of a scene
+        // with no error, which is the picture it will be.
+        if let (true, Some((camera_span, Some(_)))) = (cx.problems.clean(), camera) {
+            if lights.is_empty() {
+                let fix = cx.scene_text.then(|| {
+                    let text = &cx.source.text;
+                    let newline = if text.is_empty() || text.ends_with('\n') {
+                        ""
+                    } else {
+                        "\n"
+                    };
+                    Fix::boxed(
+                        "add `light` with `location 0 5 0` and `color 1 1 1`".to_string(),
+                        Applicability::Unsafe,
+                        Span::point(text.len()),
+                        &format!("{newline}light\n  location 0 5 0\n  color 1 1 1\n"),
+                    )
+                });
+                let help = if cx.scene_text {
+                    "add a light: `light`, `location 0 5 0`, `color 1 1 1`"
+                } else {
+                    r#"add a light: `"lights": [{"location": [0, 5, 0], "color": [1, 1, 1]}]`"#
+                };
+                cx.problems.push(CheckError::NoLight {
+                    span: camera_span.into(),
+                    help: help.to_string(),
+                    fix,
+                });
+            }
+            // An object behind the camera is the mistake already named.
+            let behind = cx
+                .problems
+                .list
+                .iter()
+                .any(|p| matches!(p, CheckError::ObjectBehindCamera { .. }));
+            if !cx.in_view && !behind {
+                cx.problems.push(CheckError::NothingInView {
+                    span: camera_span.into(),
+                });
+            }
         }
         let inside = std::mem::take(&mut cx.inside);
         cx.problems.list.extend(inside.warnings());
@@ -329,6 +378,8 @@ struct Checker<'a> {
     /// Whether the source is scene text, where a fix may remove a line
     /// (in JSON it would leave a stray comma).
     scene_text: bool,
+    /// Whether some valid object is in the camera's view.
+    in_view: bool,
 }
 
 impl<'a> Checker<'a> {
@@ -336,9 +387,10 @@ impl<'a> Checker<'a> {
         Checker {
             source,
             problems: Problems::default(),
-            textures: textures::Textures::new(&source.dir, textures),
+            textures: textures::Textures::new(&source.dir, &source.text, textures),
             inside: inside::LightsInSpheres::default(),
             scene_text: false,
+            in_view: false,
         }
     }
 }
@@ -415,7 +467,7 @@ mod tests {
     #[test]
     fn fixed_text_has_nothing_left_to_fix() {
         let once = fixed(
-            "camera 4 plane dimension 1 1 center 0 0 -5 normal 1 2 3 headup 3 -1 7",
+            "camera 4 light location 0 5 0 color 1 1 1 plane dimension 1 1 center 0 0 -5 normal 1 2 3 headup 3 -1 7",
             Applicability::Safe,
         );
         assert_eq!(fixed(&once, Applicability::Unsafe), once);

@@ -37,6 +37,9 @@ pub fn sphere(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> 
     if center[2] - radius >= 0.0 {
         cx.problems.push(behind_camera("sphere", center, &attrs));
     }
+    if in_view(*center, radius) {
+        cx.in_view = true;
+    }
     let at = SphereAt {
         center: *center,
         radius,
@@ -87,6 +90,14 @@ pub fn plane(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> {
         if corners.iter().all(|c| c.z >= 0.0) {
             cx.problems.push(behind_camera("plane", center, &attrs));
         }
+        // Outside the view when every corner is beyond one of its sides
+        // (the rectangle is convex, the view too).
+        if !VIEW_SIDES
+            .iter()
+            .any(|side| corners.iter().all(|c| side.dot(*c) > 0.0))
+        {
+            cx.in_view = true;
+        }
     }
     Some(model::Object {
         shape: model::Shape::Plane {
@@ -98,6 +109,27 @@ pub fn plane(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> {
         },
         material: material?,
     })
+}
+
+/// The outward normals of the sides of the pyramid the camera sees: from
+/// the origin through the image plane z = −1, x and y in [−0.5, 0.5]
+/// (docs/rendering.md), and the plane z = 0 behind it.
+const VIEW_SIDES: [glam::DVec3; 5] = [
+    glam::DVec3::new(1.0, 0.0, 0.5),
+    glam::DVec3::new(-1.0, 0.0, 0.5),
+    glam::DVec3::new(0.0, 1.0, 0.5),
+    glam::DVec3::new(0.0, -1.0, 0.5),
+    glam::DVec3::new(0.0, 0.0, 1.0),
+];
+
+/// Whether a sphere may be in the camera's view: it is not wholly beyond
+/// one side of it (near the pyramid's edges this says yes for a sphere
+/// just outside, so the warning never fires for a visible one).
+fn in_view(center: [f64; 3], radius: f64) -> bool {
+    let c = glam::DVec3::from_array(center);
+    !VIEW_SIDES
+        .iter()
+        .any(|side| side.dot(c) / side.length() > radius)
 }
 
 /// A light, when valid.
@@ -238,9 +270,13 @@ fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option
     } else if attrs.line(&AttrName::Texture).is_some() {
         ok = false;
     }
-    if let (Some(color), Some(texture)) =
-        (attrs.line(&AttrName::Color), attrs.line(&AttrName::Texture))
-    {
+    // A `texture` line without a path sets no colour (its count is
+    // reported): the `color` line is still the surface's.
+    if let (Some(color), Some(texture), Some(_)) = (
+        attrs.line(&AttrName::Color),
+        attrs.line(&AttrName::Texture),
+        attrs.path(&AttrName::Texture),
+    ) {
         let fix = cx.removal(
             "remove the `color` line; the texture sets the surface colour",
             Applicability::Safe,

@@ -34,6 +34,8 @@ enum Failure {
 /// The textures loaded so far, and the paths that failed.
 pub struct Textures<'a> {
     dir: PathBuf,
+    /// The scene's text, to quote a fixed path as it was written.
+    text: &'a str,
     loader: &'a mut dyn TextureLoader,
     loaded: BTreeMap<String, Header>,
     failed: BTreeMap<String, Failure>,
@@ -44,14 +46,101 @@ pub struct Textures<'a> {
 impl<'a> Textures<'a> {
     /// An empty set resolving paths against `dir`, reading files through
     /// `loader`.
-    pub fn new(dir: &Path, loader: &'a mut dyn TextureLoader) -> Textures<'a> {
+    pub fn new(dir: &Path, text: &'a str, loader: &'a mut dyn TextureLoader) -> Textures<'a> {
         Textures {
             dir: dir.to_path_buf(),
+            text,
             loader,
             loaded: BTreeMap::new(),
             failed: BTreeMap::new(),
             texels: 0,
         }
+    }
+
+    /// The fix that writes `near` in place of the path at `span`: quoted
+    /// as the path was (a scene-text string and a JSON string escape
+    /// alike), or bare.
+    fn path_fix(&self, near: &str, span: crate::span::Span) -> Box<crate::fix::Fix> {
+        let quoted = self
+            .text
+            .get(span.start()..)
+            .is_some_and(|t| t.starts_with('"'))
+            || near.contains(|c: char| c.is_whitespace() || c == '#');
+        let content = if quoted {
+            serde_json::to_string(near).unwrap_or_else(|_| near.to_string())
+        } else {
+            near.to_string()
+        };
+        crate::fix::Fix::boxed(
+            format!("write `{near}`"),
+            crate::fix::Applicability::Unsafe,
+            span,
+            &content,
+        )
+    }
+
+    /// Whether `path` (relative to the scene's folder, with `/`) names an
+    /// entry, by listing its folder through the loader.
+    fn exists(&mut self, path: &str) -> bool {
+        let (folder, name) = path.rsplit_once('/').unwrap_or(("", path));
+        !name.is_empty()
+            && self
+                .loader
+                .entries(&self.dir.join(folder))
+                .iter()
+                .any(|e| e == name)
+    }
+
+    /// A path near `written` that names a file where it does not: with
+    /// `/` for `\`, without curly or straight quotes, in the case the
+    /// folder has it, or the same name in a folder of the scene's folder
+    /// or beside it. `None` when there is none, or `written` is absolute.
+    fn near(&mut self, written: &str) -> Option<String> {
+        let quotes: &[char] = &['\u{201C}', '\u{201D}', '\u{2018}', '\u{2019}', '"', '\''];
+        let plain = written.replace('\\', "/");
+        let plain = plain.trim_matches(quotes).to_string();
+        if plain.is_empty() || plain.starts_with('/') {
+            return None;
+        }
+        if plain != written && self.exists(&plain) {
+            return Some(plain);
+        }
+        let (folder, name) = plain
+            .rsplit_once('/')
+            .map_or(("", plain.as_str()), |(f, n)| (f, n));
+        let cased = self
+            .loader
+            .entries(&self.dir.join(folder))
+            .into_iter()
+            .find(|e| e != name && e.eq_ignore_ascii_case(name));
+        if let Some(cased) = cased {
+            return Some(if folder.is_empty() {
+                cased
+            } else {
+                format!("{folder}/{cased}")
+            });
+        }
+        // The same name one folder down, beside the scene's folder, or in
+        // a folder beside it.
+        let mut folders: Vec<String> = self.loader.entries(&self.dir);
+        folders.sort();
+        for sub in folders.into_iter().take(64) {
+            let candidate = format!("{sub}/{name}");
+            if candidate != plain && self.exists(&candidate) {
+                return Some(candidate);
+            }
+        }
+        let beside = format!("../{plain}");
+        if self.exists(&beside) {
+            return Some(beside);
+        }
+        let mut siblings: Vec<String> = self.loader.entries(&self.dir.join(".."));
+        siblings.sort();
+        siblings
+            .into_iter()
+            .take(64)
+            .map(|sibling| format!("../{sibling}/{name}"))
+            .find(|candidate| self.exists(candidate))
     }
 
     /// Load `path` (as written) unless already done; the diagnostic when it
@@ -96,17 +185,26 @@ impl<'a> Textures<'a> {
             },
         };
         let shown = resolved.display();
+        let path_span = path.span;
         let span = path.span.into();
         let path = written.to_string();
         Err(Box::new(match failure {
-            Failure::Unreadable(reason) => CheckError::TextureNotFound {
-                path,
-                reason,
-                span,
-                help: format!(
-                    "looked for `{shown}`; paths are relative to the scene file's folder"
-                ),
-            },
+            Failure::Unreadable(reason) => {
+                let near = self.near(written);
+                let help = match &near {
+                    Some(near) => format!("did you mean `{near}`?"),
+                    None => format!(
+                        "looked for `{shown}`; paths are relative to the scene file's folder"
+                    ),
+                };
+                CheckError::TextureNotFound {
+                    path,
+                    reason,
+                    span,
+                    help,
+                    fix: near.map(|near| self.path_fix(&near, path_span)),
+                }
+            }
             Failure::NoFile => CheckError::TextureNotAFile {
                 path,
                 span,

@@ -345,7 +345,7 @@ fn load_source<'a, S: Sink>(
             Duration::ZERO,
         );
     }
-    let (batches, is_scene) = match language {
+    let (mut batches, is_scene) = match language {
         Language::Text => {
             let mut batches = Batches::<S>::new(&source, textures, language, clock);
             let mut sections = syntax::sections(&source.text);
@@ -363,6 +363,12 @@ fn load_source<'a, S: Sink>(
         }
     };
     let (checked, checking) = if is_scene {
+        if diagnostics
+            .iter()
+            .any(|(d, _)| crate::diagnostic::severity_of(d.as_ref()) == miette::Severity::Error)
+        {
+            batches.check.after_errors();
+        }
         let (checked, problems, checking) = batches.finish();
         diagnostics.extend(problems);
         (checked, checking)
@@ -395,6 +401,12 @@ mod tests {
         if let Some(file) = file {
             let mut headers = HeaderReader;
             let mut check = SceneCheck::new(&source, &mut headers);
+            if diagnostics
+                .iter()
+                .any(|d| crate::diagnostic::severity_of(d.as_ref()) == miette::Severity::Error)
+            {
+                check.after_errors();
+            }
             for section in &file.sections {
                 check.section(section);
             }
@@ -415,7 +427,7 @@ mod tests {
     #[test]
     fn streaming_either_language_equals_checking_the_whole_tree() {
         for (name, text, problems) in [
-            ("a.txt", "camera 4\nsphere dimension 1 center 0 0 -5", 0),
+            ("a.txt", "camera 4\nsphere dimension 1 center 0 0 -5", 1),
             ("b.txt", "camera 0\nsphere dimension 0\nsphre\n1 2 3", 4),
             (
                 "c.json",

@@ -120,6 +120,41 @@ pub enum SyntaxError {
         /// The number with a decimal point (safe: the arity says so).
         fix: Option<Box<Fix>>,
     },
+
+    /// Fires on punctuation around an attribute's values, as other
+    /// languages write them: `dimension = 1`, `center (0, 0, -5)`,
+    /// `color [1, 0, 0]`, `location 0 5 0;`, `normal: 0 1 0`. The values
+    /// are read as meant, so nothing else is reported about the line.
+    #[error("expected values separated by spaces, found {found}")]
+    #[diagnostic(code(syntax::punctuation))]
+    Punctuation {
+        /// The punctuation, each mark once, in backticks.
+        found: String,
+        #[label("not part of the scene language")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+        /// The values as written, separated by spaces (safe: each value
+        /// is kept, only the punctuation goes).
+        fix: Option<Box<Fix>>,
+    },
+
+    /// Fires on a keyword written in another case, such as `Camera 400`
+    /// or `SPHERE`: keywords are lowercase. The word is read as the
+    /// keyword, so nothing else is reported about it.
+    #[error("expected `{expected}`, found `{found}`")]
+    #[diagnostic(code(syntax::keyword_case))]
+    KeywordCase {
+        found: String,
+        expected: String,
+        #[label("keywords are lowercase")]
+        span: SourceSpan,
+        #[help]
+        help: String,
+        /// The keyword in lowercase (safe: it is the only keyword the
+        /// word can be).
+        fix: Option<Box<Fix>>,
+    },
 }
 
 impl SyntaxError {
@@ -127,7 +162,9 @@ impl SyntaxError {
     pub fn fix(&self) -> Option<&Fix> {
         match self {
             SyntaxError::CommaSeparatedValues { fix, .. }
-            | SyntaxError::DecimalComma { fix, .. } => fix.as_deref(),
+            | SyntaxError::DecimalComma { fix, .. }
+            | SyntaxError::Punctuation { fix, .. }
+            | SyntaxError::KeywordCase { fix, .. } => fix.as_deref(),
             _ => None,
         }
     }

@@ -20,6 +20,7 @@
 mod commas;
 pub mod errors;
 mod fast;
+mod punctuation;
 pub mod trivia;
 
 use nom::branch::alt;
@@ -91,6 +92,7 @@ fn sections_by(text: &str, route: Route) -> Sections<'_> {
             rest: text,
             route,
             last_word: None,
+            marks: Vec::new(),
             errors: Vec::new(),
         },
     }
@@ -290,6 +292,9 @@ struct Cursor<'a> {
     rest: &'a str,
     route: Route,
     last_word: Option<PeekedWord<'a>>,
+    /// Punctuation met after the name of the line being read (`center:`),
+    /// reported with the rest of the line's by [`Cursor::values`].
+    marks: Vec<Span>,
     errors: Vec<SyntaxError>,
 }
 
@@ -391,7 +396,7 @@ impl<'a> Cursor<'a> {
                 // A number or string: `values` consumes at least this token.
                 _ => {
                     let mut stray = Values::new();
-                    self.values(&mut stray, false, None);
+                    self.values(&mut stray, false, None, "", span.start());
                     // A run of only malformed values was reported already.
                     let reported = stray.iter().all(|v| v.value == Value::Invalid);
                     if let Some(last) = stray.last().filter(|_| !reported) {
@@ -413,21 +418,47 @@ impl<'a> Cursor<'a> {
             unreachable!("section() is only called on a word");
         };
         self.rest = rest;
-        let kind = Spanned::new(kw_span, SectionKind::from_word(keyword));
+        let mut kw_span = kw_span;
+        let kind = match punctuation::keyword(keyword) {
+            Some(written) => {
+                let start = kw_span.start();
+                let end = start + written.len;
+                if written.case {
+                    self.errors.push(punctuation::keyword_case(
+                        &keyword[..written.len],
+                        written.kind.as_str(),
+                        Span::new(start, end),
+                    ));
+                }
+                if written.marks > 0 {
+                    self.marks.push(Span::new(end, end + written.marks));
+                }
+                // The values start after the marks, in the same word or not.
+                self.rest = &self.src[end + written.marks..];
+                kw_span = Span::new(start, end);
+                written.kind
+            }
+            None => SectionKind::from_word(keyword),
+        };
+        let kind = Spanned::new(kw_span, kind);
         let camera = (*kind == SectionKind::Camera).then(|| language::CAMERA.count());
         let mut args = Values::new();
-        self.values(&mut args, false, camera);
+        self.values(&mut args, false, camera, kind.as_str(), kw_span.end());
         let mut span = args.last().map_or(kw_span, |v| kw_span.join(v.span));
         let mut attributes = Vec::new();
         while let Some((Token::Word(w), _, _)) = self.peek() {
             // An attribute name is never a section keyword: only an
             // unknown word may start a section.
-            let name = match AttrName::known(w) {
-                Some(name) => name,
-                None if starts_section(w) => break,
-                None => AttrName::Unknown(w.into()),
+            let (name, written) = match AttrName::known(w) {
+                Some(name) => (name, None),
+                None => match punctuation::attribute_name(w) {
+                    Some(written) => (written.name.clone(), Some(written)),
+                    None if punctuation::keyword(w).is_some() => break,
+                    None if starts_section(w) => break,
+                    None => (AttrName::Unknown(w.into()), None),
+                },
             };
-            span = span.join(self.attribute(&kind, name, &mut attributes));
+            span = span.join(self.attribute(&kind, name, written, &mut attributes));
         }
         Section {
             kind,
@@ -448,12 +479,30 @@ impl<'a> Cursor<'a> {
         &mut self,
         kind: &SectionKind,
         name: AttrName,
+        written: Option<punctuation::Name>,
         attributes: &mut Vec<Attribute>,
     ) -> Span {
-        let Some((Token::Word(..), name_span, rest)) = self.peek() else {
+        let Some((Token::Word(word), mut name_span, rest)) = self.peek() else {
             unreachable!("attribute() is only called on a word");
         };
         self.rest = rest;
+        if let Some(written) = written {
+            let start = name_span.start();
+            let end = start + written.len;
+            if written.case {
+                self.errors.push(punctuation::keyword_case(
+                    &word[..written.len],
+                    name.as_str(),
+                    Span::new(start, end),
+                ));
+            }
+            if written.marks > 0 {
+                self.marks.push(Span::new(end, end + written.marks));
+            }
+            // The values start after the marks, in the same word or not.
+            self.rest = &self.src[end + written.marks..];
+            name_span = Span::new(start, end);
+        }
         let takes_path = language::takes_path_somewhere(&name);
         let expected = language::find(kind, &name).map(|spec| spec.count());
         let index = attributes.len();
@@ -463,7 +512,13 @@ impl<'a> Cursor<'a> {
             span: name_span,
         });
         let attribute = &mut attributes[index];
-        self.values(&mut attribute.values, takes_path, expected);
+        self.values(
+            &mut attribute.values,
+            takes_path,
+            expected,
+            attribute.name.as_str(),
+            name_span.end(),
+        );
         if let Some(last) = attribute.values.last() {
             attribute.span = name_span.join(last.span);
         }
@@ -479,8 +534,21 @@ impl<'a> Cursor<'a> {
     /// path. `expected` is how many values the registry says the line
     /// takes, which tells what commas in its numbers meant. The values are
     /// pushed onto `values`, which starts empty.
-    fn values(&mut self, values: &mut Values, path_allowed: bool, expected: Option<usize>) {
+    ///
+    /// Punctuation around the values (`= 1`, `(0, 0, -5)`, `0;`) is read
+    /// past and reported once for the line, after `name` (which ends at
+    /// `name_end`).
+    fn values(
+        &mut self,
+        values: &mut Values,
+        path_allowed: bool,
+        expected: Option<usize>,
+        name: &str,
+        name_end: usize,
+    ) {
         let mut with_commas = Vec::new();
+        let mut marks = std::mem::take(&mut self.marks);
+        let errors_before = self.errors.len();
         loop {
             // A path comes first, whatever it looks like.
             if self.route == Route::Fast && !(path_allowed && values.is_empty()) {
@@ -492,6 +560,23 @@ impl<'a> Cursor<'a> {
             let Some((token, span, rest)) = self.peek() else {
                 break;
             };
+            if let Token::Word(w) = token {
+                if punctuation::is_only_punctuation(w) {
+                    marks.push(span);
+                    self.rest = rest;
+                    continue;
+                }
+                if let Some((found, numbers)) = punctuation::bracketed(w, span.start()) {
+                    marks.extend(found);
+                    for at in numbers {
+                        let text = &self.src[at.start()..at.end()];
+                        let value = text.parse::<f64>().map_or(Value::Invalid, Value::Number);
+                        values.push(Spanned::new(at, value));
+                    }
+                    self.rest = rest;
+                    continue;
+                }
+            }
             match token {
                 Token::Str(text) => values.push(Spanned::new(span, Value::Text(text.into()))),
                 Token::UnterminatedStr => {
@@ -505,7 +590,14 @@ impl<'a> Cursor<'a> {
                         && !SectionKind::KEYWORDS.contains(&w)
                         && !AttrName::KEYWORDS.contains(&w) =>
                 {
-                    values.push(Spanned::new(span, Value::Text(w.into())));
+                    match punctuation::marked_path(w, span.start()) {
+                        Some((found, path)) => {
+                            marks.extend(found);
+                            let text = &self.src[path.start()..path.end()];
+                            values.push(Spanned::new(path, Value::Text(text.into())));
+                        }
+                        None => values.push(Spanned::new(span, Value::Text(w.into()))),
+                    }
                 }
                 Token::Word(w) if looks_numeric(w) || is_non_finite_word(w) => {
                     let value = self
@@ -525,6 +617,10 @@ impl<'a> Cursor<'a> {
             }
             self.rest = rest;
         }
+        if !marks.is_empty() {
+            self.report_marks(values, &with_commas, &marks, name, name_end, errors_before);
+            return;
+        }
         let separated = !with_commas.is_empty()
             && commas::explain(&with_commas, values.len(), expected, &mut self.errors);
         if separated {
@@ -541,6 +637,62 @@ impl<'a> Cursor<'a> {
                 }
             }
             *values = expanded;
+        }
+    }
+
+    /// Report the punctuation `marks` of a line once. Commas between its
+    /// values (`with_commas`, reported as bad numbers since
+    /// `errors_before`) are marks too: their values are read, and their
+    /// errors give way to the one diagnostic.
+    fn report_marks(
+        &mut self,
+        values: &mut Values,
+        with_commas: &[commas::CommaToken<'_>],
+        marks: &[Span],
+        name: &str,
+        name_end: usize,
+        errors_before: usize,
+    ) {
+        let mut marks = marks.to_vec();
+        let mut dropped = Vec::new();
+        let mut read = Values::new();
+        for (i, value) in values.drain(..).enumerate() {
+            let token = with_commas.iter().find(|t| t.index == i);
+            match token
+                .and_then(|t| punctuation::bracketed(&format!("({}", t.text), t.span.start() - 1))
+            {
+                Some((found, numbers)) => {
+                    let token = token.expect("found above");
+                    dropped.push(token.error);
+                    // The `(` was added to read the word; it is not there.
+                    marks.extend(
+                        found
+                            .into_iter()
+                            .filter(|m| m.start() >= token.span.start()),
+                    );
+                    for at in numbers {
+                        let text = &self.src[at.start()..at.end()];
+                        let number = text.parse::<f64>().map_or(Value::Invalid, Value::Number);
+                        read.push(Spanned::new(at, number));
+                    }
+                }
+                None => read.push(value),
+            }
+        }
+        *values = read;
+        dropped.sort_unstable();
+        for error in dropped.into_iter().rev() {
+            if error >= errors_before && error < self.errors.len() {
+                self.errors.remove(error);
+            }
+        }
+        let readable =
+            self.errors.len() == errors_before && values.iter().all(|v| v.value != Value::Invalid);
+        let spans: Vec<Span> = values.iter().map(|v| v.span).collect();
+        if let Some(error) =
+            punctuation::diagnostic(self.src, name, name_end, &marks, &spans, readable)
+        {
+            self.errors.push(error);
         }
     }
 
