@@ -271,7 +271,7 @@ fn a_misspelt_attribute_is_shown_at_its_line_and_its_fix_renders_the_native_imag
     // `raytracer render` renders it.
     click(&mut browser, "#problems li button.fix");
     browser.wait_for(
-        "document.querySelectorAll('#problems li').length === 0",
+        "document.querySelectorAll('#problems li.error').length === 0",
         "true",
     );
     let render_ms = rendered(&mut browser);
@@ -337,7 +337,7 @@ fn a_dropped_texture_is_used() {
                   return true; }})()"
     ));
     browser.wait_for(
-        "document.querySelectorAll('#problems li').length === 0",
+        "document.querySelectorAll('#problems li.error').length === 0",
         "true",
     );
     rendered(&mut browser);
