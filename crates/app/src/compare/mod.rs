@@ -37,6 +37,17 @@ pub struct Picture {
 }
 
 impl Picture {
+    /// A decoded image's texels, each channel scaled to 8 bits
+    /// (`round(v · 255)`).
+    pub fn from_texels(width: u32, height: u32, texels: &[[f32; 3]]) -> Picture {
+        let rgb = texels
+            .iter()
+            .flatten()
+            .map(|&v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+            .collect();
+        Picture { width, height, rgb }
+    }
+
     /// The size as `[width, height]`, for reports.
     pub fn size(&self) -> [u32; 2] {
         [self.width, self.height]
@@ -52,18 +63,8 @@ pub struct ReadImageError(pub texture::TextureError);
 /// Channels of any depth are scaled to 8 bits (`round(v · 255)`).
 pub fn read(path: &Path) -> Result<(Picture, TextureFormat), ReadImageError> {
     let texture = texture::load(path, MAX_TEXTURE_TEXELS).map_err(ReadImageError)?;
-    let rgb = texture
-        .texels
-        .iter()
-        .flatten()
-        .map(|&v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
-        .collect();
     Ok((
-        Picture {
-            width: texture.width,
-            height: texture.height,
-            rgb,
-        },
+        Picture::from_texels(texture.width, texture.height, &texture.texels),
         texture.format,
     ))
 }

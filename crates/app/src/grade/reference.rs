@@ -269,13 +269,5 @@ fn read_private(path: &Path) -> Option<Picture> {
         raytracer_scene::limits::MAX_TEXTURE_TEXELS,
     )
     .ok()?;
-    Some(Picture {
-        width,
-        height,
-        rgb: texels
-            .iter()
-            .flatten()
-            .map(|&v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
-            .collect(),
-    })
+    Some(Picture::from_texels(width, height, &texels))
 }

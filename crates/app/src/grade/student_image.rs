@@ -141,15 +141,7 @@ pub fn read(out: &Path, reference: &Picture) -> Read {
     let mut cursor = std::io::Cursor::new(&bytes);
     let _ = cursor.rewind();
     match texture::decode(BufReader::new(cursor), u64::from(width) * u64::from(height)) {
-        Ok((width, height, texels)) => Read::Picture(Picture {
-            width,
-            height,
-            rgb: texels
-                .iter()
-                .flatten()
-                .map(|&v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
-                .collect(),
-        }),
+        Ok((width, height, texels)) => Read::Picture(Picture::from_texels(width, height, &texels)),
         Err(texture::DecodeError::Image(image::ImageError::IoError(error)))
             if error.kind() == std::io::ErrorKind::UnexpectedEof =>
         {
