@@ -165,15 +165,7 @@ fn load_in_memory(
                 "no file of this name was given",
             ),
         })?;
-    let decoded = decode_image(Cursor::new(bytes), max_texels)
-        .map_err(|error| texture_error(&shown, error))?;
-    Ok(Texture {
-        path: shown,
-        format: decoded.format,
-        width: decoded.width,
-        height: decoded.height,
-        texels: decoded.texels,
-    })
+    decoded_texture(shown, Cursor::new(bytes), max_texels)
 }
 
 /// A decoded image, row 0 at the top, channels scaled to [0, 1].
@@ -262,8 +254,17 @@ pub enum DecodeError {
 /// (at most [`MAX_TEXTURE_TEXELS`]) before decoding its pixels.
 pub fn load(path: &Path, max_texels: u64) -> Result<Texture, TextureError> {
     let (shown, file) = open(path)?;
-    let decoded = decode_image(BufReader::new(file), max_texels)
-        .map_err(|error| texture_error(&shown, error))?;
+    decoded_texture(shown, BufReader::new(file), max_texels)
+}
+
+/// The texture `shown` decoded from `reader`, refusing more than
+/// `max_texels` before decoding its pixels.
+fn decoded_texture(
+    shown: String,
+    reader: impl BufRead + Seek,
+    max_texels: u64,
+) -> Result<Texture, TextureError> {
+    let decoded = decode_image(reader, max_texels).map_err(|error| texture_error(&shown, error))?;
     Ok(Texture {
         path: shown,
         format: decoded.format,

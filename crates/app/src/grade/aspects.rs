@@ -320,6 +320,19 @@ pub fn judge(
         ids.dedup();
         ids
     };
+    // The objects that neither reflect nor are textured: where shadows and
+    // shading are judged.
+    let plain: Vec<u32> = objects
+        .iter()
+        .copied()
+        .filter(|&object| {
+            buffers
+                .centres
+                .iter()
+                .find(|p| p.object == Some(object))
+                .is_some_and(|first| first.reflectivity <= 0.0 && first.uv.is_none())
+        })
+        .collect();
     let pixels_of = |object: u32, key: &dyn Fn(&Probe) -> u64| -> Vec<usize> {
         (0..n)
             .filter(|&k| {
@@ -330,15 +343,7 @@ pub fn judge(
             .collect()
     };
     let (mut shadowed, mut shadowed_bad, mut lit, mut lit_bad) = (0usize, 0usize, 0usize, 0usize);
-    for &object in &objects {
-        let first = buffers
-            .centres
-            .iter()
-            .find(|p| p.object == Some(object))
-            .unwrap();
-        if first.reflectivity > 0.0 || first.uv.is_some() {
-            continue;
-        }
+    for &object in &plain {
         let ks: Vec<usize> = pixels_of(object, &|p| p.visible)
             .into_iter()
             .filter(|&k| !clipped(&px(student, k)))
@@ -544,15 +549,7 @@ pub fn judge(
 
     // Shading: the median chromaticity of each lit, plain object.
     let (mut worst, mut shaded) = (0.0f64, 0usize);
-    for &object in &objects {
-        let first = buffers
-            .centres
-            .iter()
-            .find(|p| p.object == Some(object))
-            .unwrap();
-        if first.reflectivity > 0.0 || first.uv.is_some() {
-            continue;
-        }
+    for &object in &plain {
         let ks: Vec<usize> = pixels_of(object, &|p| p.visible)
             .into_iter()
             .filter(|&k| {
