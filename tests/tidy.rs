@@ -10,7 +10,9 @@
 //! - what the language and the renderer pull in, transitively, holds none
 //!   of the crates only the applications need, and no C or C++ build;
 //! - the binary holds no path of the folder it was built in, so no output
-//!   of an installed binary can point into it.
+//!   of an installed binary can point into it;
+//! - every error of a failed read or write carries the one `FileError`
+//!   rather than wording `cannot read `path`: reason` again.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -127,6 +129,42 @@ fn every_source_file_opens_with_a_header() {
             );
         }
     }
+}
+
+/// An error message that names a file it could not read or write and then
+/// its own reason: the shape `FileError` (in `raytracer_scene::failure`)
+/// owns, written again.
+fn words_its_own_file_error(line: &str) -> bool {
+    let Some(message) = line.trim().strip_prefix("#[error(\"cannot ") else {
+        return false;
+    };
+    ["read", "write", "open", "watch"]
+        .iter()
+        .any(|verb| message.starts_with(verb))
+        && message.contains("`: {")
+}
+
+#[test]
+fn file_errors_have_one_shape() {
+    let mut found = Vec::new();
+    for (folder, dir) in crate_sources() {
+        for file in sources(&dir) {
+            let text = std::fs::read_to_string(dir.join(&file)).unwrap();
+            for (number, line) in text.lines().enumerate() {
+                if file != "failure.rs" && words_its_own_file_error(line) {
+                    found.push(format!("{folder}/{file}:{}: {}", number + 1, line.trim()));
+                }
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "these errors word a failed read or write themselves; carry a `FileError` instead:\n{}",
+        found.join("\n")
+    );
+    assert!(words_its_own_file_error(
+        r#"    #[error("cannot write `{path}`: {reason}")]"#
+    ));
 }
 
 /// The `raytracer-*` crates a Cargo.toml names in `[table]`.

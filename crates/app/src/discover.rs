@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 use miette::Diagnostic;
 
 use raytracer_scene::ast::SectionKind;
+use raytracer_scene::diagnostic::{io_reason, lowercase_first, FileError};
 
 /// How much of a found file is read to decide whether it is a scene.
 const SNIFF_BYTES: u64 = 64 * 1024;
@@ -49,11 +50,15 @@ pub struct Discovered {
 
 /// A folder entry that a walk could not read.
 #[derive(Debug, thiserror::Error, Diagnostic)]
-#[error("cannot read folder entry `{path}`: {reason}")]
+#[error(transparent)]
 #[diagnostic(code(io::read_folder))]
-pub struct WalkError {
-    pub path: String,
-    pub reason: String,
+pub struct WalkError(FileError);
+
+impl WalkError {
+    /// The entry that could not be read.
+    pub fn path(&self) -> &str {
+        self.0.path()
+    }
 }
 
 /// Expand `args` into the files to work on. `-` (stdin) and anything that
@@ -111,13 +116,10 @@ fn walk_error(folder: &Path, error: &ignore::Error) -> WalkError {
         _ => folder.to_path_buf(),
     };
     let reason = match error.io_error() {
-        Some(io) => raytracer_scene::diagnostic::io_reason(io),
-        None => raytracer_scene::diagnostic::lowercase_first(&error.to_string()),
+        Some(io) => io_reason(io),
+        None => lowercase_first(&error.to_string()),
     };
-    WalkError {
-        path: path.display().to_string(),
-        reason,
-    }
+    WalkError(FileError::with_reason("read folder entry", &path, reason))
 }
 
 /// The kinds of file a walk considers, by extension (any case).

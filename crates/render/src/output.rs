@@ -23,7 +23,7 @@ use image::{ExtendedColorType, ImageEncoder};
 use miette::Diagnostic;
 
 use crate::render::Image;
-use raytracer_scene::diagnostic::io_reason;
+use raytracer_scene::diagnostic::FileError;
 
 /// An image file format the renderer writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,16 +61,12 @@ pub enum OutputError {
     OutputIsFolder { path: String },
 
     /// Creating, writing or renaming the file failed.
-    #[error("cannot write `{path}`: {}", io_reason(error))]
+    #[error(transparent)]
     #[diagnostic(
         code(io::write_image),
         help("no image was written; check that the folder exists and is writable")
     )]
-    Write {
-        path: String,
-        /// Not a `#[source]`: the message words it, once.
-        error: std::io::Error,
-    },
+    Write(FileError),
 }
 
 impl Format {
@@ -123,10 +119,7 @@ pub fn check_writable(out: &Path) -> Result<(), OutputError> {
     temp_builder()
         .tempfile_in(folder_of(out))
         .map(drop)
-        .map_err(|error| OutputError::Write {
-            path: out.display().to_string(),
-            error,
-        })
+        .map_err(|error| OutputError::Write(FileError::writing(out)(error)))
 }
 
 /// Encode `image` as `format` and put it at `path` atomically.
@@ -140,10 +133,8 @@ pub fn write_with(
     path: &Path,
     encode: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<(), OutputError> {
-    write_atomically(path, encode).map_err(|error| OutputError::Write {
-        path: path.display().to_string(),
-        error,
-    })
+    write_atomically(path, encode)
+        .map_err(|error| OutputError::Write(FileError::writing(path)(error)))
 }
 
 /// Put what `body` writes at `path`, whole or not at all: it goes to a

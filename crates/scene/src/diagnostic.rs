@@ -23,6 +23,7 @@ use crate::line_index::LineIndex;
 use crate::span::Span;
 use crate::syntax::SyntaxError;
 
+pub use crate::failure::{io_reason, lowercase_first, FileError};
 pub use shown::{Shown, ShownSource};
 
 /// A diagnostic of any stage, boxed so syntax and check problems share a
@@ -360,39 +361,6 @@ pub fn use_color(stream: &impl std::io::IsTerminal) -> bool {
     stream.is_terminal() && std::env::var_os("NO_COLOR").is_none()
 }
 
-/// OS, decoder and parser messages start with a capital; diagnostics do not.
-pub fn lowercase_first(message: &str) -> String {
-    let mut chars = message.chars();
-    match chars.next() {
-        Some(first) => first.to_lowercase().chain(chars).collect(),
-        None => String::new(),
-    }
-}
-
-/// An I/O error as a diagnostic's reason, worded the same for a scene, a
-/// texture or an output: "no such file" and "permission denied" for the
-/// common two, else the system's message, lowercase and without the paths
-/// some wrappers append (a temporary file's name is no help to the user).
-pub fn io_reason(error: &std::io::Error) -> String {
-    match error.kind() {
-        std::io::ErrorKind::NotFound => return "no such file".to_string(),
-        std::io::ErrorKind::PermissionDenied => return "permission denied".to_string(),
-        _ => {}
-    }
-    let message = match error.raw_os_error() {
-        Some(code) => std::io::Error::from_raw_os_error(code).to_string(),
-        // `tempfile` words its errors `{reason} at path "{temporary file}"`.
-        None => {
-            let message = error.to_string();
-            match message.split_once(" at path \"") {
-                Some((reason, _)) => reason.to_string(),
-                None => message,
-            }
-        }
-    };
-    lowercase_first(&message)
-}
-
 /// A diagnostic's severity, defaulting to error as miette does.
 pub fn severity_of(d: &dyn Diagnostic) -> Severity {
     d.severity().unwrap_or(Severity::Error)
@@ -419,24 +387,4 @@ fn first_label(d: &dyn Diagnostic) -> (usize, usize) {
     d.labels()
         .and_then(|mut labels| labels.next())
         .map_or((0, 0), |l| (l.offset(), l.len()))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn io_reasons_are_lowercase_without_temporary_paths() {
-        let os = std::io::Error::from_raw_os_error(2);
-        assert!(
-            io_reason(&os).starts_with("no such file"),
-            "{}",
-            io_reason(&os)
-        );
-        let dir = tempfile::tempdir().unwrap();
-        let missing = dir.path().join("missing");
-        let wrapped = tempfile::Builder::new().tempfile_in(&missing).unwrap_err();
-        assert!(wrapped.to_string().contains(" at path "), "{wrapped}");
-        assert_eq!(io_reason(&wrapped), io_reason(&os));
-    }
 }

@@ -33,6 +33,7 @@ pub mod convert;
 pub mod diagnostic;
 pub mod encoding;
 pub mod escape;
+pub mod failure;
 pub mod fix;
 pub mod format;
 pub mod frontend;

@@ -27,6 +27,7 @@ use std::path::Path;
 use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits};
 use serde::{Deserialize, Serialize};
 
+use crate::failure::FileError;
 use crate::limits::{MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
 
 /// What a texture file's header says: enough to validate it without
@@ -158,12 +159,12 @@ fn load_in_memory(
             let name = path.file_name()?.to_str()?;
             files.get(name)
         })
-        .ok_or_else(|| TextureError::Io {
-            path: shown.clone(),
-            source: std::io::Error::new(
-                std::io::ErrorKind::NotFound,
-                "no file of this name was given",
-            ),
+        .ok_or_else(|| {
+            TextureError::Io(FileError::with_reason(
+                "read",
+                path,
+                "no file of this name was given".to_string(),
+            ))
         })?;
     decoded_texture(shown, Cursor::new(bytes), max_texels)
 }
@@ -210,11 +211,8 @@ const MAX_DECODER_BYTES: u64 = MAX_TEXTURE_TEXELS * 8 * 2;
 /// Why a texture could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum TextureError {
-    #[error("cannot read `{path}`: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(FileError),
     #[error("`{path}` is not a regular file")]
     NotAFile { path: String },
     #[error("`{path}` does not decode as an image: {source}")]
@@ -292,10 +290,7 @@ pub fn read_header(path: &Path) -> Result<Header, TextureError> {
 /// a regular file.
 fn open(path: &Path) -> Result<(String, File), TextureError> {
     let shown = path.display().to_string();
-    let io = |source| TextureError::Io {
-        path: shown.clone(),
-        source,
-    };
+    let io = |error| TextureError::Io(FileError::new("read", path, &error));
     if !std::fs::metadata(path).map_err(io)?.is_file() {
         return Err(TextureError::NotAFile { path: shown });
     }
@@ -315,10 +310,9 @@ fn texture_error(shown: &str, error: DecodeError) -> TextureError {
         {
             TextureError::Truncated { path: shown }
         }
-        DecodeError::Image(image::ImageError::IoError(source)) => TextureError::Io {
-            path: shown,
-            source,
-        },
+        DecodeError::Image(image::ImageError::IoError(source)) => {
+            TextureError::Io(FileError::new("read", Path::new(&shown), &source))
+        }
         DecodeError::Image(source) => TextureError::Decode {
             path: shown,
             source,
@@ -469,7 +463,7 @@ mod tests {
         }
         assert!(matches!(
             decoder.load(Path::new("stone.ppm"), 4),
-            Err(TextureError::Io { .. })
+            Err(TextureError::Io(_))
         ));
     }
 }

@@ -26,8 +26,8 @@ use raytracer_render::ir;
 use raytracer_render::output::{self, Format};
 use raytracer_render::render::adaptive::DEFAULT_THRESHOLD;
 use raytracer_render::render::Options;
-use raytracer_scene::diagnostic::BoxedDiagnostic;
 use raytracer_scene::diagnostic::{terminal_width, use_color};
+use raytracer_scene::diagnostic::{BoxedDiagnostic, FileError};
 use raytracer_scene::frontend::{load, Loaded};
 
 /// A usage or I/O error of `accuracy`.
@@ -48,13 +48,9 @@ pub enum AccuracyError {
     },
 
     /// The assets folder could not be made or a file in it written.
-    #[error("cannot write `{path}`: {source}")]
+    #[error(transparent)]
     #[diagnostic(code(io::write_assets))]
-    Write {
-        path: String,
-        #[source]
-        source: std::io::Error,
-    },
+    Write(FileError),
 }
 
 /// Run `raytracer accuracy`.
@@ -250,12 +246,8 @@ struct Drawn {
 /// Write a scene's plot data, charts and difference map.
 fn write_assets(m: &Measurement, stem: &str, assets: &Assets) -> Result<Drawn, BoxedDiagnostic> {
     let write_text = |path: &PathBuf, text: String| {
-        output::write_atomically(path, |out| out.write_all(text.as_bytes())).map_err(|source| {
-            AccuracyError::Write {
-                path: path.display().to_string(),
-                source,
-            }
-        })
+        output::write_atomically(path, |out| out.write_all(text.as_bytes()))
+            .map_err(|error| AccuracyError::Write(FileError::writing(path)(error)))
     };
     let sampling = report::sampling_csv(m);
     let pareto = report::pareto_csv(m);
@@ -334,12 +326,8 @@ fn draw_chart(chart: &Chart, csv: &str, path: &Path) -> Result<bool, BoxedDiagno
         Err(plot::PlotError::Empty) => return Ok(false),
         drawn => drawn.map_err(failed)?,
     };
-    output::write_atomically(path, |out| out.write_all(&drawn.png)).map_err(|source| {
-        AccuracyError::Write {
-            path: path.display().to_string(),
-            source,
-        }
-    })?;
+    output::write_atomically(path, |out| out.write_all(&drawn.png))
+        .map_err(|error| AccuracyError::Write(FileError::writing(path)(error)))?;
     Ok(true)
 }
 
@@ -354,10 +342,8 @@ struct Assets {
 
 /// Make DIR and check its files can be written, before any work.
 fn prepare_assets(dir: &Path, stem: &str) -> Result<Assets, BoxedDiagnostic> {
-    std::fs::create_dir_all(dir).map_err(|source| AccuracyError::Write {
-        path: dir.display().to_string(),
-        source,
-    })?;
+    std::fs::create_dir_all(dir)
+        .map_err(|error| AccuracyError::Write(FileError::writing(dir)(error)))?;
     let assets = Assets {
         sampling: dir.join(format!("{stem}.sampling.csv")),
         pareto: dir.join(format!("{stem}.pareto.csv")),

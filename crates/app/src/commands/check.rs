@@ -29,7 +29,7 @@ use raytracer_render::ir::Effects;
 use raytracer_render::output;
 use raytracer_scene::check::Summary;
 use raytracer_scene::diagnostic::{
-    terminal_width, use_color, write_json, BoxedDiagnostic, JsonDiagnostic, Report,
+    terminal_width, use_color, write_json, BoxedDiagnostic, FileError, JsonDiagnostic, Report,
 };
 use raytracer_scene::escape::escape;
 use raytracer_scene::fix::{self, Applicability};
@@ -56,7 +56,7 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
             Found::Unreadable(error) => {
                 totals.unreadable += 1;
                 failed = true;
-                out.unreadable(Path::new(&error.path), error)?;
+                out.unreadable(Path::new(error.path()), error)?;
                 continue;
             }
         };
@@ -303,12 +303,9 @@ impl Output {
 
 /// `--fix` could not rewrite a scene file.
 #[derive(Debug, thiserror::Error, Diagnostic)]
-#[error("cannot write fixes to `{path}` (it is unchanged): {reason}")]
-#[diagnostic(code(io::write_fix))]
-pub struct WriteFixError {
-    pub path: String,
-    pub reason: std::io::Error,
-}
+#[error(transparent)]
+#[diagnostic(code(io::write_fix), help("the file is unchanged"))]
+pub struct WriteFixError(FileError);
 
 /// Apply the fixes of at most `applicability` that the diagnostics of the
 /// scene at `path` carry, in place, returning one `file:line:column:
@@ -339,12 +336,8 @@ fn fix_in_place(path: &Path, applicability: Applicability) -> Result<Vec<String>
     if applied.is_empty() {
         return Ok(Vec::new());
     }
-    output::write_atomically(path, |out| out.write_all(fixed.as_bytes())).map_err(|reason| {
-        WriteFixError {
-            path: name.clone(),
-            reason,
-        }
-    })?;
+    output::write_atomically(path, |out| out.write_all(fixed.as_bytes()))
+        .map_err(|error| WriteFixError(FileError::written("write fixes to", path, &error)))?;
     Ok(applied
         .iter()
         .map(|f| {

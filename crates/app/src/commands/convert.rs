@@ -14,38 +14,15 @@ use super::Outcome;
 use crate::cli::{ConvertArgs, Target};
 use raytracer_render::output::{check_not_input, write_atomically};
 use raytracer_scene::convert::{json, paths, pov, scene_text};
-use raytracer_scene::diagnostic::BoxedDiagnostic;
 use raytracer_scene::diagnostic::{terminal_width, use_color};
+use raytracer_scene::diagnostic::{BoxedDiagnostic, FileError};
 use raytracer_scene::frontend::load;
 
 /// `-o PATH` could not be written.
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
-#[error("cannot write `{path}`: {reason}")]
+#[error(transparent)]
 #[diagnostic(code(io::write_output))]
-pub struct WriteOutputError {
-    pub path: String,
-    /// In words, without the temporary file's name the error carries.
-    pub reason: String,
-}
-
-impl WriteOutputError {
-    /// The failure to write `path`, worded for the user: a folder that
-    /// does not exist is named, and the temporary file beside the target
-    /// (an internal name) is not.
-    pub fn new(path: &Path, error: &std::io::Error) -> WriteOutputError {
-        let folder = path.parent().filter(|p| !p.as_os_str().is_empty());
-        let reason = match folder {
-            Some(folder) if !folder.is_dir() => {
-                format!("the folder `{}` does not exist", folder.display())
-            }
-            _ => raytracer_scene::diagnostic::io_reason(error),
-        };
-        WriteOutputError {
-            path: path.display().to_string(),
-            reason,
-        }
-    }
-}
+pub struct WriteOutputError(FileError);
 
 /// Run `raytracer convert`.
 pub fn run(args: ConvertArgs) -> Result<Outcome, BoxedDiagnostic> {
@@ -85,8 +62,8 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, BoxedDiagnostic> {
             let scene = (args.scene != Path::new("-")).then_some(args.scene.as_path());
             let textures = checked.textures.values().map(|t| Path::new(&t.path));
             check_not_input(path, scene.into_iter().chain(textures))?;
-            write_atomically(path, |out| out.write_all(text.as_bytes())).map_err(|reason| {
-                Box::new(WriteOutputError::new(path, &reason)) as BoxedDiagnostic
+            write_atomically(path, |out| out.write_all(text.as_bytes())).map_err(|error| {
+                Box::new(WriteOutputError(FileError::writing(path)(error))) as BoxedDiagnostic
             })?
         }
         None => {

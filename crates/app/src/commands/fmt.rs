@@ -22,10 +22,12 @@ use crate::cli::FmtArgs;
 use crate::discover::{discover, Found, Kind};
 use raytracer_render::output::write_atomically;
 use raytracer_scene::diagnostic::BoxedDiagnostic;
-use raytracer_scene::diagnostic::{boxed, terminal_width, use_color, Report, SourceFile};
+use raytracer_scene::diagnostic::{
+    boxed, terminal_width, use_color, FileError, Report, Shown, SourceFile,
+};
 use raytracer_scene::escape::escape;
 use raytracer_scene::format::format;
-use raytracer_scene::frontend::{read_scene, Language};
+use raytracer_scene::frontend::{read_scene, Language, ReadSceneError};
 
 /// A path `fmt` cannot format.
 #[derive(Debug, thiserror::Error, Diagnostic)]
@@ -36,12 +38,15 @@ pub enum FmtError {
         help("`fmt` lays out scene text; `convert --to json` prints JSON scenes")
     )]
     Json { path: String },
-    #[error("cannot read `{path}`: {reason}")]
-    #[diagnostic(code(io::fmt_read))]
-    Read { path: String, reason: String },
-    #[error("cannot write `{path}` (it is unchanged): {reason}")]
-    #[diagnostic(code(io::fmt_write))]
-    Write { path: String, reason: String },
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Read(#[from] ReadSceneError),
+    #[error(transparent)]
+    #[diagnostic(code(io::fmt_write), help("the file is unchanged"))]
+    Write(FileError),
+    #[error(transparent)]
+    #[diagnostic(code(io::write_stdout))]
+    Stdout(FileError),
 }
 
 /// What formatting one file came to.
@@ -69,7 +74,7 @@ pub fn run(args: FmtArgs) -> Result<Outcome, BoxedDiagnostic> {
             }
             Found::Unreadable(error) => {
                 failed = true;
-                sayln!("{:?}", miette::Report::new(error));
+                sayln!("{:?}", miette::Report::new(Shown::new(&error, None)));
                 continue;
             }
         };
@@ -94,7 +99,7 @@ pub fn run(args: FmtArgs) -> Result<Outcome, BoxedDiagnostic> {
             Err(error) => {
                 failed = true;
                 named_unreadable |= named;
-                sayln!("{:?}", miette::Report::new(error));
+                sayln!("{:?}", miette::Report::new(Shown::new(&error, None)));
             }
         }
     }
@@ -139,13 +144,7 @@ fn keep_conventions(original: &str, formatted: String) -> String {
 fn format_file(path: &Path, check: bool) -> Result<Formatted, FmtError> {
     let stdin = path == Path::new("-");
     let name = shown(path);
-    let bytes = read_scene(path).map_err(|error| FmtError::Read {
-        path: name.clone(),
-        reason: match error {
-            raytracer_scene::frontend::ReadSceneError::Io { reason, .. } => reason,
-            other => escape(&other.to_string()).into_owned(),
-        },
-    })?;
+    let bytes = read_scene(path)?;
     if Language::of(path, &bytes) == Language::Json {
         return Err(FmtError::Json { path: name });
     }
@@ -174,17 +173,12 @@ fn format_file(path: &Path, check: bool) -> Result<Formatted, FmtError> {
         stdout
             .write_all(formatted.as_bytes())
             .and_then(|()| stdout.flush())
-            .map_err(|error| FmtError::Write {
-                path: name.clone(),
-                reason: raytracer_scene::diagnostic::io_reason(&error),
+            .map_err(|error| {
+                FmtError::Stdout(FileError::new("write to", Path::new("stdout"), &error))
             })?;
     } else if changed && !check {
-        write_atomically(path, |out| out.write_all(formatted.as_bytes())).map_err(|error| {
-            FmtError::Write {
-                path: name.clone(),
-                reason: raytracer_scene::diagnostic::io_reason(&error),
-            }
-        })?;
+        write_atomically(path, |out| out.write_all(formatted.as_bytes()))
+            .map_err(|error| FmtError::Write(FileError::writing(path)(error)))?;
     }
     Ok(if changed {
         Formatted::Changed

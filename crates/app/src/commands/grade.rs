@@ -33,7 +33,7 @@ use crate::grade::workdir::{Template, TemplateError};
 use crate::grade::{self, Plan, Programs};
 use raytracer_render::render::probe::{self, Buffers};
 use raytracer_render::render::Options;
-use raytracer_scene::diagnostic::{io_reason, BoxedDiagnostic};
+use raytracer_scene::diagnostic::{io_reason, BoxedDiagnostic, FileError};
 
 /// Why `grade` could not grade.
 #[derive(Debug, thiserror::Error, Diagnostic)]
@@ -52,9 +52,13 @@ pub enum GradeError {
     )]
     Template(#[from] TemplateError),
 
-    #[error("cannot write `{path}`: {reason}")]
+    #[error(transparent)]
     #[diagnostic(code(io::grade))]
-    Io { path: String, reason: String },
+    File(#[from] FileError),
+
+    #[error("cannot start {threads} grading threads: {reason}")]
+    #[diagnostic(code(io::threads))]
+    Threads { threads: usize, reason: String },
 
     #[error("{} student folder{} cannot be graded", errors.len(), if errors.len() == 1 { "" } else { "s" })]
     #[diagnostic(code(grade::student))]
@@ -77,13 +81,6 @@ pub enum GradeError {
     #[error("no folder for the reference cache: neither `XDG_CACHE_HOME` nor `HOME` is set")]
     #[diagnostic(code(usage::no_cache), help("give one with `--cache DIR`"))]
     NoCache,
-}
-
-fn io_error(path: &Path) -> impl Fn(std::io::Error) -> GradeError + '_ {
-    move |error| GradeError::Io {
-        path: path.display().to_string(),
-        reason: io_reason(&error),
-    }
 }
 
 /// One tracer to grade: the command, where a relative program is taken
@@ -121,7 +118,9 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     let Some(report_folder) = &args.report else {
         unreachable!("clap requires -o without --export-suite and --merge")
     };
-    let here = std::env::current_dir().map_err(io_error(Path::new(".")))?;
+    let here = std::env::current_dir()
+        .map_err(FileError::reading(Path::new(".")))
+        .map_err(GradeError::from)?;
     let students = match (&args.student, &args.class) {
         (Some(folder), _) => {
             vec![Student::read(folder).map_err(|e| GradeError::Students { errors: vec![e] })?]
@@ -158,12 +157,18 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         Some(folder) => folder.clone(),
         None => reference::default_folder().ok_or(GradeError::NoCache)?,
     };
-    std::fs::create_dir_all(report_folder).map_err(io_error(report_folder))?;
-    let cache = Cache::open(&cache_folder).map_err(io_error(&cache_folder))?;
+    std::fs::create_dir_all(report_folder)
+        .map_err(FileError::writing(report_folder))
+        .map_err(GradeError::from)?;
+    let cache = Cache::open(&cache_folder)
+        .map_err(FileError::writing(&cache_folder))
+        .map_err(GradeError::from)?;
 
     // The built-in suite is graded from a copy, like any folder.
     let built_in = if args.suite.is_empty() {
-        let dir = tempfile::tempdir().map_err(io_error(&std::env::temp_dir()))?;
+        let dir = tempfile::tempdir()
+            .map_err(FileError::writing(&std::env::temp_dir()))
+            .map_err(GradeError::from)?;
         suite::export(dir.path()).map_err(GradeError::from)?;
         Some(dir)
     } else {
@@ -187,7 +192,9 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         Some(command) => Some((command, Template::parse(command).map_err(GradeError::from)?)),
         None => None,
     };
-    let cwd = std::env::current_dir().map_err(io_error(Path::new(".")))?;
+    let cwd = std::env::current_dir()
+        .map_err(FileError::reading(Path::new(".")))
+        .map_err(GradeError::from)?;
     let source = match (&args.references, &instructor) {
         (Some(folder), _) => reference::Source::Folder(folder),
         (None, Some((command, template))) => reference::Source::Tracer {
@@ -202,7 +209,8 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         .par_iter()
         .map(|scene| cache.reference_from(scene, &source))
         .collect::<Result<Vec<_>, _>>()
-        .map_err(io_error(&cache_folder))?;
+        .map_err(FileError::writing(&cache_folder))
+        .map_err(GradeError::from)?;
     let buffers: Vec<Buffers> = scenes
         .par_iter()
         .map(|scene| probe::buffers(&scene.scene, Options::default().max_depth))
@@ -219,8 +227,8 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.jobs as usize)
         .build()
-        .map_err(|e| GradeError::Io {
-            path: "threads".into(),
+        .map_err(|e| GradeError::Threads {
+            threads: args.jobs as usize,
             reason: e.to_string(),
         })?;
     let graded = Graded {
@@ -275,7 +283,9 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
 /// Build the job's student, if any, grade every scene, and write the report.
 fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, GradeError> {
     let images = job.report.join("images");
-    std::fs::create_dir_all(&images).map_err(io_error(&images))?;
+    std::fs::create_dir_all(&images)
+        .map_err(FileError::writing(&images))
+        .map_err(GradeError::from)?;
     // A student's folder that cannot be copied is that student's failure:
     // the rest of a class is still graded.
     let (prepared, build, skip) = match job.student.map(|s| s.prepare(graded.confinement)) {
@@ -328,7 +338,9 @@ fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, Gr
     });
     sandbox::reap_orphans(None);
     progress.finish_and_clear();
-    let results = results.map_err(io_error(&job.report))?;
+    let results = results
+        .map_err(FileError::writing(&job.report))
+        .map_err(GradeError::from)?;
 
     let mut summary = Summary {
         tracer: job.tracer.clone(),
@@ -341,7 +353,9 @@ fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, Gr
         scenes: results,
     };
     summary.sort();
-    report::write(&job.report, &summary).map_err(io_error(&job.report))?;
+    report::write(&job.report, &summary)
+        .map_err(FileError::writing(&job.report))
+        .map_err(GradeError::from)?;
     Ok(summary)
 }
 

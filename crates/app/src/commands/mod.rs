@@ -45,12 +45,13 @@ pub mod stats;
 pub mod stitch;
 
 use std::io::Write;
+use std::path::Path;
 use std::process::ExitCode;
 
 use miette::Diagnostic;
 
 use crate::cli::{Cli, Command};
-use raytracer_scene::diagnostic::{BoxedDiagnostic, Shown};
+use raytracer_scene::diagnostic::{BoxedDiagnostic, FileError, Shown};
 
 /// How a command ended, when it ran to completion.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -70,12 +71,9 @@ pub enum Outcome {
 
 /// Writing a command's output to stdout failed (a closed pipe, a full disk).
 #[derive(Debug, thiserror::Error, Diagnostic)]
-#[error("cannot write to stdout: {reason}")]
+#[error(transparent)]
 #[diagnostic(code(io::write_stdout))]
-pub struct WriteStdoutError {
-    /// The I/O error, as [`raytracer_scene::diagnostic::io_reason`] words it.
-    pub reason: String,
-}
+pub struct WriteStdoutError(FileError);
 
 /// Stdout is a pipe whose reader has gone: the command stops quietly.
 #[derive(Debug, thiserror::Error, Diagnostic)]
@@ -111,9 +109,7 @@ pub fn write_stderr(text: std::fmt::Arguments) {
 
 impl From<std::io::Error> for WriteStdoutError {
     fn from(error: std::io::Error) -> WriteStdoutError {
-        WriteStdoutError {
-            reason: raytracer_scene::diagnostic::io_reason(&error),
-        }
+        WriteStdoutError(FileError::new("write to", Path::new("stdout"), &error))
     }
 }
 

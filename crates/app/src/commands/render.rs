@@ -30,8 +30,8 @@ use raytracer_render::output::{self, Format};
 use raytracer_render::render::{self, Counters, Image, Options, Precision};
 use raytracer_render::tile::{self, Band, PixelOptions, TileInfo};
 use raytracer_scene::check::Checked;
-use raytracer_scene::diagnostic::BoxedDiagnostic;
 use raytracer_scene::diagnostic::{terminal_width, use_color};
+use raytracer_scene::diagnostic::{BoxedDiagnostic, FileError};
 use raytracer_scene::frontend::{load_timed, Loaded};
 
 /// A usage error found after clap: a value clap's parsers cannot judge.
@@ -59,13 +59,9 @@ pub enum RenderUsageError {
     TooManyTiles { rows: u32, tiles: u32 },
 
     /// `--stats-json` could not be written.
-    #[error("cannot write statistics to `{path}`: {source}")]
+    #[error(transparent)]
     #[diagnostic(code(io::write_stats))]
-    WriteStats {
-        path: String,
-        #[source]
-        source: std::io::Error,
-    },
+    WriteStats(FileError),
 }
 
 /// Run `raytracer render`.
@@ -217,11 +213,8 @@ fn write_image(
 /// Write `--stats-json`.
 fn write_stats(path: &Path, stats: &Stats) -> Result<(), BoxedDiagnostic> {
     let json = serde_json::to_vec_pretty(stats).map_err(std::io::Error::from);
-    output::write_atomically(path, |out| out.write_all(&json?)).map_err(|source| {
-        RenderUsageError::WriteStats {
-            path: path.display().to_string(),
-            source,
-        }
+    output::write_atomically(path, |out| out.write_all(&json?)).map_err(|error| {
+        RenderUsageError::WriteStats(FileError::written("write statistics to", path, &error))
     })?;
     Ok(())
 }

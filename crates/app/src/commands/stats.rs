@@ -10,7 +10,7 @@ use raytracer_render::render::{Accel, Counters, Precision};
 use raytracer_render::tile::TileInfo;
 
 /// Seconds per stage.
-#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, derive_more::AddAssign)]
 pub struct Seconds {
     pub parse: f64,
     pub check: f64,
@@ -18,17 +18,6 @@ pub struct Seconds {
     pub render: f64,
     pub write: f64,
     pub total: f64,
-}
-
-impl std::ops::AddAssign for Seconds {
-    fn add_assign(&mut self, other: Seconds) {
-        self.parse += other.parse;
-        self.check += other.check;
-        self.lower += other.lower;
-        self.render += other.render;
-        self.write += other.write;
-        self.total += other.total;
-    }
 }
 
 /// What `render --stats` prints and `--stats-json` writes.

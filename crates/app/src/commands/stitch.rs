@@ -27,17 +27,17 @@ use crate::cli::StitchArgs;
 use raytracer_render::output::{self, Format};
 use raytracer_render::render::Counters;
 use raytracer_render::tile::file::{self, ReadTileError};
-use raytracer_render::tile::stitch::{self, Part};
-use raytracer_scene::diagnostic::io_reason;
+use raytracer_render::tile::stitch::{self, PairError, Part};
 use raytracer_scene::diagnostic::BoxedDiagnostic;
+use raytracer_scene::diagnostic::FileError;
 
 /// Why the tiles' statistics cannot be merged.
 #[derive(Debug, thiserror::Error, Diagnostic)]
 pub enum StatsError {
     /// A statistics file cannot be read (exit 2).
-    #[error("cannot read statistics `{path}`: {reason}")]
+    #[error(transparent)]
     #[diagnostic(code(io::read_stats))]
-    Io { path: String, reason: String },
+    Io(FileError),
 
     /// Not the `--stats-json` of a tile (exit 1).
     #[error("`{path}` is not the statistics of a tile: {reason}")]
@@ -47,43 +47,20 @@ pub enum StatsError {
     )]
     NotTileStats { path: String, reason: String },
 
-    /// The statistics of a tile that is not among the parts (exit 1).
-    #[error("`{path}` is the statistics of tile {band} of another render than the parts")]
-    #[diagnostic(
-        code(stitch::foreign_stats),
-        help("name the statistics of the parts being stitched, and only those")
-    )]
-    Foreign { path: String, band: String },
-
-    /// Two statistics files for one part (exit 1).
-    #[error("`{path}` and `{first}` are both the statistics of `{part}`")]
-    #[diagnostic(
-        code(stitch::duplicate_stats),
-        help("name each tile's statistics once")
-    )]
-    Duplicate {
-        path: String,
-        first: String,
-        part: String,
-    },
-
-    /// A part without statistics (exit 1).
-    #[error("no statistics were named for `{part}` (tile {band})")]
-    #[diagnostic(
-        code(stitch::missing_stats),
-        help("add its `--stats-json` file to `--part-stats`")
-    )]
-    Missing { part: String, band: String },
+    /// The statistics do not pair with the parts one to one (exit 1).
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Pair(#[from] PairError),
 
     /// The merged statistics cannot be written (exit 2).
-    #[error("cannot write statistics to `{path}`: {reason}")]
+    #[error(transparent)]
     #[diagnostic(code(io::write_stats))]
-    Write { path: String, reason: String },
+    Write(FileError),
 }
 
 impl StatsError {
     fn is_io(&self) -> bool {
-        matches!(self, StatsError::Io { .. } | StatsError::Write { .. })
+        matches!(self, StatsError::Io(_) | StatsError::Write(_))
     }
 }
 
@@ -170,10 +147,7 @@ pub fn run(args: StitchArgs) -> Result<Outcome, BoxedDiagnostic> {
         merged.stitch_seconds = start.elapsed().as_secs_f64();
         let json = serde_json::to_vec_pretty(&merged).map_err(std::io::Error::from);
         output::write_atomically(path, |out| out.write_all(&json?)).map_err(|error| {
-            StatsError::Write {
-                path: path.display().to_string(),
-                reason: io_reason(&error),
-            }
+            StatsError::Write(FileError::written("write statistics to", path, &error))
         })?;
     }
     Ok(Outcome::Success)
@@ -196,59 +170,35 @@ fn report<E: Diagnostic + Send + Sync + 'static>(
 /// `parts` (frame order) must each have exactly one file in `paths`.
 fn merge_stats(parts: &[Part], paths: &[PathBuf]) -> Result<MergedStats, Vec<StatsError>> {
     let mut errors = Vec::new();
-    let mut found: Vec<Option<(&Path, Value, TileStats)>> = parts.iter().map(|_| None).collect();
+    let mut entries = Vec::new();
     for path in paths {
-        let shown = path.display().to_string();
-        let text = match std::fs::read(path) {
-            Ok(text) => text,
-            Err(error) => {
-                return Err(vec![StatsError::Io {
-                    path: shown,
-                    reason: io_reason(&error),
-                }])
-            }
-        };
+        let text = std::fs::read(path).map_err(|error| {
+            vec![StatsError::Io(FileError::new(
+                "read statistics",
+                path,
+                &error,
+            ))]
+        })?;
         let parsed = serde_json::from_slice::<Value>(&text).and_then(|value| {
             let stats = TileStats::deserialize(&value)?;
             Ok((value, stats))
         });
-        let (value, stats) = match parsed {
-            Ok(parsed) => parsed,
-            Err(error) => {
-                errors.push(StatsError::NotTileStats {
-                    path: shown,
-                    reason: error.to_string(),
-                });
-                continue;
-            }
-        };
-        let Some(index) = parts.iter().position(|part| part.info == stats.tile) else {
-            errors.push(StatsError::Foreign {
-                path: shown,
-                band: stats.tile.band().to_string(),
-            });
-            continue;
-        };
-        match &found[index] {
-            Some((first, ..)) => errors.push(StatsError::Duplicate {
-                path: shown,
-                first: first.display().to_string(),
-                part: parts[index].path.display().to_string(),
+        match parsed {
+            Ok((value, stats)) => entries.push((path.clone(), stats.tile.clone(), (value, stats))),
+            Err(error) => errors.push(StatsError::NotTileStats {
+                path: path.display().to_string(),
+                reason: error.to_string(),
             }),
-            None => found[index] = Some((path, value, stats)),
         }
     }
-    for (part, found) in parts.iter().zip(&found) {
-        if found.is_none() {
-            errors.push(StatsError::Missing {
-                part: part.path.display().to_string(),
-                band: part.info.band().to_string(),
-            });
+    let paired = match stitch::pair(parts, entries) {
+        Ok(paired) if errors.is_empty() => paired,
+        Ok(_) => return Err(errors),
+        Err(pairing) => {
+            errors.extend(pairing.into_iter().map(StatsError::from));
+            return Err(errors);
         }
-    }
-    if !errors.is_empty() {
-        return Err(errors);
-    }
+    };
     let frame = &parts[0].info;
     let mut merged = MergedStats {
         width: frame.width,
@@ -262,7 +212,10 @@ fn merge_stats(parts: &[Part], paths: &[PathBuf]) -> Result<MergedStats, Vec<Sta
         stitch_seconds: 0.0,
         parts: Vec::new(),
     };
-    for (_, value, stats) in found.into_iter().flatten() {
+    // Every part comes from one scene and one set of options, so one
+    // hierarchy: the frame's node count is any part's.
+    merged.counters.bvh_nodes = paired.first().map_or(0, |(_, (_, s))| s.counters.bvh_nodes);
+    for (_, (value, stats)) in paired {
         merged.counters += stats.counters;
         merged.seconds += stats.seconds;
         merged.parts.push(value);

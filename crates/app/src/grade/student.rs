@@ -24,7 +24,7 @@ use super::copy::{copy_folder, STUDENT_FOLDER};
 use super::report::BuildSummary;
 use super::sandbox::{self, Confinement, Ended};
 use super::workdir::{self, Template, TemplateError};
-use raytracer_scene::diagnostic::io_reason;
+use raytracer_scene::diagnostic::FileError;
 
 /// The file that names the tracer's command.
 pub const TRACER_FILE: &str = "tracer.txt";
@@ -47,12 +47,12 @@ pub struct Student {
 /// Why a student's folder cannot be graded.
 #[derive(Debug, thiserror::Error, Diagnostic)]
 pub enum StudentError {
-    #[error("cannot read `{path}`: {reason}")]
+    #[error(transparent)]
     #[diagnostic(
         code(grade::student),
         help("a student's folder holds `tracer.txt`, one line such as `./tracer {{scene}} {{out}}`, and optionally `build.txt` (see docs/grading.md)")
     )]
-    Read { path: String, reason: String },
+    Read(FileError),
 
     #[error("`{path}`: {source}")]
     #[diagnostic(
@@ -154,12 +154,8 @@ pub struct Prepared {
 /// Every student folder in `dir`, read, in the order of their names; the
 /// errors of every folder that cannot be read.
 pub fn class(dir: &Path) -> Result<Vec<Student>, Vec<StudentError>> {
-    let entries = std::fs::read_dir(dir).map_err(|error| {
-        vec![StudentError::Read {
-            path: dir.display().to_string(),
-            reason: io_reason(&error),
-        }]
-    })?;
+    let entries = std::fs::read_dir(dir)
+        .map_err(|error| vec![StudentError::Read(FileError::new("read", dir, &error))])?;
     // A link is no student's folder: as root, following one a student
     // planted would copy whatever it names into the sandbox.
     let mut folders: Vec<PathBuf> = entries
@@ -205,9 +201,8 @@ fn command_line(path: &Path) -> Result<String, StudentError> {
             .read_to_string(&mut text)?;
         Ok(text)
     };
-    let text = read().map_err(|error: std::io::Error| StudentError::Read {
-        path: path.display().to_string(),
-        reason: io_reason(&error),
+    let text = read().map_err(|error: std::io::Error| {
+        StudentError::Read(FileError::new("read", path, &error))
     })?;
     let lines: Vec<&str> = text
         .lines()

@@ -18,6 +18,7 @@ use serde::Deserialize;
 use super::aspects::{Aspect, AspectPoints};
 
 use raytracer_render::ir;
+use raytracer_scene::diagnostic::FileError;
 use raytracer_scene::frontend::{self, Loaded};
 
 /// The files of the built-in suite, by their path inside it.
@@ -211,8 +212,10 @@ pub fn round_points(points: f64) -> f64 {
 /// Why a suite cannot be graded.
 #[derive(Debug, thiserror::Error)]
 pub enum SuiteError {
-    #[error("cannot read `{path}`: {reason}")]
-    Io { path: String, reason: String },
+    #[error(transparent)]
+    Io(#[from] FileError),
+    #[error(transparent)]
+    Read(#[from] frontend::ReadSceneError),
     #[error("`{path}` is not a valid suite.json: {reason}")]
     Manifest { path: String, reason: String },
     #[error("`{path}` has errors; run `raytracer check {path}` to see them")]
@@ -227,22 +230,15 @@ pub enum SuiteError {
     Empty { path: String },
 }
 
-fn io_error(path: &Path, error: &std::io::Error) -> SuiteError {
-    SuiteError::Io {
-        path: path.display().to_string(),
-        reason: raytracer_scene::diagnostic::io_reason(error),
-    }
-}
-
 /// Write the built-in suite into `dir` (created if need be).
 pub fn export(dir: &Path) -> Result<(), SuiteError> {
     for (name, bytes) in BUILT_IN {
         let path = dir.join(name);
         if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| io_error(parent, &e))?;
+            std::fs::create_dir_all(parent).map_err(FileError::writing(parent))?;
         }
         raytracer_render::output::write_atomically(&path, |out| out.write_all(bytes))
-            .map_err(|e| io_error(&path, &e))?;
+            .map_err(FileError::writing(&path))?;
     }
     Ok(())
 }
@@ -274,7 +270,7 @@ fn load_folder(root: &Path) -> Result<Vec<SuiteScene>, SuiteError> {
     let manifest_path = root.join("suite.json");
     let entries = if manifest_path.is_file() {
         let text =
-            std::fs::read_to_string(&manifest_path).map_err(|e| io_error(&manifest_path, &e))?;
+            std::fs::read_to_string(&manifest_path).map_err(FileError::reading(&manifest_path))?;
         let manifest: Manifest = serde_json::from_str(&text).map_err(|e| SuiteError::Manifest {
             path: manifest_path.display().to_string(),
             reason: e.to_string(),
@@ -306,9 +302,9 @@ fn load_folder(root: &Path) -> Result<Vec<SuiteScene>, SuiteError> {
 
 /// Collect the scene files under `folder`, as paths relative to `root`.
 fn find_scenes(root: &Path, folder: &Path, names: &mut Vec<String>) -> Result<(), SuiteError> {
-    let entries = std::fs::read_dir(folder).map_err(|e| io_error(folder, &e))?;
+    let entries = std::fs::read_dir(folder).map_err(FileError::reading(folder))?;
     for entry in entries {
-        let path = entry.map_err(|e| io_error(folder, &e))?.path();
+        let path = entry.map_err(FileError::reading(folder))?.path();
         if path.is_dir() {
             find_scenes(root, &path, names)?;
         } else if path.file_name().is_some_and(|n| n != "suite.json")
@@ -332,19 +328,16 @@ fn load_scene(
 ) -> Result<SuiteScene, SuiteError> {
     let path = root.join(name);
     let shown = path.display().to_string();
-    let Loaded { checked, .. } = frontend::load(&path).map_err(|e| SuiteError::Io {
-        path: shown.clone(),
-        reason: e.to_string(),
-    })?;
+    let Loaded { checked, .. } = frontend::load(&path)?;
     let checked = checked.ok_or(SuiteError::Scene {
         path: shown.clone(),
     })?;
-    let canonical_root = root.canonicalize().map_err(|e| io_error(root, &e))?;
+    let canonical_root = root.canonicalize().map_err(FileError::reading(root))?;
     let mut files = vec![PathBuf::from(name)];
     for texture in checked.textures.values() {
         let resolved = Path::new(&texture.path)
             .canonicalize()
-            .map_err(|e| io_error(Path::new(&texture.path), &e))?;
+            .map_err(FileError::reading(Path::new(&texture.path)))?;
         let relative =
             resolved
                 .strip_prefix(&canonical_root)

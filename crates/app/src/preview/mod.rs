@@ -24,7 +24,7 @@ use miette::Diagnostic;
 
 pub use rebuild::Settings;
 
-use raytracer_scene::diagnostic::io_reason;
+use raytracer_scene::diagnostic::{io_reason, lowercase_first, FileError};
 use state::State;
 use watch::Watch;
 
@@ -44,9 +44,9 @@ pub enum PreviewError {
     Listen { address: SocketAddr, reason: String },
 
     /// The scene's folder could not be watched.
-    #[error("cannot watch `{path}` for changes: {reason}")]
+    #[error(transparent)]
     #[diagnostic(code(io::watch))]
-    Watch { path: String, reason: String },
+    Watch(FileError),
 }
 
 /// A preview bound to its address, ready to [`Preview::run`].
@@ -78,9 +78,12 @@ impl Preview {
         })?;
         let address = server.server_addr().to_ip().unwrap_or(address);
         let (sender, changed) = mpsc::channel();
-        let watch = Watch::new(&scene, sender).map_err(|e| PreviewError::Watch {
-            path: scene.display().to_string(),
-            reason: e.to_string(),
+        let watch = Watch::new(&scene, sender).map_err(|e| {
+            PreviewError::Watch(FileError::with_reason(
+                "watch",
+                &scene,
+                lowercase_first(&e.to_string()),
+            ))
         })?;
         let state = Arc::new(State::new(scene.display().to_string(), docs));
         Ok(Preview {

@@ -35,7 +35,9 @@ pub struct FirstHits<'a, R: Real> {
 pub const AMBIENT: f64 = 0.1;
 
 /// What a render did, summed over every pixel.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, derive_more::AddAssign,
+)]
 pub struct Counters {
     pub primary_rays: u64,
     pub shadow_rays: u64,
@@ -52,7 +54,8 @@ pub struct Counters {
     pub non_finite: u64,
     /// The wide nodes of the hierarchy rays walked, or 0 when every
     /// primitive was tested (brute force): which acceleration ran. Set once
-    /// per render, not summed.
+    /// per render, not summed (`+=` keeps the left side's).
+    #[add_assign(skip)]
     pub bvh_nodes: u64,
     /// Pixels adaptive antialiasing gave all their samples (0 with
     /// uniform sampling, where every pixel has them).
@@ -61,21 +64,6 @@ pub struct Counters {
     /// Pixels adaptive antialiasing gave four of their samples, not all.
     #[serde(default)]
     pub pixels_partly_refined: u64,
-}
-
-impl std::ops::AddAssign for Counters {
-    fn add_assign(&mut self, other: Counters) {
-        self.primary_rays += other.primary_rays;
-        self.shadow_rays += other.shadow_rays;
-        self.reflection_rays += other.reflection_rays;
-        self.texture_lookups += other.texture_lookups;
-        self.shadow_rays_skipped += other.shadow_rays_skipped;
-        self.paths_saturated += other.paths_saturated;
-        self.non_finite += other.non_finite;
-        self.bvh_nodes = self.bvh_nodes.max(other.bvh_nodes);
-        self.pixels_refined += other.pixels_refined;
-        self.pixels_partly_refined += other.pixels_partly_refined;
-    }
 }
 
 /// A light in the tracer's precision.

@@ -13,7 +13,7 @@ use std::path::Path;
 use miette::Diagnostic;
 
 use super::{TileInfo, KEYWORD};
-use raytracer_scene::diagnostic::io_reason;
+use raytracer_scene::diagnostic::FileError;
 
 /// The largest frame's side: the camera's limit, from its row in the
 /// registry. A tile claiming a larger frame is refused before any pixel is
@@ -24,9 +24,9 @@ const MAX_SIDE: u64 = raytracer_scene::language::CAMERA.max_whole() as u64;
 #[derive(Debug, thiserror::Error, Diagnostic)]
 pub enum ReadTileError {
     /// The file cannot be opened or read (exit 2).
-    #[error("cannot read `{path}`: {reason}")]
+    #[error(transparent)]
     #[diagnostic(code(io::read_tile))]
-    Io { path: String, reason: String },
+    Io(FileError),
 
     /// The file is readable but no tile of this renderer (exit 1).
     #[error("`{path}` is not a tile: {reason}")]
@@ -41,7 +41,7 @@ impl ReadTileError {
     /// True when the file could not be read at all (an I/O failure, exit
     /// 2), false when it was read and is no tile (exit 1).
     pub fn is_io(&self) -> bool {
-        matches!(self, ReadTileError::Io { .. })
+        matches!(self, ReadTileError::Io(_))
     }
 }
 
@@ -64,24 +64,17 @@ pub fn encode(info: &TileInfo, rgb: &[u8], out: &mut dyn Write) -> std::io::Resu
 
 /// A PNG decoder for `path`, its header and text chunks read.
 fn open(path: &Path) -> Result<png::Reader<BufReader<File>>, ReadTileError> {
-    let shown = path.display().to_string();
-    let file = File::open(path).map_err(|e| ReadTileError::Io {
-        path: shown.clone(),
-        reason: io_reason(&e),
-    })?;
+    let file = File::open(path).map_err(|e| ReadTileError::Io(FileError::new("read", path, &e)))?;
     let mut decoder = png::Decoder::new(BufReader::new(file));
     decoder.set_limits(png::Limits {
         bytes: (MAX_SIDE * MAX_SIDE * 3 + (1 << 20)) as usize,
     });
     decoder.read_info().map_err(|e| match e {
         png::DecodingError::IoError(e) if e.kind() != std::io::ErrorKind::UnexpectedEof => {
-            ReadTileError::Io {
-                path: shown.clone(),
-                reason: io_reason(&e),
-            }
+            ReadTileError::Io(FileError::new("read", path, &e))
         }
         other => ReadTileError::NotATile {
-            path: shown.clone(),
+            path: path.display().to_string(),
             reason: format!("expected a PNG image, found a file it cannot decode ({other})"),
         },
     })
@@ -159,10 +152,7 @@ pub fn read_pixels(path: &Path, expected: &TileInfo, rows: &mut [u8]) -> Result<
     }
     reader.next_frame(rows).map(drop).map_err(|e| match e {
         png::DecodingError::IoError(e) if e.kind() != std::io::ErrorKind::UnexpectedEof => {
-            ReadTileError::Io {
-                path: path.display().to_string(),
-                reason: io_reason(&e),
-            }
+            ReadTileError::Io(FileError::new("read", path, &e))
         }
         other => not_a_tile(format!("its pixels cannot be decoded ({other})")),
     })

@@ -6,7 +6,9 @@
 //! every problem, each naming the part at fault. The frame a part is judged
 //! against is the one most parts agree on (the first part's, on a tie), so
 //! a single foreign part among many is the one named. [`assemble`] then
-//! decodes each part straight into its rows of the frame.
+//! decodes each part straight into its rows of the frame. [`pair`] matches
+//! what else each tile wrote (its statistics, which carry its metadata) to
+//! the parts by the same metadata, with the same care.
 
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -127,6 +129,81 @@ pub enum StitchError {
         help("render the tiles that hold them and name them too")
     )]
     MissingRows { start: u32, end: u32 },
+}
+
+/// Why the files given beside the parts (each tile's statistics) do not
+/// pair with them one to one (exit 1).
+#[derive(Debug, thiserror::Error, Diagnostic)]
+pub enum PairError {
+    /// The statistics of a tile that is not among the parts.
+    #[error("`{path}` is the statistics of tile {band} of another render than the parts")]
+    #[diagnostic(
+        code(stitch::foreign_stats),
+        help("name the statistics of the parts being stitched, and only those")
+    )]
+    Foreign { path: String, band: Band },
+
+    /// Two statistics files for one part.
+    #[error("`{path}` and `{first}` are both the statistics of `{part}`")]
+    #[diagnostic(
+        code(stitch::duplicate_stats),
+        help("name each tile's statistics once")
+    )]
+    Duplicate {
+        path: String,
+        first: String,
+        part: String,
+    },
+
+    /// A part without statistics.
+    #[error("no statistics were named for `{part}` (tile {band})")]
+    #[diagnostic(
+        code(stitch::missing_stats),
+        help("add its `--stats-json` file to `--part-stats`")
+    )]
+    Missing { part: String, band: Band },
+}
+
+/// Each of `parts`' entry among `entries` (a file, the tile metadata it
+/// carries, and what else was read from it), in the parts' order; or every
+/// entry of no part, every second entry of a part and every part without
+/// one.
+pub fn pair<T>(
+    parts: &[Part],
+    entries: Vec<(PathBuf, TileInfo, T)>,
+) -> Result<Vec<(PathBuf, T)>, Vec<PairError>> {
+    let mut errors = Vec::new();
+    let mut found: Vec<Option<(PathBuf, T)>> = parts.iter().map(|_| None).collect();
+    for (path, info, entry) in entries {
+        let Some(index) = parts.iter().position(|part| part.info == info) else {
+            errors.push(PairError::Foreign {
+                path: path.display().to_string(),
+                band: info.band(),
+            });
+            continue;
+        };
+        match &found[index] {
+            Some((first, _)) => errors.push(PairError::Duplicate {
+                path: path.display().to_string(),
+                first: first.display().to_string(),
+                part: parts[index].name(),
+            }),
+            None => found[index] = Some((path, entry)),
+        }
+    }
+    for (part, found) in parts.iter().zip(&found) {
+        if found.is_none() {
+            errors.push(PairError::Missing {
+                part: part.name(),
+                band: part.info.band(),
+            });
+        }
+    }
+    if errors.is_empty() {
+        Ok(found.into_iter().flatten().collect())
+    } else {
+        Err(errors)
+    }
 }
 
 /// What must be equal across the parts of one frame.

@@ -8,7 +8,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use crate::diagnostic::{io_reason, lowercase_first};
+use crate::diagnostic::lowercase_first;
 use crate::limits::{MAX_SCENE_TEXELS, MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
 use crate::span::Spanned;
 use crate::texture::{self, Header, TextureError, TextureLoader};
@@ -161,7 +161,7 @@ impl<'a> Textures<'a> {
                 }
                 Err(error) => {
                     let failure = match error {
-                        TextureError::Io { source, .. } => Failure::Unreadable(io_reason(&source)),
+                        TextureError::Io(error) => Failure::Unreadable(error.reason().to_string()),
                         TextureError::NotAFile { .. } => Failure::NoFile,
                         TextureError::Decode { source, .. } => {
                             Failure::Undecodable(decode_reason(&source))

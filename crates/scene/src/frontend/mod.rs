@@ -30,7 +30,7 @@ pub use read::{read_scene, ReadSceneError};
 
 use crate::ast::{self, Section};
 use crate::check::{Checked, Collect, SceneCheck, Sink, Summarise, Summary, Valid};
-use crate::diagnostic::{boxed, io_reason, BoxedDiagnostic, Report, SourceFile};
+use crate::diagnostic::{boxed, BoxedDiagnostic, FileError, Report, SourceFile};
 use crate::fix::Fix;
 use crate::texture::{Decoder, HeaderReader, TextureLoader};
 use crate::{json, syntax};
@@ -142,10 +142,8 @@ fn load_into<S: Sink>(
     let start = clock.map(|clock| clock());
     let bytes = read_scene(path)?;
     let (name, dir) = if path == Path::new("-") {
-        let cwd = std::env::current_dir().map_err(|source| ReadSceneError::Io {
-            path: path.display().to_string(),
-            reason: io_reason(&source),
-        })?;
+        let cwd = std::env::current_dir()
+            .map_err(|error| ReadSceneError::Io(FileError::new("read scene", path, &error)))?;
         ("<stdin>".to_string(), cwd)
     } else {
         let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();

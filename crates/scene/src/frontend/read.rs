@@ -6,20 +6,16 @@ use std::path::Path;
 
 use miette::Diagnostic;
 
-use crate::diagnostic::io_reason;
+use crate::diagnostic::FileError;
 use crate::limits::MAX_SCENE_BYTES;
 
 /// The scene file could not be read.
 #[derive(Debug, thiserror::Error, Diagnostic)]
 pub enum ReadSceneError {
     /// Opening or reading failed.
-    #[error("cannot read scene `{path}`: {reason}")]
+    #[error(transparent)]
     #[diagnostic(code(io::read_scene))]
-    Io {
-        path: String,
-        /// The I/O error, as [`io_reason`] words it.
-        reason: String,
-    },
+    Io(FileError),
     /// The file is larger than [`MAX_SCENE_BYTES`]; only that much was read.
     #[error("cannot read scene `{path}`: expected at most {limit} bytes, found more")]
     #[diagnostic(
@@ -33,11 +29,7 @@ pub enum ReadSceneError {
 /// than [`MAX_SCENE_BYTES`] after reading one byte more than that, so an
 /// endless input (`/dev/zero`, a pipe) cannot exhaust memory.
 pub fn read_scene(path: &Path) -> Result<Vec<u8>, ReadSceneError> {
-    let shown = path.display().to_string();
-    let read_error = |source| ReadSceneError::Io {
-        path: shown.clone(),
-        reason: io_reason(&source),
-    };
+    let read_error = |error| ReadSceneError::Io(FileError::new("read scene", path, &error));
     // A file's buffer is allocated at its size, so the text is read into
     // exactly the memory it keeps (no doubling while it grows).
     let (input, size): (Box<dyn Read>, u64) = if path == Path::new("-") {
@@ -54,7 +46,7 @@ pub fn read_scene(path: &Path) -> Result<Vec<u8>, ReadSceneError> {
         .map_err(read_error)?;
     if bytes.len() as u64 > MAX_SCENE_BYTES {
         return Err(ReadSceneError::TooLarge {
-            path: shown,
+            path: path.display().to_string(),
             limit: MAX_SCENE_BYTES,
         });
     }

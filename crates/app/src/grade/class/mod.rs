@@ -18,7 +18,7 @@ use miette::Diagnostic;
 use serde::Deserialize;
 
 use super::Status;
-use raytracer_scene::diagnostic::io_reason;
+use raytracer_scene::diagnostic::FileError;
 
 /// The name of the overview page.
 pub const HTML: &str = "class.html";
@@ -80,12 +80,12 @@ pub struct Class {
 /// Why the overview cannot be made.
 #[derive(Debug, thiserror::Error, Diagnostic)]
 pub enum ClassError {
-    #[error("cannot read `{path}`: {reason}")]
+    #[error(transparent)]
     #[diagnostic(
         code(grade::merge),
         help("each folder in the class's report folder is one student's report, made by `grade --student` or `--class`; grade that student again, or move the folder out")
     )]
-    Read { path: String, reason: String },
+    Read(FileError),
 
     #[error("`{path}` is not a summary of `raytracer grade`: {reason}")]
     #[diagnostic(code(grade::merge))]
@@ -98,18 +98,16 @@ pub enum ClassError {
     )]
     Empty { path: String },
 
-    #[error("cannot write `{path}`: {reason}")]
+    #[error(transparent)]
     #[diagnostic(code(io::grade))]
-    Write { path: String, reason: String },
+    Write(FileError),
 }
 
 /// Read every student's summary in `report`: each folder in it whose name
 /// does not start with `.`.
 pub fn read(report: &Path) -> Result<Class, ClassError> {
-    let read_error = |path: &Path, error: std::io::Error| ClassError::Read {
-        path: path.display().to_string(),
-        reason: io_reason(&error),
-    };
+    let read_error =
+        |path: &Path, error: std::io::Error| ClassError::Read(FileError::new("read", path, &error));
     let mut folders: Vec<OsString> = std::fs::read_dir(report)
         .map_err(|error| read_error(report, error))?
         .flatten()
@@ -149,10 +147,7 @@ pub fn merge(report: &Path) -> Result<Class, ClassError> {
     for (name, text) in files {
         let path = report.join(name);
         raytracer_render::output::write_atomically(&path, |out| out.write_all(text.as_bytes()))
-            .map_err(|error| ClassError::Write {
-                path: path.display().to_string(),
-                reason: io_reason(&error),
-            })?;
+            .map_err(|error| ClassError::Write(FileError::writing(&path)(error)))?;
     }
     Ok(class)
 }
