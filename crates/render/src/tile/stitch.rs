@@ -434,6 +434,41 @@ mod tests {
     }
 
     #[test]
+    fn statistics_pair_with_their_parts_one_to_one() {
+        let parts = [part("a", 1, 2, "s", 1), part("b", 2, 2, "s", 1)];
+        let entry = |name: &str, from: &Part| (PathBuf::from(name), from.info.clone(), name.len());
+        let paired = pair(
+            &parts,
+            vec![entry("b.json", &parts[1]), entry("a.json", &parts[0])],
+        );
+        let names: Vec<PathBuf> = paired.unwrap().into_iter().map(|(path, _)| path).collect();
+        assert_eq!(names, [PathBuf::from("a.json"), PathBuf::from("b.json")]);
+
+        let other = part("x", 1, 2, "another scene", 1);
+        let errors = pair(
+            &parts,
+            vec![
+                entry("a.json", &parts[0]),
+                entry("again.json", &parts[0]),
+                entry("x.json", &other),
+            ],
+        )
+        .unwrap_err();
+        let codes: Vec<String> = errors
+            .iter()
+            .map(|e| format!("{} {}", e.code().unwrap(), e))
+            .collect();
+        assert_eq!(
+            codes,
+            [
+                "stitch::duplicate_stats `again.json` and `a.json` are both the statistics of `a`",
+                "stitch::foreign_stats `x.json` is the statistics of tile 1/2 of another render than the parts",
+                "stitch::missing_stats no statistics were named for `b` (tile 2/2)",
+            ]
+        );
+    }
+
+    #[test]
     fn a_whole_split_in_any_order_has_no_problem() {
         let parts = [
             part("c", 3, 3, "s", 1),
