@@ -51,6 +51,7 @@ impl Server {
             .args(args)
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
             .spawn()
             .expect("start raytracer preview");
         let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
@@ -110,14 +111,20 @@ impl Server {
         Events { reader }
     }
 
-    /// Stop the server with SIGINT (Ctrl-C) and return its exit code.
-    pub fn interrupt(mut self) -> Option<i32> {
+    /// Stop the server with SIGINT (Ctrl-C) and return its exit code and
+    /// everything it wrote to stderr.
+    pub fn interrupt(mut self) -> (Option<i32>, String) {
         let sent = Command::new("kill")
             .args(["-INT", &self.child.id().to_string()])
             .status()
             .expect("run kill");
         assert!(sent.success());
-        self.child.wait().expect("wait").code()
+        let code = self.child.wait().expect("wait").code();
+        let mut stderr = String::new();
+        if let Some(mut pipe) = self.child.stderr.take() {
+            pipe.read_to_string(&mut stderr).expect("read stderr");
+        }
+        (code, stderr)
     }
 }
 
@@ -434,7 +441,7 @@ fn nothing_but_the_four_paths_is_served() {
 }
 
 #[test]
-fn it_listens_on_loopback_only_and_ctrl_c_exits_130() {
+fn it_listens_on_loopback_only_and_ctrl_c_exits_130_without_an_error() {
     let (_dir, scene) = scene_in_temp(&scene_text("1 0 0"));
     let server = Server::start(&scene, &[]);
     assert_eq!(server.address.ip(), Ipv4Addr::LOCALHOST);
@@ -462,7 +469,10 @@ fn it_listens_on_loopback_only_and_ctrl_c_exits_130() {
         assert_eq!(listening, [format!("0100007F{port}")]);
     }
     assert_eq!(server.get("/").status, 200);
-    assert_eq!(server.interrupt(), Some(130));
+    // Ctrl-C is how a preview stops: no `interrupted` error on stderr.
+    let (code, stderr) = server.interrupt();
+    assert_eq!(code, Some(130), "{stderr}");
+    assert_eq!(stderr, "");
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! `raytracer preview`: check the arguments, bind the page's address, say
 //! where it is (and open it with `--open`), then serve until Ctrl-C, which
-//! the binary's handler turns into exit 130. The server is
+//! the binary's handler turns into exit 130 without an error: it is how a
+//! preview stops. The server is
 //! [`crate::preview`].
 
 use std::io::Write;
@@ -65,6 +66,7 @@ pub fn run(args: PreviewArgs) -> Result<Outcome, BoxedDiagnostic> {
             sayln!("warning: cannot open a browser ({error}); open {url} yourself");
         }
     }
+    super::interrupt_stops();
     preview.run();
     Ok(Outcome::Success)
 }
