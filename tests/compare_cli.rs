@@ -202,7 +202,11 @@ fn compare_reads_every_image_render_writes_and_no_larger() {
     assert!(rendered.status.success(), "{rendered:?}");
     let image = image.to_str().unwrap();
     let (code, value) = json(&[image, image]);
-    assert_eq!((code, &value["verdict"]), (0, &Value::from("match")), "{value}");
+    assert_eq!(
+        (code, &value["verdict"]),
+        (0, &Value::from("match")),
+        "{value}"
+    );
     assert_eq!(value["candidate"]["width"], 4097);
 
     let wide = dir.path().join("wide.ppm");

@@ -85,7 +85,9 @@ fn the_neovim_0_7_recipe_in_the_docs_attaches_the_server() {
     let init = recipe.replace("\"raytracer\", \"lsp\"", &server);
     let home = tempfile::tempdir().unwrap();
     let init_path = support::write(home.path(), "init.lua", init);
-    let start = home.path().join(".local/share/nvim/site/pack/raytracer/start");
+    let start = home
+        .path()
+        .join(".local/share/nvim/site/pack/raytracer/start");
     std::fs::create_dir_all(&start).unwrap();
     let package = concat!(env!("CARGO_MANIFEST_DIR"), "/editors/vim");
     std::os::unix::fs::symlink(package, start.join("raytracer")).unwrap();
@@ -114,7 +116,13 @@ fn the_neovim_0_7_recipe_in_the_docs_attaches_the_server() {
         let stdout = String::from_utf8_lossy(&output.stdout);
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert_eq!(output.status.code(), Some(0), "{name}: {stdout}\n{stderr}");
-        assert!(stdout.contains("diagnostics: "), "{name}: {stdout}\n{stderr}");
-        assert!(stdout.contains("filetype: raytracer"), "{name}: {stdout}\n{stderr}");
+        assert!(
+            stdout.contains("diagnostics: "),
+            "{name}: {stdout}\n{stderr}"
+        );
+        assert!(
+            stdout.contains("filetype: raytracer"),
+            "{name}: {stdout}\n{stderr}"
+        );
     }
 }

@@ -488,9 +488,18 @@ fn a_browser_that_fails_is_a_warning_with_its_command_and_status() {
     let (dir, scene) = scene_in_temp(&scene_text("1 0 0"));
     let ran = dir.path().join("browser-ran");
     let browser = dir.path().join("fake-browser");
-    std::fs::write(&browser, format!("#!/bin/sh\ntouch '{}'\nexit 1\n", ran.display())).unwrap();
+    std::fs::write(
+        &browser,
+        format!("#!/bin/sh\ntouch '{}'\nexit 1\n", ran.display()),
+    )
+    .unwrap();
     std::fs::set_permissions(&browser, std::fs::Permissions::from_mode(0o755)).unwrap();
-    let server = Server::start_with(Path::new("."), &scene, &["--open"], &[("BROWSER", &browser)]);
+    let server = Server::start_with(
+        Path::new("."),
+        &scene,
+        &["--open"],
+        &[("BROWSER", &browser)],
+    );
     let url = format!("http://{}/", server.address);
     let deadline = std::time::Instant::now() + PATIENCE;
     while !ran.exists() && std::time::Instant::now() < deadline {
@@ -502,7 +511,9 @@ fn a_browser_that_fails_is_a_warning_with_its_command_and_status() {
     let (_, stderr) = server.interrupt();
     let command = format!("`{} {url}`", browser.display());
     assert!(
-        stderr.contains(&format!("warning: the browser command {command} failed (exit status: 1); open {url} yourself")),
+        stderr.contains(&format!(
+            "warning: the browser command {command} failed (exit status: 1); open {url} yourself"
+        )),
         "{stderr}"
     );
 }

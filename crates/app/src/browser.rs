@@ -134,7 +134,10 @@ mod tests {
             command_lines(Some("firefox --new-tab %s:lynx"), url),
             [vec!["firefox", "--new-tab", url], vec!["lynx", url]]
         );
-        assert_eq!(command_lines(Some("w3m %%s%c"), url), [vec!["w3m", "%s:", url]]);
+        assert_eq!(
+            command_lines(Some("w3m %%s%c"), url),
+            [vec!["w3m", "%s:", url]]
+        );
         assert_eq!(command_lines(Some(""), url), [opener(url)]);
         assert_eq!(command_lines(None, url).len(), 1);
     }

@@ -293,9 +293,13 @@ pub struct Image {
 pub fn load_image(path: &Path) -> Result<Image, TextureError> {
     let (shown, file) = open(path)?;
     let reader = BufReader::new(file);
-    let (format, decoder, width, height) =
-        sized_decoder(reader, MAX_IMAGE_SIDE, MAX_IMAGE_PIXELS, MAX_IMAGE_PIXELS * 8 * 2)
-            .map_err(|error| texture_error(&shown, error))?;
+    let (format, decoder, width, height) = sized_decoder(
+        reader,
+        MAX_IMAGE_SIDE,
+        MAX_IMAGE_PIXELS,
+        MAX_IMAGE_PIXELS * 8 * 2,
+    )
+    .map_err(|error| texture_error(&shown, error))?;
     let rgb = DynamicImage::from_decoder(decoder)
         .map_err(|error| texture_error(&shown, error.into()))?
         .into_rgb8()
@@ -508,9 +512,15 @@ mod tests {
         let path = dir.join("wide.ppm");
         std::fs::write(&path, b"P6\n1 1\n65535\n\x80\x00\xff\xff\x00\x00").unwrap();
         let image = load_image(&path).unwrap();
-        assert_eq!((image.width, image.height, image.rgb), (1, 1, vec![128, 255, 0]));
+        assert_eq!(
+            (image.width, image.height, image.rgb),
+            (1, 1, vec![128, 255, 0])
+        );
         std::fs::write(&path, b"P6\n16385 1\n255\n").unwrap();
-        assert!(matches!(load_image(&path), Err(TextureError::TooLarge { .. })));
+        assert!(matches!(
+            load_image(&path),
+            Err(TextureError::TooLarge { .. })
+        ));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
