@@ -134,7 +134,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     let jobs: Vec<Job> = match &args.tracer {
         Some(tracer) => vec![Job {
             tracer: tracer.clone(),
-            template: Template::parse(tracer).map_err(GradeError::from)?,
+            template: Template::tracer(tracer).map_err(GradeError::from)?,
             cwd: here,
             student: None,
             report: report_folder.clone(),
@@ -184,7 +184,10 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     }
     sandbox::become_subreaper();
     let instructor = match &args.reference_tracer {
-        Some(command) => Some((command, Template::parse(command).map_err(GradeError::from)?)),
+        Some(command) => Some((
+            command,
+            Template::tracer(command).map_err(GradeError::from)?,
+        )),
         None => None,
     };
     let cwd = std::env::current_dir().map_err(io_error(Path::new(".")))?;
