@@ -284,10 +284,32 @@ fn section_mut<'a>(scene: &'a mut Value, kind: &SectionKind) -> Option<&'a mut V
     }
 }
 
+/// The codes of diagnostics on a JSON scene whose fix is not as the fix
+/// registry says: carried though it says scene text only, or missing
+/// though it says JSON scenes get it.
+fn unlike_the_registry(loaded: &raytracer_scene::frontend::Loaded) -> Vec<String> {
+    loaded
+        .report
+        .entries()
+        .filter(|e| {
+            fix::WITH_FIX
+                .iter()
+                .find(|rule| rule.code == e.code)
+                .is_some_and(|rule| rule.json != e.fix.is_some())
+        })
+        .map(|e| e.code)
+        .collect()
+}
+
 /// What checking a JSON scene gives: its codes and help lines, and the
-/// file with every fix applied.
+/// file with every fix applied. Every fix is as the fix registry says.
 fn check_json(text: &str) -> (Vec<String>, Vec<String>, String) {
     let loaded = load_bytes("scene.json", dir(), text.as_bytes());
+    let unlike = unlike_the_registry(&loaded);
+    assert!(
+        unlike.is_empty(),
+        "fix::WITH_FIX says otherwise of {unlike:?}:\n{text}"
+    );
     let codes = loaded.report.entries().map(|e| e.code).collect();
     let helps = loaded.report.entries().filter_map(|e| e.help).collect();
     let (fixed, _) = fix::apply(text, loaded.report.fixes_up_to(Applicability::Unsafe));
@@ -438,6 +460,11 @@ fn help_lines_on_a_json_scene_are_json() {
         ),
     ] {
         let loaded = load_bytes("scene.json", dir(), text.as_bytes());
+        let unlike = unlike_the_registry(&loaded);
+        assert!(
+            unlike.is_empty(),
+            "fix::WITH_FIX says otherwise of {unlike:?}:\n{text}"
+        );
         let entry = loaded
             .report
             .entries()
