@@ -10,7 +10,8 @@
 //! in `check --format json` and applied only with `--unsafe-fixes`. Every
 //! fix belongs to a diagnostic, so whatever `--fix` changes, `check` has
 //! reported, and any consumer of the JSON (an editor) can apply the same
-//! edits.
+//! edits. [`WITH_FIX`] and [`WITHOUT_FIX`] say per code what its fix does
+//! or why it has none: the table of fixes in docs/diagnostics.md.
 
 use serde::Serialize;
 

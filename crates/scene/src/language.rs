@@ -6,8 +6,11 @@
 //! misplaced, duplicate, count, missing) and its single-attribute rules
 //! (`check/rules.rs`) with their fixes, the messages, the model's defaults,
 //! the JSON reader and the JSON Schema's bounds, editor hover and
-//! completion, and the attribute table of docs/language.md. Below the
-//! check pass and the JSON reader.
+//! completion, and the attribute table of docs/language.md. It also names
+//! the two languages a scene is written in ([`Language`]) and writes a
+//! row's line in either ([`AttrSpec::written`]), so every help line shows
+//! a fix in the file's own syntax. Below the check pass and the JSON
+//! reader.
 
 use std::path::Path;
 
