@@ -55,6 +55,17 @@ fn the_report_has_every_setting_and_its_findings() {
         "a 16-px scene is measured at 144 px: {stdout}"
     );
     says(&stdout, "**Sampling**: the RMSE falls as N^-");
+    // stderr is a pipe here, not a terminal: each step still says so, in
+    // plain lines.
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    for step in [
+        "ball: reference at depth 8\n",
+        "ball: reference at depth 64\n",
+        "ball: repetition 1 of 1\n",
+    ] {
+        says(&stderr, step);
+    }
+    assert!(!stderr.contains('\r'), "{stderr}");
     says(&stdout, "**Adaptive**");
     let sampling = std::fs::read_to_string(assets.join("ball.sampling.csv")).expect("csv");
     assert!(

@@ -187,3 +187,34 @@ fn unreadable_files_exit_2_with_the_reason() {
     let bad_threshold = run(&["compare", "--max-flip", "2", &reference, &reference]);
     assert_eq!(bad_threshold.status.code(), Some(2));
 }
+
+#[test]
+fn compare_reads_every_image_render_writes_and_no_larger() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("big.txt");
+    std::fs::write(
+        &scene,
+        "camera 4097\nsphere\ncenter 0 0 -5\ndimension 1\nlight\nlocation 0 5 0\ncolor 1 1 1\n",
+    )
+    .unwrap();
+    let image = dir.path().join("big.png");
+    let rendered = run(&["render", scene.to_str().unwrap(), image.to_str().unwrap()]);
+    assert!(rendered.status.success(), "{rendered:?}");
+    let image = image.to_str().unwrap();
+    let (code, value) = json(&[image, image]);
+    assert_eq!(
+        (code, &value["verdict"]),
+        (0, &Value::from("match")),
+        "{value}"
+    );
+    assert_eq!(value["candidate"]["width"], 4097);
+
+    let wide = dir.path().join("wide.ppm");
+    std::fs::write(&wide, "P6\n16385 1\n255\n").unwrap();
+    let output = run(&["compare", image, wide.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.matches("16385 × 1").count(), 1, "{stderr}");
+    assert!(!stderr.contains("texture"), "{stderr}");
+    assert!(stderr.contains("up to 16384 × 16384 pixels"), "{stderr}");
+}

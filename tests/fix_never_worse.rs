@@ -6,15 +6,20 @@
 //! every line the student wrote that the fixes are not about. Where the
 //! mistake is only punctuation or case, the fixed file is the scene as
 //! meant, value for value. Generated exhaustively from the registry, so a
-//! new attribute is covered when it is added.
+//! new attribute is covered when it is added. The same holds for JSON
+//! scenes, each row's rule broken in its JSON fields, whose help lines
+//! show JSON.
 
 use std::collections::BTreeSet;
 use std::path::Path;
 
+use serde_json::{json, Value};
+
 use raytracer_scene::ast::SectionKind;
+use raytracer_scene::convert::json::to_json;
 use raytracer_scene::fix::{self, Applicability};
 use raytracer_scene::frontend::load_bytes;
-use raytracer_scene::language::{self, Arity, Key};
+use raytracer_scene::language::{self, Arity, Constraint, Key};
 
 /// The folder the scenes are checked in: the shipped scenes', which holds
 /// `wood_tex.ppm`.
@@ -246,4 +251,227 @@ fn a_section_in_braces_is_read_as_meant() {
         before.codes
     );
     assert_eq!(lines(&before.fixed), lines(&meant), "{}", before.fixed);
+}
+
+/// Values that break `spec`'s rule, one set per way to break it (as in
+/// tests/registry.rs); none for a rule no number breaks.
+fn breaking(spec: &language::AttrSpec) -> Vec<Vec<f64>> {
+    let n = spec.count();
+    match spec.constraint {
+        Constraint::Any | Constraint::Image => Vec::new(),
+        Constraint::Range { min, max, .. } => vec![vec![max + 0.5; n], vec![min - 0.5; n]],
+        Constraint::Positive => vec![vec![0.0; n], vec![-2.0; n]],
+        Constraint::NonNegative { warn_above } => vec![vec![-1.0; n], vec![warn_above * 2.0; n]],
+        Constraint::NonZero { .. } => vec![vec![0.0; n]],
+        Constraint::Whole { min, max } => vec![
+            vec![f64::from(max) + 1.0],
+            vec![f64::from(min) - 1.0],
+            vec![f64::from(min) + 0.5],
+        ],
+    }
+}
+
+/// The JSON object of the first `kind` section of a JSON scene.
+fn section_mut<'a>(scene: &'a mut Value, kind: &SectionKind) -> Option<&'a mut Value> {
+    match kind {
+        SectionKind::Camera => scene.get_mut("camera"),
+        SectionKind::Light => scene.get_mut("lights")?.get_mut(0),
+        _ => scene
+            .get_mut("objects")?
+            .as_array_mut()?
+            .iter_mut()
+            .find(|object| object["type"] == kind.as_str()),
+    }
+}
+
+/// The codes of diagnostics on a JSON scene whose fix is not as the fix
+/// registry says: carried though it says scene text only, or missing
+/// though it says JSON scenes get it.
+fn unlike_the_registry(loaded: &raytracer_scene::frontend::Loaded) -> Vec<String> {
+    loaded
+        .report
+        .entries()
+        .filter(|e| {
+            fix::WITH_FIX
+                .iter()
+                .find(|rule| rule.code == e.code)
+                .is_some_and(|rule| rule.json != e.fix.is_some())
+        })
+        .map(|e| e.code)
+        .collect()
+}
+
+/// What checking a JSON scene gives: its codes and help lines, and the
+/// file with every fix applied. Every fix is as the fix registry says.
+fn check_json(text: &str) -> (Vec<String>, Vec<String>, String) {
+    let loaded = load_bytes("scene.json", dir(), text.as_bytes());
+    let unlike = unlike_the_registry(&loaded);
+    assert!(
+        unlike.is_empty(),
+        "fix::WITH_FIX says otherwise of {unlike:?}:\n{text}"
+    );
+    let codes = loaded.report.entries().map(|e| e.code).collect();
+    let helps = loaded.report.entries().filter_map(|e| e.help).collect();
+    let (fixed, _) = fix::apply(text, loaded.report.fixes_up_to(Applicability::Unsafe));
+    (codes, helps, fixed)
+}
+
+/// The JSON arm: the base scenes as JSON, each registry row's rule broken
+/// in its JSON fields. Applying every fix gives a file that is still JSON,
+/// whose re-check has fewer problems and no new code, with every value the
+/// student wrote kept but the broken ones; and every help line that shows
+/// what to write shows JSON fields, not scene text.
+#[test]
+fn every_fix_leaves_a_better_json_file() {
+    let mut cases = 0;
+    let mut failures = Vec::new();
+    for textured in [false, true] {
+        let text = text_of(&base(textured), language::CAMERA.example);
+        let loaded = load_bytes("scene.txt", dir(), text.as_bytes());
+        let scene = loaded.checked.expect("the base scene is valid").scene;
+        let json = to_json(&scene);
+        assert_eq!(check_json(&json).0, Vec::<String>::new(), "{json}");
+        let meant: Value = serde_json::from_str(&json).unwrap();
+        for (kind, spec) in language::rows() {
+            for values in breaking(spec) {
+                let mut broken = meant.clone();
+                let Some(object) = section_mut(&mut broken, &kind) else {
+                    continue;
+                };
+                if spec.json.iter().any(|field| object.get(field).is_none()) {
+                    continue;
+                }
+                for (i, field) in spec.json.iter().enumerate() {
+                    object[field] = if spec.json.len() == values.len() {
+                        json!(values[i])
+                    } else if values.len() == 1 {
+                        json!(values[0])
+                    } else {
+                        json!(values)
+                    };
+                }
+                cases += 1;
+                let context = format!("{} {:?} = {values:?}", kind.as_str(), spec.json);
+                let text = serde_json::to_string_pretty(&broken).unwrap();
+                let (codes, helps, fixed) = check_json(&text);
+                let (after, _, _) = check_json(&fixed);
+                if codes.is_empty() {
+                    failures.push(format!("{context}: nothing reported"));
+                    continue;
+                }
+                if after.len() >= codes.len() {
+                    failures.push(format!(
+                        "{context}: {codes:?} before the fixes, {after:?} after"
+                    ));
+                }
+                let new: Vec<&String> = after.iter().filter(|c| !codes.contains(c)).collect();
+                if !new.is_empty() {
+                    failures.push(format!("{context}: the fixes brought {new:?}"));
+                }
+                for help in &helps {
+                    let scene_text = format!("`{} ", spec.name.as_str());
+                    let shows_json = help
+                        .split("write `")
+                        .skip(1)
+                        .all(|shown| shown.starts_with('"'));
+                    if help.contains(&scene_text) || !shows_json {
+                        failures.push(format!("{context}: help in scene text: {help}"));
+                    }
+                }
+                // Every value the student wrote, but the broken fields.
+                let Ok(mut kept) = serde_json::from_str::<Value>(&fixed) else {
+                    failures.push(format!("{context}: the fixed file is not JSON:\n{fixed}"));
+                    continue;
+                };
+                for scene in [&mut kept, &mut broken] {
+                    let object = section_mut(scene, &kind).expect("the section");
+                    for field in spec.json {
+                        object.as_object_mut().unwrap().remove(*field);
+                    }
+                }
+                if kept != broken {
+                    failures.push(format!(
+                        "{context}: the fixes changed other values:\n{fixed}"
+                    ));
+                }
+            }
+        }
+    }
+    assert!(cases >= 14, "{cases} cases");
+    assert!(
+        failures.is_empty(),
+        "{} of {cases} cases:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+/// Help lines on a JSON scene show JSON, not scene text: each rule
+/// between attributes and each whole-scene warning that says what to
+/// write.
+#[test]
+fn help_lines_on_a_json_scene_are_json() {
+    let scene = |objects: &str| {
+        format!(
+            r#"{{"format": "raytracer-scene/1", "camera": {{"resolution": 64}}, "objects": [{objects}], "lights": [{{"location": [0, 5, 0], "color": [1, 1, 1]}}]}}"#
+        )
+    };
+    let plane = r#"{"type": "plane", "center": [0, -1, -5], "width": 4, "height": 4, "normal": [0, 1, 0], "headup": [0, 1, 1]}"#;
+    for (text, code, help) in [
+        (
+            scene(plane),
+            "scene::headup_not_perpendicular",
+            r#"the renderer projects it onto the plane: write `"headup": [0, 0, 1]`"#,
+        ),
+        (
+            scene(r#"{"type": "sphere", "center": [0, 0, 5], "radius": 1}"#),
+            "scene::object_behind_camera",
+            r#"the camera looks down −z; did you mean `"center": [0, 0, -5]`?"#,
+        ),
+        (
+            scene(r#"{"type": "sphere", "center": [100, 0, -5], "radius": 1}"#),
+            "scene::nothing_in_view",
+            r#"the camera is at the origin looking down −z and sees x and y within ±z/2; put an object there, as in `"center": [0, 0, -5]`"#,
+        ),
+        (
+            scene(
+                r#"{"type": "sphere", "center": [0, 0, -5], "radius": 1, "color": [1, 0, 0], "texture": "wood_tex.ppm"}"#,
+            ),
+            "scene::color_with_texture",
+            "remove the `color` field; the texture sets the surface colour",
+        ),
+        (
+            scene(r#"{"type": "sphere", "center": [0, 0, -5], "radius": -1}"#),
+            "scene::dimension_not_positive",
+            r#"write `"radius": 1`"#,
+        ),
+        (
+            scene(plane).replace("64", "99999"),
+            "scene::resolution_out_of_range",
+            r#"the image is N × N pixels with N from 1 to 16384: write `"resolution": 16384`"#,
+        ),
+        (
+            scene(
+                r#"{"type": "sphere", "center": [0, 0, -5], "radius": 1, "texture": "wood_tex.ppm"}"#,
+            )
+            .replace("wood_", "wood\u{202e}_"),
+            "scene::text_direction_control",
+            "",
+        ),
+    ] {
+        let loaded = load_bytes("scene.json", dir(), text.as_bytes());
+        let unlike = unlike_the_registry(&loaded);
+        assert!(
+            unlike.is_empty(),
+            "fix::WITH_FIX says otherwise of {unlike:?}:\n{text}"
+        );
+        let entry = loaded
+            .report
+            .entries()
+            .find(|e| e.code == code)
+            .unwrap_or_else(|| panic!("no `{code}` for {text}"));
+        if !help.is_empty() {
+            assert_eq!(entry.help.as_deref(), Some(help), "{code}");
+        }
+    }
 }

@@ -3,7 +3,8 @@
 //! [`Browser`] of tests/support/browser.rs. Each student's `index.html`,
 //! opened from `file://`, shows every image it names (loaded, with a
 //! width) and one row per scene; `class.html` has one row per student,
-//! and a cell's link opens that student's report at the scene's row. A
+//! and a cell's link opens that student's report at the scene's row; on a
+//! 1920-px screen each row's three images stand side by side. A
 //! screenshot of a report is taken (`make grading-screenshot` keeps it as
 //! docs/grading-report.png).
 //!
@@ -23,6 +24,14 @@ use crate::support::browser::{chromium_available, Browser};
 /// Every `<img>` of the page: whether it loaded, and its natural width.
 const IMAGES: &str = "Array.from(document.images).map((image) => \
     [image.getAttribute('src'), image.complete, image.naturalWidth])";
+
+/// For each scene's row: whether its first three figures share a top and
+/// run left to right.
+const SIDE_BY_SIDE: &str = "Array.from(document.querySelectorAll('tr.scene')).map((row) => { \
+    const boxes = Array.from(row.querySelectorAll('figure')).slice(0, 3) \
+      .map((figure) => figure.getBoundingClientRect()); \
+    return boxes.length === 3 && boxes.every((box) => Math.abs(box.top - boxes[0].top) < 1) \
+      && boxes[0].right <= boxes[1].left && boxes[1].right <= boxes[2].left; })";
 
 /// Characters a `file://` URL keeps as they are.
 const PATH: &AsciiSet = &NON_ALPHANUMERIC
@@ -114,6 +123,52 @@ fn reports_show_every_image_and_link_the_class_to_each_scene() {
     assert_eq!((image.width(), image.height()), (1100, 760));
     if let Some(path) = std::env::var_os("RAYTRACER_GRADING_SCREENSHOT") {
         std::fs::write(path, &screenshot).expect("write the screenshot");
+    }
+
+    // On a 1920-px screen each scene's three images (ours, the student's,
+    // the error) stand side by side, left to right, not stacked: in each
+    // student's report, and in one whose rows have a long reason and a long
+    // line of stderr beside the images (a tracer that warns and writes no
+    // image).
+    let garbage = d.join("garbage.sh");
+    let warning = "the scene reader skipped a line it did not know: ".repeat(4);
+    support::write(
+        d,
+        "garbage.sh",
+        format!("#!/bin/sh\necho \"warning: {warning}\" >&2\nprintf 'P3\\n2 2\\n0\\n' > \"$2\"\n"),
+    );
+    std::fs::set_permissions(
+        &garbage,
+        std::os::unix::fs::PermissionsExt::from_mode(0o755),
+    )
+    .unwrap();
+    let tracer = format!("{} {{scene}} {{out}}", garbage.display());
+    let output = support::command(&[
+        "grade", "--tracer", &tracer, "-o", "wide", "--cache", "cache", "suite",
+    ])
+    .current_dir(d)
+    .output()
+    .unwrap();
+    assert_eq!(
+        output.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let mut wide = Browser::start(1920, 1080);
+    for report in ["alice", "bob", "carol \"<&>\" #1", "dave"]
+        .map(|student| class.join(student))
+        .into_iter()
+        .chain([d.join("wide")])
+    {
+        wide.navigate(&file_url(&report.join("index.html")));
+        let rows = wide.eval(SIDE_BY_SIDE);
+        assert_eq!(
+            rows,
+            serde_json::json!([true, true]),
+            "{}",
+            report.display()
+        );
     }
 
     browser.navigate(&file_url(&class.join("class.html")));

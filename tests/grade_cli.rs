@@ -99,12 +99,19 @@ impl Case {
             d.join("student.sh").display(),
             student_binary().display()
         );
+        self.grade_tracer(&tracer, extra)
+    }
+
+    /// [`Case::grade`] with the tracer command `tracer` instead of the
+    /// student script.
+    fn grade_tracer(&self, tracer: &str, extra: &[&str]) -> (i32, Value, f64) {
+        let d = self.dir.path();
         let report = d.join("report");
         let cache = d.join("cache");
         let mut args = vec![
             "grade",
             "--tracer",
-            &tracer,
+            tracer,
             "-o",
             report.to_str().unwrap(),
             "--cache",
@@ -240,6 +247,33 @@ fn a_crash_is_reported_with_its_signal_and_stderr() {
     assert_eq!(status(&scene), ("crashed", "exit code 3"), "{scene}");
 }
 
+/// A program that is not there, one without `chmod +x`, and a name no
+/// folder of `PATH` holds read the same, whoever the grader runs as (the
+/// search may meet a folder the program's user may not enter: `EACCES`).
+#[test]
+fn a_program_that_cannot_start_says_why_in_one_way() {
+    let case = Case::new("exit 0");
+    let d = case.dir.path();
+    std::fs::write(d.join("plain.sh"), "#!/bin/sh\n").unwrap();
+    std::fs::set_permissions(d.join("plain.sh"), std::fs::Permissions::from_mode(0o644)).unwrap();
+    for program in [
+        d.join("missing").display().to_string(),
+        d.join("plain.sh").display().to_string(),
+        "no-such-tracer-anywhere".to_string(),
+    ] {
+        let (code, scene, _) = case.grade_tracer(&format!("{program} {{scene}} {{out}}"), &[]);
+        assert_eq!(code, 1);
+        assert_eq!(
+            status(&scene),
+            (
+                "crashed",
+                format!("cannot start: no program `{program}` it may run (it is missing, not executable: `chmod +x`, or in a folder its user may not enter)").as_str()
+            ),
+            "{scene}"
+        );
+    }
+}
+
 #[test]
 fn a_hang_is_killed_at_the_timeout_with_its_children() {
     let case = Case::new("sleep 1000 & sleep 1000");
@@ -363,13 +397,33 @@ fn usage_errors_exit_2() {
     assert_eq!(output.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&output.stderr).contains("cannot split"));
     assert!(!unused.exists());
+    // A tracer told neither the scene nor where to write is refused at
+    // once, before any scene runs, with the form to write.
+    for (tracer, missing) in [
+        ("raytracer render", "found no `{scene}` and no `{out}`"),
+        ("./tracer {scene} out.ppm", "found no `{out}`"),
+    ] {
+        let output = run(&["grade", "--tracer", tracer, "-o", unused.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{stderr}");
+        // The words, whatever the width the message was wrapped at.
+        let words: Vec<&str> = stderr.split_whitespace().filter(|w| *w != "│").collect();
+        let words = words.join(" ");
+        assert!(words.contains("usage::tracer"), "{stderr}");
+        assert!(words.contains(missing), "{stderr}");
+        assert!(
+            words.contains("e.g. `--tracer './mytracer {scene} {out}'`"),
+            "{stderr}"
+        );
+        assert!(!unused.exists());
+    }
     let bad = dir.path().join("bad.txt");
     std::fs::write(&bad, "camera\n").unwrap();
     let report = dir.path().join("r");
     let output = run(&[
         "grade",
         "--tracer",
-        "true",
+        "true {scene} {out}",
         "-o",
         report.to_str().unwrap(),
         "--cache",

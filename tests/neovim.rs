@@ -65,7 +65,10 @@ fn neovim_shows_diagnostics_applies_a_quick_fix_and_formats() {
 
 /// The Neovim 0.7 recipe of docs/editors.md, pasted into an `init.lua` as
 /// a user would (the server's name replaced by the binary under test),
-/// attaches the server to a scene under `scenes/`: its diagnostics arrive.
+/// with `editors/vim/` installed as the docs say, attaches the server to
+/// every scene Neovim detects: one under `scenes/` (by the recipe's
+/// pattern) and `~/hw1.txt` (by the package's content detection, which
+/// colours it too): the diagnostics of each arrive.
 #[test]
 fn the_neovim_0_7_recipe_in_the_docs_attaches_the_server() {
     if !support::tool_available("nvim", "the neovim recipe test", "apt-get install neovim") {
@@ -80,29 +83,46 @@ fn the_neovim_0_7_recipe_in_the_docs_attaches_the_server() {
     let server = format!("{:?}, \"lsp\"", support::bin());
     assert!(recipe.contains("\"raytracer\", \"lsp\""), "{recipe}");
     let init = recipe.replace("\"raytracer\", \"lsp\"", &server);
-    let dir = tempfile::tempdir().unwrap();
-    let init_path = support::write(dir.path(), "init.lua", init);
-    let scene = support::write(dir.path(), "scenes/scene.txt", SCENE);
-    let wait = "lua if vim.wait(10000, function() return #vim.diagnostic.get(0) > 0 end, 20) \
-                then io.stdout:write('diagnostics: ' .. #vim.diagnostic.get(0) .. '\\n') vim.cmd('qa!') \
-                else vim.cmd('cquit 1') end";
-    let output = Command::new("nvim")
-        .args([
-            "--headless",
-            "-u",
-            &init_path,
-            "-i",
-            "NONE",
-            &scene,
-            "-c",
-            wait,
-        ])
-        .env("HOME", dir.path())
-        .stdin(Stdio::null())
-        .output()
-        .expect("run nvim");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(0), "{stdout}\n{stderr}");
-    assert!(stdout.contains("diagnostics: "), "{stdout}\n{stderr}");
+    let home = tempfile::tempdir().unwrap();
+    let init_path = support::write(home.path(), "init.lua", init);
+    let start = home
+        .path()
+        .join(".local/share/nvim/site/pack/raytracer/start");
+    std::fs::create_dir_all(&start).unwrap();
+    let package = concat!(env!("CARGO_MANIFEST_DIR"), "/editors/vim");
+    std::os::unix::fs::symlink(package, start.join("raytracer")).unwrap();
+    for name in ["scenes/scene.txt", "hw1.txt"] {
+        let scene = support::write(home.path(), name, SCENE);
+        let wait = "lua if vim.wait(10000, function() return #vim.diagnostic.get(0) > 0 end, 20) \
+                    then io.stdout:write('diagnostics: ' .. #vim.diagnostic.get(0) .. ' filetype: ' .. vim.bo.filetype .. '\\n') vim.cmd('qa!') \
+                    else vim.cmd('cquit 1') end";
+        let output = Command::new("nvim")
+            .args([
+                "--headless",
+                "-u",
+                &init_path,
+                "-i",
+                "NONE",
+                &scene,
+                "-c",
+                wait,
+            ])
+            .env("HOME", home.path())
+            .env_remove("XDG_DATA_HOME")
+            .env_remove("XDG_CONFIG_HOME")
+            .stdin(Stdio::null())
+            .output()
+            .expect("run nvim");
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(0), "{name}: {stdout}\n{stderr}");
+        assert!(
+            stdout.contains("diagnostics: "),
+            "{name}: {stdout}\n{stderr}"
+        );
+        assert!(
+            stdout.contains("filetype: raytracer"),
+            "{name}: {stdout}\n{stderr}"
+        );
+    }
 }

@@ -43,14 +43,21 @@ impl Server {
 
     /// [`Server::start`] in the working folder `dir` (SCENE relative to it).
     pub fn start_in(dir: &Path, scene: &Path, args: &[&str]) -> Server {
+        Server::start_with(dir, scene, args, &[])
+    }
+
+    /// [`Server::start_in`] with the environment variables `env` set.
+    pub fn start_with(dir: &Path, scene: &Path, args: &[&str], env: &[(&str, &Path)]) -> Server {
         let mut child = Command::new(bin())
             .current_dir(dir)
+            .envs(env.iter().copied())
             .arg("preview")
             .arg(scene)
             .args(["--port", "0", "--threads", "1"])
             .args(args)
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
             .spawn()
             .expect("start raytracer preview");
         let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
@@ -110,14 +117,20 @@ impl Server {
         Events { reader }
     }
 
-    /// Stop the server with SIGINT (Ctrl-C) and return its exit code.
-    pub fn interrupt(mut self) -> Option<i32> {
+    /// Stop the server with SIGINT (Ctrl-C) and return its exit code and
+    /// everything it wrote to stderr.
+    pub fn interrupt(mut self) -> (Option<i32>, String) {
         let sent = Command::new("kill")
             .args(["-INT", &self.child.id().to_string()])
             .status()
             .expect("run kill");
         assert!(sent.success());
-        self.child.wait().expect("wait").code()
+        let code = self.child.wait().expect("wait").code();
+        let mut stderr = String::new();
+        if let Some(mut pipe) = self.child.stderr.take() {
+            pipe.read_to_string(&mut stderr).expect("read stderr");
+        }
+        (code, stderr)
     }
 }
 
@@ -434,7 +447,7 @@ fn nothing_but_the_four_paths_is_served() {
 }
 
 #[test]
-fn it_listens_on_loopback_only_and_ctrl_c_exits_130() {
+fn it_listens_on_loopback_only_and_ctrl_c_exits_130_without_an_error() {
     let (_dir, scene) = scene_in_temp(&scene_text("1 0 0"));
     let server = Server::start(&scene, &[]);
     assert_eq!(server.address.ip(), Ipv4Addr::LOCALHOST);
@@ -462,7 +475,47 @@ fn it_listens_on_loopback_only_and_ctrl_c_exits_130() {
         assert_eq!(listening, [format!("0100007F{port}")]);
     }
     assert_eq!(server.get("/").status, 200);
-    assert_eq!(server.interrupt(), Some(130));
+    // Ctrl-C is how a preview stops: no `interrupted` error on stderr.
+    let (code, stderr) = server.interrupt();
+    assert_eq!(code, Some(130), "{stderr}");
+    assert_eq!(stderr, "");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_browser_that_fails_is_a_warning_with_its_command_and_status() {
+    use std::os::unix::fs::PermissionsExt;
+    let (dir, scene) = scene_in_temp(&scene_text("1 0 0"));
+    let ran = dir.path().join("browser-ran");
+    let browser = dir.path().join("fake-browser");
+    std::fs::write(
+        &browser,
+        format!("#!/bin/sh\ntouch '{}'\nexit 1\n", ran.display()),
+    )
+    .unwrap();
+    std::fs::set_permissions(&browser, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let server = Server::start_with(
+        Path::new("."),
+        &scene,
+        &["--open"],
+        &[("BROWSER", &browser)],
+    );
+    let url = format!("http://{}/", server.address);
+    let deadline = std::time::Instant::now() + PATIENCE;
+    while !ran.exists() && std::time::Instant::now() < deadline {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert!(ran.exists(), "the browser never ran");
+    // The warning follows the browser's exit, on the thread that waits for it.
+    std::thread::sleep(Duration::from_millis(500));
+    let (_, stderr) = server.interrupt();
+    let command = format!("`{} {url}`", browser.display());
+    assert!(
+        stderr.contains(&format!(
+            "warning: the browser command {command} failed (exit status: 1); open {url} yourself"
+        )),
+        "{stderr}"
+    );
 }
 
 #[test]

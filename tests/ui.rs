@@ -14,7 +14,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use raytracer_scene::check::CheckError;
-use raytracer_scene::fix::WITHOUT_FIX;
+use raytracer_scene::fix::{markdown_table, WITHOUT_FIX, WITH_FIX};
 use raytracer_scene::frontend::Loaded;
 use raytracer_scene::json::JsonError;
 use raytracer_scene::syntax::SyntaxError;
@@ -163,7 +163,19 @@ fn fixes_show_in_the_json_format() {
         if fixed.is_empty() {
             continue;
         }
-        with_fixes.push(code_of(&fixture));
+        let code = code_of(&fixture);
+        // Each fix is applied as the registry says.
+        if let Some(rule) = WITH_FIX.iter().find(|rule| rule.code == code) {
+            for entry in fixed.iter().filter(|e| e.code == code) {
+                let applicability = entry.fix.as_ref().expect("a fix").applicability;
+                assert!(
+                    rule.applicability.contains(&applicability),
+                    "`{code}`: a {applicability:?} fix, fix::WITH_FIX says {:?}",
+                    rule.applicability
+                );
+            }
+        }
+        with_fixes.push(code);
         let json = serde_json::to_string_pretty(&fixed).expect("serialise");
         insta::with_settings!({
             snapshot_path => "ui/snapshots",
@@ -174,8 +186,18 @@ fn fixes_show_in_the_json_format() {
         });
     }
     // Every code either carries a fix in its fixture or is on the list of
-    // codes without one, with its reason, and not both.
+    // codes without one, with its reason, and not both; the fix registry
+    // lists exactly the codes with a fix.
     let without: BTreeSet<&str> = WITHOUT_FIX.iter().map(|(code, _)| *code).collect();
+    let registered: BTreeSet<&str> = WITH_FIX.iter().map(|rule| rule.code).collect();
+    assert_eq!(
+        registered,
+        with_fixes
+            .iter()
+            .map(String::as_str)
+            .collect::<BTreeSet<_>>(),
+        "fix::WITH_FIX lists the codes whose fixtures carry a fix"
+    );
     for code in listed_codes() {
         let fixed = with_fixes.contains(&code);
         let listed = without.contains(code.as_str());
@@ -197,6 +219,36 @@ fn fixes_show_in_the_json_format() {
         stale.is_empty(),
         "fix::WITHOUT_FIX names no code: {stale:?}"
     );
+}
+
+const FIX_TABLE_BEGIN: &str = "<!-- fix table: generated from crates/scene/src/fix.rs -->\n";
+const FIX_TABLE_END: &str = "<!-- end of fix table -->";
+
+/// The table of fixes in docs/diagnostics.md is the one the registry
+/// writes (`UPDATE_DOCS=1` rewrites it).
+#[test]
+fn the_docs_table_of_fixes_is_the_generated_one() {
+    let path = root().join("docs/diagnostics.md");
+    let page = std::fs::read_to_string(&path).expect("read docs/diagnostics.md");
+    let start = page
+        .find(FIX_TABLE_BEGIN)
+        .expect("docs/diagnostics.md has the fix table's start marker")
+        + FIX_TABLE_BEGIN.len();
+    let end = page[start..]
+        .find(FIX_TABLE_END)
+        .expect("and its end marker")
+        + start;
+    let generated = markdown_table();
+    if std::env::var_os("UPDATE_DOCS").is_some() {
+        let updated = format!("{}{generated}{}", &page[..start], &page[end..]);
+        std::fs::write(&path, updated).expect("write docs/diagnostics.md");
+    } else {
+        assert!(
+            page[start..end] == generated,
+            "the table of fixes in docs/diagnostics.md is stale; regenerate it with \
+             `UPDATE_DOCS=1 cargo test --release --test integration ui::the_docs_table_of_fixes`"
+        );
+    }
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! The applications over the scene language and the renderer: the
 //! command line ([`cli`] defines it, [`commands`] runs it), the language
-//! server ([`lsp`]), the live preview ([`preview`]), image comparison
+//! server ([`lsp`]), the live preview ([`preview`], opened in a browser by
+//! [`browser`]), image comparison
 //! ([`compare`]), grading students' tracers ([`grade`]), the accuracy
 //! report ([`accuracy`], with [`plot`]'s charts), the CI formats ([`ci`])
 //! and the folder walk of `check DIR` ([`discover`]).
@@ -9,6 +10,7 @@
 //! the C++ of ꟻLIP; the `raytracer` binary is a thin `main` over it.
 
 pub mod accuracy;
+pub mod browser;
 pub mod ci;
 pub mod cli;
 pub mod commands;

@@ -10,7 +10,8 @@
 //! in `check --format json` and applied only with `--unsafe-fixes`. Every
 //! fix belongs to a diagnostic, so whatever `--fix` changes, `check` has
 //! reported, and any consumer of the JSON (an editor) can apply the same
-//! edits.
+//! edits. [`WITH_FIX`] and [`WITHOUT_FIX`] say per code what its fix does
+//! or why it has none: the table of fixes in docs/diagnostics.md.
 
 use serde::Serialize;
 
@@ -102,6 +103,235 @@ pub const WITHOUT_FIX: &[(&str, &str)] = &[
         "where the light belongs is the author's call",
     ),
 ];
+
+/// What the fix of a code does: a row of [`WITH_FIX`].
+#[derive(Debug)]
+pub struct FixRule {
+    pub code: &'static str,
+    /// The applicability of each fix the code may carry.
+    pub applicability: &'static [Applicability],
+    /// Whether a diagnostic on a JSON scene carries it too (else it is
+    /// offered on scene text only).
+    pub json: bool,
+    /// What applying it does, as a phrase: "removes the second line".
+    pub does: &'static str,
+}
+
+const SAFE: &[Applicability] = &[Applicability::Safe];
+const UNSAFE: &[Applicability] = &[Applicability::Unsafe];
+
+/// The codes whose diagnostics carry a fix, with what it does: the one
+/// source of the table of fixes in docs/diagnostics.md ([`markdown_table`]),
+/// and held to what the check does by tests/ui.rs (each fixture's fix) and
+/// tests/fix_never_worse.rs (JSON scenes).
+pub const WITH_FIX: &[FixRule] = &[
+    FixRule {
+        code: "syntax::comma_separated_values",
+        applicability: SAFE,
+        json: false,
+        does: "writes the values separated by spaces",
+    },
+    FixRule {
+        code: "syntax::decimal_comma",
+        applicability: SAFE,
+        json: false,
+        does: "writes the decimal comma as a point",
+    },
+    FixRule {
+        code: "syntax::punctuation",
+        applicability: SAFE,
+        json: false,
+        does: "removes the marks, every value kept as written",
+    },
+    FixRule {
+        code: "syntax::keyword_case",
+        applicability: SAFE,
+        json: false,
+        does: "writes the keyword in lowercase",
+    },
+    FixRule {
+        code: "scene::unknown_section",
+        applicability: UNSAFE,
+        json: false,
+        does: "writes the nearest keyword",
+    },
+    FixRule {
+        code: "scene::unknown_attribute",
+        applicability: &[Applicability::Safe, Applicability::Unsafe],
+        json: false,
+        does:
+            "writes the scene-text name of a JSON field name (safe), or the nearest name (unsafe)",
+    },
+    FixRule {
+        code: "scene::misplaced_attribute",
+        applicability: UNSAFE,
+        json: false,
+        does: "removes the line",
+    },
+    FixRule {
+        code: "scene::wrong_value_count",
+        applicability: UNSAFE,
+        json: false,
+        does: "drops the extra values, or writes the example values on a line with none",
+    },
+    FixRule {
+        code: "scene::not_a_number",
+        applicability: SAFE,
+        json: false,
+        does: "removes the quotes around a number",
+    },
+    FixRule {
+        code: "scene::duplicate_attribute",
+        applicability: UNSAFE,
+        json: false,
+        does: "removes the second line",
+    },
+    FixRule {
+        code: "scene::missing_attribute",
+        applicability: UNSAFE,
+        json: false,
+        does: "adds the example line of each missing attribute",
+    },
+    FixRule {
+        code: "scene::missing_camera",
+        applicability: UNSAFE,
+        json: false,
+        does: "adds `camera 400` before the first section",
+    },
+    FixRule {
+        code: "scene::repeated_camera",
+        applicability: UNSAFE,
+        json: false,
+        does: "removes the repeated `camera` line",
+    },
+    FixRule {
+        code: "scene::resolution_not_integer",
+        applicability: UNSAFE,
+        json: true,
+        does: "writes the nearest whole number",
+    },
+    FixRule {
+        code: "scene::resolution_out_of_range",
+        applicability: UNSAFE,
+        json: true,
+        does: "writes the nearest valid resolution",
+    },
+    FixRule {
+        code: "scene::section_values",
+        applicability: UNSAFE,
+        json: false,
+        does: "removes the values after the keyword",
+    },
+    FixRule {
+        code: "scene::dimension_not_positive",
+        applicability: UNSAFE,
+        json: true,
+        does: "writes the sizes made positive (0 becomes 1)",
+    },
+    FixRule {
+        code: "scene::color_out_of_range",
+        applicability: UNSAFE,
+        json: true,
+        does: "converts from 0–255, or clamps each channel to [0, 1]",
+    },
+    FixRule {
+        code: "scene::reflectivity_out_of_range",
+        applicability: UNSAFE,
+        json: true,
+        does: "reads a whole number up to 100 as a percentage, or clamps to [0, 1]",
+    },
+    FixRule {
+        code: "scene::negative_light_color",
+        applicability: UNSAFE,
+        json: true,
+        does: "sets the negative channels to 0",
+    },
+    FixRule {
+        code: "scene::zero_normal",
+        applicability: UNSAFE,
+        json: true,
+        does: "writes `0 0 1`, a plane facing the camera, turned perpendicular to a valid `headup` (`0 1 0` across `0 0 -1`)",
+    },
+    FixRule {
+        code: "scene::zero_headup",
+        applicability: UNSAFE,
+        json: true,
+        does: "writes a direction perpendicular to the normal",
+    },
+    FixRule {
+        code: "scene::headup_parallel_to_normal",
+        applicability: SAFE,
+        json: true,
+        does: "writes the stand-in headup the renderer uses",
+    },
+    FixRule {
+        code: "scene::headup_not_perpendicular",
+        applicability: SAFE,
+        json: true,
+        does: "writes `headup` projected onto the plane, as the renderer uses it",
+    },
+    FixRule {
+        code: "scene::object_behind_camera",
+        applicability: UNSAFE,
+        json: true,
+        does: "negates the z of a centre with z > 0",
+    },
+    FixRule {
+        code: "scene::no_light",
+        applicability: UNSAFE,
+        json: false,
+        does: "adds a white light at `0 5 0` at the end of the file",
+    },
+    FixRule {
+        code: "scene::color_with_texture",
+        applicability: SAFE,
+        json: false,
+        does: "removes the `color` line",
+    },
+    FixRule {
+        code: "scene::light_color_above_one",
+        applicability: UNSAFE,
+        json: true,
+        does: "divides by the brightest channel, keeping the hue",
+    },
+    FixRule {
+        code: "scene::text_direction_control",
+        applicability: UNSAFE,
+        json: true,
+        does: "deletes the control",
+    },
+];
+
+/// The table of fixes in docs/diagnostics.md: each code that carries a
+/// fix with what it does, how it is applied and whether JSON scenes get it
+/// ([`WITH_FIX`]), then each code without one with its reason
+/// ([`WITHOUT_FIX`]).
+pub fn markdown_table() -> String {
+    let link = |code: &str| format!("[`{code}`](#{})", code.replace("::", ""));
+    let mut out =
+        String::from("| code | its fix | applied by | on JSON scenes |\n|---|---|---|---|\n");
+    for rule in WITH_FIX {
+        let applied: Vec<&str> = rule
+            .applicability
+            .iter()
+            .map(|a| match a {
+                Applicability::Safe => "`--fix` (safe)",
+                Applicability::Unsafe => "`--fix --unsafe-fixes` (unsafe)",
+            })
+            .collect();
+        let json = if rule.json { "yes" } else { "no" };
+        out.push_str(&format!(
+            "| {} | {} | {} | {json} |\n",
+            link(rule.code),
+            rule.does,
+            applied.join(", ")
+        ));
+    }
+    for (code, reason) in WITHOUT_FIX {
+        out.push_str(&format!("| {} | none: {reason} | — | — |\n", link(code)));
+    }
+    out
+}
 
 /// Whether a fix may be applied without review.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]

@@ -6,10 +6,62 @@
 //! misplaced, duplicate, count, missing) and its single-attribute rules
 //! (`check/rules.rs`) with their fixes, the messages, the model's defaults,
 //! the JSON reader and the JSON Schema's bounds, editor hover and
-//! completion, and the attribute table of docs/language.md. Below the
-//! check pass and the JSON reader.
+//! completion, and the attribute table of docs/language.md. It also names
+//! the two languages a scene is written in ([`Language`]) and writes a
+//! row's line in either ([`AttrSpec::written`]), so every help line shows
+//! a fix in the file's own syntax. Below the check pass and the JSON
+//! reader.
+
+use std::path::Path;
 
 use crate::ast::{AttrName, SectionKind};
+
+/// The languages a scene can be written in. The check pass words its
+/// help lines in the file's own: a fix shown as `color 1 0 0` in scene
+/// text is `"color": [1, 0, 0]` in a JSON scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Language {
+    /// The scene language of docs/language.md.
+    Text,
+    /// The JSON layout of [`crate::model::Scene`].
+    Json,
+}
+
+impl Language {
+    /// JSON for a path ending in `.json` (any case), and for stdin whose
+    /// first non-blank character is `{` (which no scene file starts with);
+    /// scene text otherwise.
+    pub fn of(path: &Path, bytes: &[u8]) -> Language {
+        if path == Path::new("-") && bytes.trim_ascii_start().starts_with(b"{") {
+            Language::Json
+        } else {
+            Language::of_name(path)
+        }
+    }
+
+    /// By the name alone: JSON for a path ending in `.json` (any case),
+    /// scene text otherwise. The one rule every caller that has a name
+    /// (a file, an editor's document) goes by.
+    pub fn of_name(path: &Path) -> Language {
+        if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        {
+            Language::Json
+        } else {
+            Language::Text
+        }
+    }
+
+    /// What one attribute of a section is called in messages: a `line` of
+    /// scene text, a `field` of a JSON object.
+    pub fn line(self) -> &'static str {
+        match self {
+            Language::Text => "line",
+            Language::Json => "field",
+        }
+    }
+}
 
 /// What an attribute's values are.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -82,8 +134,14 @@ pub struct Scale {
 /// What a fix writes for a zero vector.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum StandIn {
-    /// This vector.
-    Vector([f64; 3]),
+    /// `facing`, turned perpendicular to the `across` attribute of the
+    /// same section when that is valid (the nearest such vector, or an
+    /// axis when `facing` is parallel to it), so the fix brings no new
+    /// problem between the two.
+    Across {
+        facing: [f64; 3],
+        across: &'static AttrName,
+    },
     /// A vector perpendicular to this attribute of the same section, when
     /// that is valid (else `0 1 0`).
     PerpendicularTo(&'static AttrName),
@@ -255,9 +313,13 @@ static PLANE: [AttrSpec; 7] = [
         json: &["normal"],
         default: None,
         description: "the direction the plane faces (normalised by the renderer)",
-        // Facing the camera, which looks down −z.
+        // Facing the camera, which looks down −z, as nearly as a normal
+        // perpendicular to the headup can.
         constraint: Constraint::NonZero {
-            stand_in: StandIn::Vector([0.0, 0.0, 1.0]),
+            stand_in: StandIn::Across {
+                facing: [0.0, 0.0, 1.0],
+                across: &AttrName::Headup,
+            },
         },
         note: "need not be unit length",
         example: "normal 0 1 0",
@@ -386,6 +448,36 @@ impl AttrSpec {
                 values.get(i).copied().unwrap_or_default().to_string()
             }
             Arity::Numbers(_) => format!("[{}]", values.join(", ")),
+        }
+    }
+
+    /// A line of this row holding `values` (numbers as written, or a path
+    /// as it reads in a string), in the language of the file: scene text
+    /// (`color 1 0 0`) or the JSON fields it is read from
+    /// (`"color": [1, 0, 0]`, `"resolution": 400`, `"width": 4, "height": 4`),
+    /// so help lines read as the file the student is editing.
+    pub fn written<S: AsRef<str>>(&self, values: &[S], language: Language) -> String {
+        let values: Vec<&str> = values.iter().map(AsRef::as_ref).collect();
+        match language {
+            Language::Text => format!("{} {}", self.name.as_str(), values.join(" ")),
+            Language::Json => match self.arity {
+                Arity::Path => {
+                    format!(
+                        "\"{}\": {}",
+                        self.json[0],
+                        serde_json::json!(values.join(" "))
+                    )
+                }
+                Arity::Numbers(n) if self.json.len() == n && n > 1 => self
+                    .json
+                    .iter()
+                    .zip(&values)
+                    .map(|(field, value)| format!("\"{field}\": {value}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                Arity::Numbers(1) => format!("\"{}\": {}", self.json[0], values.join(" ")),
+                Arity::Numbers(_) => format!("\"{}\": [{}]", self.json[0], values.join(", ")),
+            },
         }
     }
 
@@ -562,6 +654,42 @@ mod tests {
         let center = find(&SectionKind::Sphere, &AttrName::Center).unwrap();
         assert_eq!(center.rule(), "any numbers");
         assert_eq!(CAMERA.rule(), "a whole number from 1 to 16384");
+    }
+
+    #[test]
+    fn a_line_is_written_in_the_files_language() {
+        let plane = |name| find(&SectionKind::Plane, &name).unwrap();
+        let sphere = |name| find(&SectionKind::Sphere, &name).unwrap();
+        for (spec, values, text, json) in [
+            (&CAMERA, &["400"][..], "camera 400", r#""resolution": 400"#),
+            (
+                sphere(AttrName::Dimension),
+                &["1"],
+                "dimension 1",
+                r#""radius": 1"#,
+            ),
+            (
+                plane(AttrName::Dimension),
+                &["4", "2"],
+                "dimension 4 2",
+                r#""width": 4, "height": 2"#,
+            ),
+            (
+                sphere(AttrName::Color),
+                &["1", "0", "0.5"],
+                "color 1 0 0.5",
+                r#""color": [1, 0, 0.5]"#,
+            ),
+            (
+                sphere(AttrName::Texture),
+                &["my wood.ppm"],
+                "texture my wood.ppm",
+                r#""texture": "my wood.ppm""#,
+            ),
+        ] {
+            assert_eq!(spec.written(values, Language::Text), text);
+            assert_eq!(spec.written(values, Language::Json), json);
+        }
     }
 
     #[test]

@@ -27,6 +27,16 @@ pub const MAX_TEXTURE_SIDE: u32 = 16_384;
 /// file's own pixels beside them, so one texture peaks below 500 MiB.
 pub const MAX_TEXTURE_TEXELS: u64 = 1 << 24;
 
+/// The largest side of an image `render` writes, in pixels: the camera's
+/// largest resolution. `compare` (and `grade`, for a student's image)
+/// reads any image up to this side, so it accepts every image `render`
+/// can write; decoded as 8-bit RGB, one such image takes 768 MiB.
+pub const MAX_IMAGE_SIDE: u32 = crate::language::CAMERA.max_whole();
+
+/// The most pixels of an image `compare` reads (16384², the largest square
+/// `render` writes).
+pub const MAX_IMAGE_PIXELS: u64 = MAX_IMAGE_SIDE as u64 * MAX_IMAGE_SIDE as u64;
+
 /// The most texels in all of a scene's textures together (2²⁶, 768 MiB
 /// as stored for rendering).
 pub const MAX_SCENE_TEXELS: u64 = 1 << 26;

@@ -28,7 +28,7 @@ use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits};
 use serde::{Deserialize, Serialize};
 
 use crate::failure::FileError;
-use crate::limits::{MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
+use crate::limits::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_TEXTURE_SIDE, MAX_TEXTURE_TEXELS};
 
 /// What a texture file's header says: enough to validate it without
 /// reading a texel.
@@ -220,7 +220,7 @@ pub enum TextureError {
         path: String,
         source: image::ImageError,
     },
-    #[error("`{path}` is {width} × {height} texels, more than a texture may have")]
+    #[error("`{path}` is {width} × {height} texels, too large to read")]
     TooLarge {
         path: String,
         width: u32,
@@ -269,6 +269,44 @@ fn decoded_texture(
         width: decoded.width,
         height: decoded.height,
         texels: decoded.texels,
+    })
+}
+
+/// A whole image decoded to 8-bit RGB, row 0 at the top: what `compare`
+/// reads, up to the largest image `render` writes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Image {
+    pub format: TextureFormat,
+    pub width: u32,
+    pub height: u32,
+    /// `width × height × 3` bytes, row-major.
+    pub rgb: Vec<u8>,
+}
+
+/// Load and decode the image at `path` as 8-bit RGB (16-bit samples and
+/// PPM maxvals other than 255 rounded to the nearest of 0–255, as
+/// `round(v · 255)` of the texture's texels), refusing an image larger than
+/// [`MAX_IMAGE_SIDE`] on a side before decoding its pixels. Unlike [`load`],
+/// it accepts every image `render` can write, and keeps a byte a channel.
+pub fn load_image(path: &Path) -> Result<Image, TextureError> {
+    let (shown, file) = open(path)?;
+    let reader = BufReader::new(file);
+    let (format, decoder, width, height) = sized_decoder(
+        reader,
+        MAX_IMAGE_SIDE,
+        MAX_IMAGE_PIXELS,
+        MAX_IMAGE_PIXELS * 8 * 2,
+    )
+    .map_err(|error| texture_error(&shown, error))?;
+    let rgb = DynamicImage::from_decoder(decoder)
+        .map_err(|error| texture_error(&shown, error.into()))?
+        .into_rgb8()
+        .into_raw();
+    Ok(Image {
+        format,
+        width,
+        height,
+        rgb,
     })
 }
 
@@ -377,18 +415,9 @@ fn recognise<R: BufRead + Seek>(reader: R) -> Result<(TextureFormat, ImageReader
 
 /// [`decode`], with the format the bytes were recognised as.
 fn decode_image(reader: impl BufRead + Seek, max_texels: u64) -> Result<Decoded, DecodeError> {
-    let (format, mut reader) = recognise(reader)?;
-    let mut limits = Limits::default();
-    limits.max_alloc = Some(MAX_DECODER_BYTES);
-    reader.limits(limits);
-    let decoder = reader.into_decoder()?;
-    let (width, height) = decoder.dimensions();
-    if width == 0 || height == 0 {
-        return Err(DecodeError::Empty { width, height });
-    }
-    if !fits(width, height, max_texels) {
-        return Err(DecodeError::TooLarge { width, height });
-    }
+    let max_texels = max_texels.min(MAX_TEXTURE_TEXELS);
+    let (format, decoder, width, height) =
+        sized_decoder(reader, MAX_TEXTURE_SIDE, max_texels, MAX_DECODER_BYTES)?;
     let rgb = DynamicImage::from_decoder(decoder)?.into_rgb32f();
     Ok(Decoded {
         format,
@@ -396,6 +425,30 @@ fn decode_image(reader: impl BufRead + Seek, max_texels: u64) -> Result<Decoded,
         height,
         texels: rgb.pixels().map(|p| p.0).collect(),
     })
+}
+
+/// The decoder for `reader` with its format and size, once the header
+/// shows at least one pixel, at most `max_side` on a side and `max_pixels`
+/// in all; the decoder may allocate at most `max_alloc` bytes.
+fn sized_decoder<'a, R: BufRead + Seek + 'a>(
+    reader: R,
+    max_side: u32,
+    max_pixels: u64,
+    max_alloc: u64,
+) -> Result<(TextureFormat, impl ImageDecoder + 'a, u32, u32), DecodeError> {
+    let (format, mut reader) = recognise(reader)?;
+    let mut limits = Limits::default();
+    limits.max_alloc = Some(max_alloc);
+    reader.limits(limits);
+    let decoder = reader.into_decoder()?;
+    let (width, height) = decoder.dimensions();
+    if width == 0 || height == 0 {
+        return Err(DecodeError::Empty { width, height });
+    }
+    if width > max_side || height > max_side || u64::from(width) * u64::from(height) > max_pixels {
+        return Err(DecodeError::TooLarge { width, height });
+    }
+    Ok((format, decoder, width, height))
 }
 
 /// True when a `width × height` texture is within the side limit and has
@@ -442,6 +495,27 @@ mod tests {
         assert!(!fits(16385, 1, max));
         assert!(!fits(8192, 4096, max));
         assert!(!fits(2, 2, 3));
+    }
+
+    #[test]
+    fn an_image_is_limited_by_the_largest_render_not_by_textures() {
+        assert_eq!(MAX_IMAGE_SIDE, 16384);
+        assert!(!fits(4097, 4097, MAX_TEXTURE_TEXELS));
+        let dir = std::env::temp_dir().join(format!("raytracer-image-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("wide.ppm");
+        std::fs::write(&path, b"P6\n1 1\n65535\n\x80\x00\xff\xff\x00\x00").unwrap();
+        let image = load_image(&path).unwrap();
+        assert_eq!(
+            (image.width, image.height, image.rgb),
+            (1, 1, vec![128, 255, 0])
+        );
+        std::fs::write(&path, b"P6\n16385 1\n255\n").unwrap();
+        assert!(matches!(
+            load_image(&path),
+            Err(TextureError::TooLarge { .. })
+        ));
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

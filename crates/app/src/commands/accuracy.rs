@@ -12,7 +12,6 @@
 //! the `--held-out` scenes are measured after the choice, at the chosen
 //! threshold only, and judged in a table of their own.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use miette::Diagnostic;
@@ -106,7 +105,8 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
         return Ok(Outcome::SceneErrors);
     }
 
-    let show_progress = stderr.is_terminal();
+    // One plain line a step, on a terminal or not: a run takes about a
+    // minute, and a log or CI job should show it is alive.
     let measure_one = |k: usize, scene: &mut ir::Scene, thresholds: Vec<f64>| {
         let own_size = scene.resolution;
         scene.resolution = args.size.unwrap_or_else(|| measured_size(own_size));
@@ -117,11 +117,7 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
             own_size,
         };
         let stem = &stems[k];
-        let progress = |step: &str| {
-            if show_progress {
-                sayln!("{stem}: {step}");
-            }
-        };
+        let progress = |step: &str| sayln!("{stem}: {step}");
         let measurement = all.install(|| measure(scene, &plan, &single, &progress));
         (paths[k].display().to_string(), measurement)
     };

@@ -14,6 +14,8 @@ use crate::cli::{CompareArgs, CompareFormat};
 use crate::compare::{self, heatmap, Metrics, Thresholds, Verdict};
 use raytracer_render::output;
 use raytracer_scene::diagnostic::BoxedDiagnostic;
+use raytracer_scene::limits::MAX_IMAGE_SIDE;
+use raytracer_scene::texture::TextureError;
 
 /// Why `compare` could not judge.
 #[derive(Debug, thiserror::Error, Diagnostic)]
@@ -37,15 +39,20 @@ pub enum CompareError {
 
 impl CompareError {
     /// The failure to read an image, with the formats in its help when the
-    /// file was read and did not decode.
+    /// file was read and did not decode, and the largest size when it is
+    /// too large.
     fn read(error: compare::ReadImageError) -> CompareError {
-        let help = matches!(
-            error.0,
-            raytracer_scene::texture::TextureError::Decode { .. }
-                | raytracer_scene::texture::TextureError::Truncated { .. }
-                | raytracer_scene::texture::TextureError::Empty { .. }
-        )
-        .then(|| "`compare` reads PPM (P3 or P6), PNG and JPEG, recognised by their bytes".into());
+        let help = match error.0 {
+            TextureError::Decode { .. }
+            | TextureError::Truncated { .. }
+            | TextureError::Empty { .. } => Some(
+                "`compare` reads PPM (P3 or P6), PNG and JPEG, recognised by their bytes".into(),
+            ),
+            TextureError::TooLarge { .. } => Some(format!(
+                "`compare` reads images up to {MAX_IMAGE_SIDE} × {MAX_IMAGE_SIDE} pixels, the largest `render` writes"
+            )),
+            TextureError::Io { .. } | TextureError::NotAFile { .. } => None,
+        };
         CompareError::Read { error, help }
     }
 }

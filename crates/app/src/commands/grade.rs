@@ -133,7 +133,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     let jobs: Vec<Job> = match &args.tracer {
         Some(tracer) => vec![Job {
             tracer: tracer.clone(),
-            template: Template::parse(tracer).map_err(GradeError::from)?,
+            template: Template::tracer(tracer).map_err(GradeError::from)?,
             cwd: here,
             student: None,
             report: report_folder.clone(),
@@ -189,7 +189,10 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     }
     sandbox::become_subreaper();
     let instructor = match &args.reference_tracer {
-        Some(command) => Some((command, Template::parse(command).map_err(GradeError::from)?)),
+        Some(command) => Some((
+            command,
+            Template::tracer(command).map_err(GradeError::from)?,
+        )),
         None => None,
     };
     let cwd = std::env::current_dir()

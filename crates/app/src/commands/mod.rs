@@ -47,6 +47,7 @@ pub mod stitch;
 use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use miette::Diagnostic;
 
@@ -178,13 +179,25 @@ pub struct Interrupted;
 /// program that Ctrl-C stopped.
 pub const INTERRUPTED_EXIT_CODE: i32 = 130;
 
+/// Set by a command whose documented way to stop is Ctrl-C (`preview`
+/// serving): the interruption is then the end of its work, not an error.
+static INTERRUPT_STOPS: AtomicBool = AtomicBool::new(false);
+
+/// From now on Ctrl-C is how this command stops: [`interrupt`] exits with
+/// [`INTERRUPTED_EXIT_CODE`] without reporting it as an error.
+pub fn interrupt_stops() {
+    INTERRUPT_STOPS.store(true, Ordering::SeqCst);
+}
+
 /// What the binary's signal handler runs: remove every temporary output
 /// file being written (no rename can follow), kill the programs `grade`
-/// is running, say so, and exit.
+/// is running, say so (unless Ctrl-C is how the command stops), and exit.
 pub fn interrupt() -> ! {
     raytracer_render::output::abandon();
     #[cfg(unix)]
     crate::grade::sandbox::kill_running();
-    sayln!("\n{:?}", miette::Report::new(Interrupted));
+    if !INTERRUPT_STOPS.load(Ordering::SeqCst) {
+        sayln!("\n{:?}", miette::Report::new(Interrupted));
+    }
     std::process::exit(INTERRUPTED_EXIT_CODE)
 }

@@ -1,6 +1,7 @@
 //! `raytracer preview`: check the arguments, bind the page's address, say
 //! where it is (and open it with `--open`), then serve until Ctrl-C, which
-//! the binary's handler turns into exit 130. The server is
+//! the binary's handler turns into exit 130 without an error: it is how a
+//! preview stops. The server is
 //! [`crate::preview`].
 
 use std::io::Write;
@@ -11,6 +12,7 @@ use miette::Diagnostic;
 
 use super::render::thread_pool;
 use super::{Outcome, WriteStdoutError};
+use crate::browser;
 use crate::cli::PreviewArgs;
 use crate::preview::{Preview, Settings};
 use raytracer_render::render::{adaptive::DEFAULT_THRESHOLD, Options};
@@ -25,6 +27,23 @@ use raytracer_scene::frontend::read_scene;
     help("save the scene to a file and pass its path: the preview re-reads it on every save")
 )]
 pub struct PreviewStdin;
+
+/// Open the page in the browser; a command that cannot start, or that
+/// ends unsuccessfully (watched on a thread of its own while the page is
+/// served), is a warning that names it and its exit status.
+fn open_browser(url: &str) {
+    match browser::launch(url) {
+        Err(error) => sayln!("warning: {error}; open {url} yourself"),
+        Ok(launch) => {
+            let url = url.to_string();
+            std::thread::spawn(move || {
+                if let Err(failed) = launch.wait() {
+                    sayln!("warning: {failed}; open {url} yourself");
+                }
+            });
+        }
+    }
+}
 
 /// Run `raytracer preview`.
 pub fn run(args: PreviewArgs) -> Result<Outcome, BoxedDiagnostic> {
@@ -61,10 +80,9 @@ pub fn run(args: PreviewArgs) -> Result<Outcome, BoxedDiagnostic> {
     .and_then(|()| stdout.flush())
     .map_err(WriteStdoutError::from)?;
     if args.open {
-        if let Err(error) = webbrowser::open(&url) {
-            sayln!("warning: cannot open a browser ({error}); open {url} yourself");
-        }
+        open_browser(&url);
     }
+    super::interrupt_stops();
     preview.run();
     Ok(Outcome::Success)
 }

@@ -2,8 +2,10 @@
 //! reports and what `raytracer grade` judges each student image by.
 //!
 //! Images are read by content, whatever their names say ([`read`]): PPM
-//! (P3 or P6, any maxval), PNG or JPEG, through the texture decoder of
-//! [`raytracer_scene::texture`], and kept as 8-bit RGB. Three measures are taken, each
+//! (P3 or P6, any maxval), PNG or JPEG, through the image decoder of
+//! [`raytracer_scene::texture`] ([`texture::load_image`]: any image
+//! `render` can write, not only what a texture may be), and kept as 8-bit
+//! RGB. Three measures are taken, each
 //! reported on its own ([`metrics`]): the perceptual error ꟻLIP, RMSE with
 //! its PSNR, and the coverage of the two images' non-black pixels. The
 //! [`Thresholds`] turn them into a [`Verdict`]: a different size, a
@@ -24,7 +26,6 @@ use schemars::JsonSchema;
 use serde::Serialize;
 
 pub use metrics::{FlipStats, Metrics};
-use raytracer_scene::limits::MAX_TEXTURE_TEXELS;
 use raytracer_scene::texture::{self, TextureFormat};
 
 /// An image to compare: 8-bit RGB, row 0 at the top.
@@ -62,11 +63,13 @@ pub struct ReadImageError(pub texture::TextureError);
 /// Read the image at `path`, recognising PPM, PNG and JPEG by their bytes.
 /// Channels of any depth are scaled to 8 bits (`round(v · 255)`).
 pub fn read(path: &Path) -> Result<(Picture, TextureFormat), ReadImageError> {
-    let texture = texture::load(path, MAX_TEXTURE_TEXELS).map_err(ReadImageError)?;
-    Ok((
-        Picture::from_texels(texture.width, texture.height, &texture.texels),
-        texture.format,
-    ))
+    let image = texture::load_image(path).map_err(ReadImageError)?;
+    let picture = Picture {
+        width: image.width,
+        height: image.height,
+        rgb: image.rgb,
+    };
+    Ok((picture, image.format))
 }
 
 /// The bounds a candidate must keep to match its reference.

@@ -247,7 +247,7 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         Ok(child) => child,
         Err(error) => {
             return Run {
-                ended: Ended::NotStarted(raytracer_scene::diagnostic::io_reason(&error)),
+                ended: Ended::NotStarted(super::workdir::start_failure(&argv[0], &error)),
                 seconds: start.elapsed().as_secs_f64(),
                 stdout: Captured::default(),
                 stderr: Captured::default(),

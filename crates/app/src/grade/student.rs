@@ -80,11 +80,11 @@ impl Student {
     /// Read the student folder `folder`.
     pub fn read(folder: &Path) -> Result<Student, StudentError> {
         let tracer = command_line(&folder.join(TRACER_FILE))?;
-        let template = parse(&folder.join(TRACER_FILE), &tracer)?;
+        let template = parse(&folder.join(TRACER_FILE), &tracer, Template::tracer)?;
         let build_file = folder.join(BUILD_FILE);
         let build = if build_file.symlink_metadata().is_ok() {
             let line = command_line(&build_file)?;
-            let template = parse(&build_file, &line)?;
+            let template = parse(&build_file, &line, Template::parse)?;
             Some((line, template))
         } else {
             None
@@ -222,8 +222,13 @@ fn command_line(path: &Path) -> Result<String, StudentError> {
     }
 }
 
-fn parse(path: &Path, line: &str) -> Result<Template, StudentError> {
-    Template::parse(line).map_err(|source| StudentError::Command {
+/// The command `line` of the file at `path`, split by `split`.
+fn parse(
+    path: &Path,
+    line: &str,
+    split: fn(&str) -> Result<Template, TemplateError>,
+) -> Result<Template, StudentError> {
+    split(line).map_err(|source| StudentError::Command {
         path: path.display().to_string(),
         source,
     })

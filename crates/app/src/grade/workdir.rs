@@ -123,6 +123,21 @@ fn give_entries(dir: &Path, id: u32) -> std::io::Result<()> {
     Ok(())
 }
 
+/// Why `program` could not start, the same for whoever runs it: a missing
+/// program is `ENOENT` to one user and `EACCES` to another (the search
+/// met a folder of `PATH` that user may not enter), and a file without
+/// `chmod +x` is `EACCES` too, so both read as one reason that names the
+/// program and the three causes.
+pub fn start_failure(program: &std::ffi::OsStr, error: &std::io::Error) -> String {
+    match error.kind() {
+        std::io::ErrorKind::NotFound | std::io::ErrorKind::PermissionDenied => format!(
+            "no program `{}` it may run (it is missing, not executable: `chmod +x`, or in a folder its user may not enter)",
+            program.to_string_lossy()
+        ),
+        _ => raytracer_scene::diagnostic::io_reason(error),
+    }
+}
+
 /// Why a command template cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum TemplateError {
@@ -130,6 +145,8 @@ pub enum TemplateError {
     Split(String),
     #[error("the command is empty")]
     Empty,
+    #[error("expected `{{scene}}` and `{{out}}` in the command, found no {missing}")]
+    Placeholder { missing: &'static str },
 }
 
 /// The words of a `--tracer` template, checked once.
@@ -144,6 +161,21 @@ impl Template {
             return Err(TemplateError::Empty);
         }
         Ok(Template(words))
+    }
+
+    /// Split a tracer's command into words, refusing one without `{scene}`
+    /// or `{out}`: the tracer would be told neither which scene to read nor
+    /// where to write, and every scene would fail the same way.
+    pub fn tracer(text: &str) -> Result<Template, TemplateError> {
+        let template = Template::parse(text)?;
+        let has = |placeholder: &str| template.0.iter().any(|word| word.contains(placeholder));
+        let missing = match (has("{scene}"), has("{out}")) {
+            (true, true) => return Ok(template),
+            (false, false) => "`{scene}` and no `{out}`",
+            (false, true) => "`{scene}`",
+            (true, false) => "`{out}`",
+        };
+        Err(TemplateError::Placeholder { missing })
     }
 
     /// The argument vector for one scene. A program given as a relative
@@ -197,6 +229,15 @@ mod tests {
         let argv = template.argv("s.txt", "out.ppm", None);
         assert_eq!(argv[0], "./bin/tracer");
         assert!(matches!(Template::parse("  "), Err(TemplateError::Empty)));
+        assert!(Template::tracer("./bin/tracer --in={scene} {out}").is_ok());
+        for (command, missing) in [
+            ("raytracer render", "found no `{scene}` and no `{out}`"),
+            ("t {scene}", "found no `{out}`"),
+            ("t out.ppm {out}", "found no `{scene}`"),
+        ] {
+            let error = Template::tracer(command).unwrap_err().to_string();
+            assert!(error.ends_with(missing), "{command}: {error}");
+        }
         assert!(matches!(
             Template::parse("a 'b"),
             Err(TemplateError::Split(_))

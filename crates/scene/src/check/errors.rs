@@ -415,14 +415,13 @@ pub enum CheckError {
     /// view (none at all, or each outside the pyramid it sees): the image
     /// is black.
     #[error("no object is in the camera's view, so the image is black")]
-    #[diagnostic(
-        code(scene::nothing_in_view),
-        severity(Warning),
-        help("the camera is at the origin looking down −z and sees x and y within ±z/2; put an object there, as in `center 0 0 -5`")
-    )]
+    #[diagnostic(code(scene::nothing_in_view), severity(Warning))]
     NothingInView {
         #[label("sees nothing")]
         span: SourceSpan,
+        /// Where to put an object, in the file's language.
+        #[help]
+        help: String,
     },
 
     /// Fires when a light is strictly inside a sphere: it lights only the
@@ -442,12 +441,11 @@ pub enum CheckError {
 
     /// Fires when an object gives both `color` and `texture`.
     #[error("`color` is ignored because this {shape} has a texture")]
-    #[diagnostic(
-        code(scene::color_with_texture),
-        severity(Warning),
-        help("remove the `color` line; the texture sets the surface colour")
-    )]
+    #[diagnostic(code(scene::color_with_texture), severity(Warning))]
     ColorWithTexture {
+        /// What to remove, in the file's language: the `color` line or field.
+        #[help]
+        help: String,
         shape: String,
         #[label("ignored")]
         color: SourceSpan,

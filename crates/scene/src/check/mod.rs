@@ -267,8 +267,12 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
                 .iter()
                 .any(|p| matches!(p, CheckError::ObjectBehindCamera { .. }));
             if !cx.in_view && !behind {
+                let center = language::find(&SectionKind::Sphere, &ast::AttrName::Center)
+                    .expect("a sphere has a centre")
+                    .written(&["0", "0", "-5"], cx.language());
                 cx.problems.push(CheckError::NothingInView {
                     span: camera_span.into(),
+                    help: format!("the camera is at the origin looking down −z and sees x and y within ±z/2; put an object there, as in `{center}`"),
                 });
             }
         }
@@ -398,6 +402,15 @@ impl<'a> Checker<'a> {
 impl Checker<'_> {
     /// A fix that removes `span` (and its line, when nothing else is on
     /// it), in scene text only.
+    /// The language of the file, for help lines.
+    fn language(&self) -> language::Language {
+        if self.scene_text {
+            language::Language::Text
+        } else {
+            language::Language::Json
+        }
+    }
+
     fn removal(&self, message: &str, applicability: Applicability, span: Span) -> Option<Box<Fix>> {
         self.scene_text.then(|| {
             let removed = crate::fix::removal(&self.source.text, span);

@@ -11,7 +11,7 @@
 use crate::ast::AttrName;
 use crate::fix::{Applicability, Edit, Fix};
 use crate::geometry;
-use crate::language::{AttrSpec, Constraint, Key, Scale, StandIn};
+use crate::language::{AttrSpec, Constraint, Key, Language, Scale, StandIn};
 use crate::span::{Span, Spanned};
 
 use super::errors::CheckError;
@@ -28,7 +28,11 @@ pub fn check(
     sibling: &dyn Fn(&AttrName) -> Option<[f64; 3]>,
     cx: &mut Checker<'_>,
 ) -> bool {
-    let line = Line { spec, values };
+    let line = Line {
+        spec,
+        values,
+        language: cx.language(),
+    };
     match spec.constraint {
         Constraint::Any | Constraint::Image => true,
         Constraint::Range { min, max, scale } => line.range(min, max, scale, cx),
@@ -39,10 +43,12 @@ pub fn check(
     }
 }
 
-/// The numbers of one line and the row they belong to.
+/// The numbers of one line, the row they belong to and the language of
+/// the file (help lines show the new line in it).
 struct Line<'a> {
     spec: &'a AttrSpec,
     values: &'a [Spanned<f64>],
+    language: Language,
 }
 
 impl Line<'_> {
@@ -60,11 +66,11 @@ impl Line<'_> {
     }
 
     /// The unsafe fix that writes `new` (one number per value), with the
-    /// help line `help(line)` where `line` is the whole new line, such as
-    /// `reflectivity 0.7`.
+    /// help line `help(line)` where `line` is the whole new line in the
+    /// file's language, such as `reflectivity 0.7` or `"reflectivity": 0.7`.
     fn fix(&self, new: &[f64], write: fn(f64) -> String, help: impl Fn(&str) -> String) -> Fix {
         let texts: Vec<String> = new.iter().map(|&x| write(x)).collect();
-        let line = format!("{} {}", self.spec.name.as_str(), texts.join(" "));
+        let line = self.spec.written(&texts, self.language);
         let edits = self
             .values
             .iter()
@@ -201,10 +207,20 @@ impl Line<'_> {
         }
         let span = self.span().into();
         match stand_in {
-            StandIn::Vector(v) => {
-                let fix = self.fix(&v, format::number, |line| {
-                    format!("write `{line}`, facing the camera")
-                });
+            StandIn::Across { facing, across } => {
+                let turned = sibling(across).and_then(|other| turned_across(facing, other));
+                let fix = match turned {
+                    Some(v) if v != facing => self.fix(&v, format::number, |line| {
+                        format!(
+                            "write `{line}`, facing the camera as nearly as a {} perpendicular to the {} can",
+                            self.spec.name.as_str(),
+                            across.as_str()
+                        )
+                    }),
+                    _ => self.fix(&facing, format::number, |line| {
+                        format!("write `{line}`, facing the camera")
+                    }),
+                };
                 cx.problems.push(CheckError::ZeroNormal {
                     span,
                     help: fix.message.clone(),
@@ -269,6 +285,21 @@ impl Line<'_> {
         }
         true
     }
+}
+
+/// `facing` made perpendicular to `other` (its component along `other`
+/// removed; an axis perpendicular to `other` when nothing is left), scaled
+/// so its largest component is ±1: `0 1 0` for `facing` `0 0 1` across
+/// `0 0 -1`. `None` for a zero `other`.
+fn turned_across(facing: [f64; 3], other: [f64; 3]) -> Option<[f64; 3]> {
+    let h = geometry::unit(other)?;
+    let f = glam::DVec3::from_array(facing);
+    let mut v = f - f.dot(h) * h;
+    if v.length() <= geometry::PARALLEL {
+        let axis = geometry::stand_in_headup(h);
+        v = axis - axis.dot(h) * h;
+    }
+    Some((v / v.abs().max_element()).to_array())
 }
 
 /// A vector perpendicular to `normal`: the stand-in headup of

@@ -5,8 +5,9 @@
 //! behind the camera. It returns the model value when everything it needs
 //! is valid.
 
-use crate::ast::{AttrName, Section};
+use crate::ast::{AttrName, Section, SectionKind};
 use crate::fix::{Applicability, Edit, Fix};
+use crate::language::Language;
 use crate::model;
 use crate::span::{Span, Spanned};
 
@@ -35,7 +36,8 @@ pub fn sphere(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> 
     let material = material(&attrs, "sphere", cx);
     let (center, radius) = (center?, radius?);
     if center[2] - radius >= 0.0 {
-        cx.problems.push(behind_camera("sphere", center, &attrs));
+        cx.problems
+            .push(behind_camera("sphere", center, &attrs, cx.language()));
     }
     if in_view(*center, radius) {
         cx.in_view = true;
@@ -88,7 +90,8 @@ pub fn plane(section: &Section, cx: &mut Checker<'_>) -> Option<model::Object> {
     if let Some(basis) = geometry::plane_basis(normal, headup) {
         let corners = geometry::corners(*center, &basis, width, height);
         if corners.iter().all(|c| c.z >= 0.0) {
-            cx.problems.push(behind_camera("plane", center, &attrs));
+            cx.problems
+                .push(behind_camera("plane", center, &attrs, cx.language()));
         }
         // Outside the view when every corner is beyond one of its sides
         // (the rectangle is convex, the view too).
@@ -198,8 +201,8 @@ fn orientation(
             normal: normal.span.into(),
             headup: headup.span.into(),
             help: format!(
-                "the renderer projects it onto the plane: write `headup {}`",
-                format::vector(projected)
+                "the renderer projects it onto the plane: write `{}`",
+                written_vector(&AttrName::Headup, projected, cx.language())
             ),
             fix: headup_fix(projected, "projected `headup` onto the plane"),
         }),
@@ -209,8 +212,8 @@ fn orientation(
                 normal: normal.span.into(),
                 headup: headup.span.into(),
                 help: format!(
-                    "the renderer uses `headup {}` instead: write it, or the up direction you mean",
-                    format::vector(stand_in)
+                    "the renderer uses `{}` instead: write it, or the up direction you mean",
+                    written_vector(&AttrName::Headup, stand_in, cx.language())
                 ),
                 fix: headup_fix(
                     stand_in,
@@ -277,12 +280,13 @@ fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option
         attrs.line(&AttrName::Texture),
         attrs.path(&AttrName::Texture),
     ) {
-        let fix = cx.removal(
-            "remove the `color` line; the texture sets the surface colour",
-            Applicability::Safe,
-            color.span,
+        let help = format!(
+            "remove the `color` {}; the texture sets the surface colour",
+            cx.language().line()
         );
+        let fix = cx.removal(&help, Applicability::Safe, color.span);
         cx.problems.push(CheckError::ColorWithTexture {
+            help,
             fix,
             shape: shape.to_string(),
             color: color.span.into(),
@@ -292,16 +296,28 @@ fn material(attrs: &Attributes<'_>, shape: &str, cx: &mut Checker<'_>) -> Option
     ok.then_some(material)
 }
 
+/// A plane's `name` line with the vector `v`, in the file's language:
+/// `headup 0 0 1` or `"headup": [0, 0, 1]`.
+fn written_vector(name: &AttrName, v: [f64; 3], language: Language) -> String {
+    let spec = crate::language::find(&SectionKind::Plane, name).expect("a plane row");
+    spec.written(&v.map(format::number), language)
+}
+
 /// The warning for an object with every point at z ≥ 0; when its centre
 /// has z > 0, the fix (unsafe) negates that z.
-fn behind_camera(shape: &str, center: Spanned<[f64; 3]>, attrs: &Attributes<'_>) -> CheckError {
+fn behind_camera(
+    shape: &str,
+    center: Spanned<[f64; 3]>,
+    attrs: &Attributes<'_>,
+    language: Language,
+) -> CheckError {
     let [x, y, z] = *center;
     let written_z = attrs.numbers(&AttrName::Center).and_then(|c| c.get(2));
     let fix = written_z.filter(|_| z > 0.0).map(|written| {
         Fix::boxed(
             format!(
-                "the camera looks down −z; did you mean `center {}`?",
-                format::vector([x, y, -z])
+                "the camera looks down −z; did you mean `{}`?",
+                written_vector(&AttrName::Center, [x, y, -z], language)
             ),
             Applicability::Unsafe,
             written.span,

@@ -32,6 +32,7 @@ use crate::ast::{self, Section};
 use crate::check::{Checked, Collect, SceneCheck, Sink, Summarise, Summary, Valid};
 use crate::diagnostic::{boxed, BoxedDiagnostic, FileError, Report, SourceFile};
 use crate::fix::Fix;
+pub use crate::language::Language;
 use crate::texture::{Decoder, HeaderReader, TextureLoader};
 use crate::{json, syntax};
 
@@ -54,42 +55,6 @@ pub struct Timings {
     pub parse: Duration,
     /// The check pass, texture decoding included.
     pub check: Duration,
-}
-
-/// The languages a scene can be written in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Language {
-    /// The scene language of docs/language.md.
-    Text,
-    /// The JSON layout of [`crate::model::Scene`].
-    Json,
-}
-
-impl Language {
-    /// JSON for a path ending in `.json` (any case), and for stdin whose
-    /// first non-blank character is `{` (which no scene file starts with);
-    /// scene text otherwise.
-    pub fn of(path: &Path, bytes: &[u8]) -> Language {
-        if path == Path::new("-") && bytes.trim_ascii_start().starts_with(b"{") {
-            Language::Json
-        } else {
-            Language::of_name(path)
-        }
-    }
-
-    /// By the name alone: JSON for a path ending in `.json` (any case),
-    /// scene text otherwise. The one rule every caller that has a name
-    /// (a file, an editor's document) goes by.
-    pub fn of_name(path: &Path) -> Language {
-        if path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
-        {
-            Language::Json
-        } else {
-            Language::Text
-        }
-    }
 }
 
 /// Parse `text` in `language` into a whole syntax tree (`None` when there

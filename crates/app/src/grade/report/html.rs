@@ -115,13 +115,22 @@ fn row(html: &mut String, scene: &SceneResult) {
         scene.points,
         escape(scene.reason.as_deref().unwrap_or("")),
     );
+    // The three images side by side in one row that never wraps (its
+    // width is the cell's least), then where each failed aspect differs:
+    // red on our image, dimmed, wrapping as the width allows.
+    html.push_str("<div class=\"figures\">");
     figure(html, Some(&scene.images.reference), "ours");
     figure(html, scene.images.student.as_deref(), "student");
     figure(html, scene.images.heatmap.as_deref(), "ꟻLIP");
-    // Where each failed aspect differs: red on our image, dimmed.
-    for aspect in scene.aspects.iter().filter(|a| a.image.is_some()) {
-        let caption = format!("where {} differs", aspect.aspect.name());
-        figure(html, aspect.image.as_deref(), &caption);
+    html.push_str("</div>");
+    let differing: Vec<_> = scene.aspects.iter().filter(|a| a.image.is_some()).collect();
+    if !differing.is_empty() {
+        html.push_str("<div class=\"figures where\">");
+        for aspect in differing {
+            let caption = format!("where {} differs", aspect.aspect.name());
+            figure(html, aspect.image.as_deref(), &caption);
+        }
+        html.push_str("</div>");
     }
     if !scene.aspects.is_empty() {
         html.push_str("<ul class=\"aspects\">");
