@@ -254,16 +254,16 @@ impl Attack {
         self.dir.path()
     }
 
-    /// Grade with `tracer` (default: the script, with the student's
-    /// renderer as a word so the box holds it) in a run of `kind`; the
-    /// exit code, the scene's entry and summary.json's sandbox.
-    fn grade(
+    /// The command that grades with `tracer` (default: the script, with
+    /// the student's renderer as a word so the box holds it) in a run of
+    /// `kind`, into `report-KIND`.
+    fn command(
         &self,
         kind: Kind,
         tracer: Option<&str>,
         extra: &[&str],
         env: &[(&str, &str)],
-    ) -> (i32, Value, Value) {
+    ) -> Command {
         let d = self.path();
         let report = d.join(format!("report-{kind:?}"));
         let _ = std::fs::remove_dir_all(&report);
@@ -299,7 +299,20 @@ impl Attack {
         for (key, value) in env {
             command.env(key, value);
         }
-        let output = command.output().unwrap();
+        command
+    }
+
+    /// Grade as [`Attack::command`] says; the exit code, the scene's entry
+    /// and summary.json's sandbox.
+    fn grade(
+        &self,
+        kind: Kind,
+        tracer: Option<&str>,
+        extra: &[&str],
+        env: &[(&str, &str)],
+    ) -> (i32, Value, Value) {
+        let report = self.path().join(format!("report-{kind:?}"));
+        let output = self.command(kind, tracer, extra, env).output().unwrap();
         let summary: Value = serde_json::from_slice(
             &std::fs::read(report.join("summary.json")).unwrap_or_else(|_| {
                 panic!(
@@ -439,6 +452,123 @@ fn no_process_of_a_run_survives_it() {
             .collect();
         assert!(left.is_empty(), "{kind:?}: survivors: {left:?}");
     }
+}
+
+/// The processes whose command line holds `marker`: pid and command line.
+fn processes_with(marker: &str) -> Vec<(i32, String)> {
+    std::fs::read_dir("/proc")
+        .unwrap()
+        .flatten()
+        .filter_map(|e| {
+            let pid = e.file_name().to_str()?.parse().ok()?;
+            let cmdline = std::fs::read(e.path().join("cmdline")).ok()?;
+            Some((pid, String::from_utf8_lossy(&cmdline).replace('\0', " ")))
+        })
+        .filter(|(_, cmdline)| cmdline.contains(marker))
+        .collect()
+}
+
+/// A grader killed with SIGKILL (no chance to clean up) leaves nothing of
+/// its box running: the tracer, a daemon in a session of its own and a
+/// double fork that ignores SIGHUP and SIGTERM all die with it.
+#[test]
+fn nothing_of_a_run_survives_a_killed_grader() {
+    let attack = Attack::new(
+        "setsid sleep 4245 </dev/null >/dev/null 2>&1 &\n\
+         ( ( trap '' HUP TERM; exec -a orphan-4245 sleep 4245 ) & ) </dev/null >/dev/null 2>&1\n\
+         exec sleep 4245",
+    );
+    let tmp = attack.path().display().to_string();
+    for kind in kinds() {
+        let mut grader = attack
+            .command(kind, None, &["--timeout", "60"], &[("TMPDIR", &tmp)])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let start = std::time::Instant::now();
+        while processes_with("4245").len() < 3 {
+            assert!(
+                start.elapsed().as_secs() < 30 && grader.try_wait().unwrap().is_none(),
+                "{kind:?}: the tracer did not start: {:?}",
+                processes_with("4245")
+            );
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        grader.kill().unwrap();
+        grader.wait().unwrap();
+        let killed = std::time::Instant::now();
+        let mut left = processes_with("4245");
+        while !left.is_empty() && killed.elapsed().as_secs() < 5 {
+            std::thread::sleep(std::time::Duration::from_millis(20));
+            left = processes_with("4245");
+        }
+        for (pid, _) in &left {
+            // The survivors are this test's own: end them before failing.
+            // SAFETY: `kill` has no memory preconditions.
+            unsafe { libc::kill(*pid, libc::SIGKILL) };
+        }
+        assert!(left.is_empty(), "{kind:?}: survivors: {left:?}");
+    }
+}
+
+/// Two root graders running at once (a Slurm node grading many students)
+/// never run two students as one uid: while both students' tracers run,
+/// their uids differ, and each report names its own.
+#[test]
+fn concurrent_root_graders_give_students_different_uids() {
+    if !kinds().contains(&Kind::Root) {
+        return;
+    }
+    let attacks = [Attack::new("exec sleep 4246"), Attack::new("exec sleep 4246")];
+    let mut graders: Vec<_> = attacks
+        .iter()
+        .map(|attack| {
+            attack
+                .command(Kind::Root, None, &["--timeout", "60"], &[])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    let start = std::time::Instant::now();
+    let mut running = processes_with("sleep 4246");
+    while running.len() < 2 {
+        assert!(
+            start.elapsed().as_secs() < 30,
+            "the tracers did not start: {running:?}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        running = processes_with("sleep 4246");
+    }
+    let uid_of = |pid: i32| -> u64 {
+        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+        let line = status.lines().find(|l| l.starts_with("Uid:")).unwrap();
+        line.split_whitespace().nth(1).unwrap().parse().unwrap()
+    };
+    let mut uids: Vec<u64> = running.iter().map(|(pid, _)| uid_of(*pid)).collect();
+    for (pid, _) in &running {
+        // SAFETY: `kill` has no memory preconditions.
+        unsafe { libc::kill(*pid, libc::SIGKILL) };
+    }
+    for grader in &mut graders {
+        grader.wait().unwrap();
+    }
+    assert_ne!(uids[0], uids[1], "two students ran as one uid at once");
+    let mut reported: Vec<u64> = attacks
+        .iter()
+        .map(|attack| {
+            let summary: Value = serde_json::from_slice(
+                &std::fs::read(attack.path().join("report-Root/summary.json")).unwrap(),
+            )
+            .unwrap();
+            summary["sandbox"]["user"].as_u64().unwrap()
+        })
+        .collect();
+    uids.sort_unstable();
+    reported.sort_unstable();
+    assert_eq!(uids, reported);
 }
 
 /// A program that stops its parent (and pid 1) stops neither the grader

@@ -24,6 +24,7 @@ pub mod sandbox;
 pub mod student;
 pub mod student_image;
 pub mod suite;
+pub mod uids;
 pub mod workdir;
 
 use std::path::{Path, PathBuf};

@@ -10,8 +10,8 @@
 //! (`--unprotected`), in the forked child ([`confine`]): a process group
 //! of its own and a network namespace when one can be had. Either way,
 //! last ([`drop_to_user`]): when the grader is root, a uid of the
-//! student's own ([`FIRST_UID`] on, [`Confinement::for_job`]), because
-//! root ignores the process-count limit; the resource limits (CPU
+//! student's own (leased, [`super::uids`]; [`Confinement::with_user`]),
+//! because root ignores the process-count limit; the resource limits (CPU
 //! seconds, address space, file size, processes, no core files) and
 //! `PR_SET_NO_NEW_PRIVS`. On the wall-clock timeout, and again after the
 //! program ends, its whole process group is killed (in a box, that kills
@@ -106,15 +106,10 @@ pub struct Confinement {
     pub cgroup: bool,
 }
 
-/// The first uid (and gid) of the range a root grader runs students as:
-/// the `n`th job (student) runs as `FIRST_UID + n`, so no two students
-/// share a uid. Like isolate's boxes, the range must belong to no one.
-pub const FIRST_UID: u32 = 60_000;
-
 impl Confinement {
     /// The confinement for this process: a box when one can be had, else
     /// a network namespace when one can be had; `nobody` when root until
-    /// [`Confinement::for_job`] gives each job its own uid.
+    /// [`Confinement::with_user`] gives each student its own uid.
     pub fn new(limits: Limits) -> Confinement {
         // SAFETY: `geteuid` has no preconditions.
         let root = unsafe { libc::geteuid() } == 0;
@@ -128,11 +123,11 @@ impl Confinement {
         }
     }
 
-    /// The confinement of the `job`th tracer graded: a uid of its own from
-    /// [`FIRST_UID`] when root.
-    pub fn for_job(self, job: usize) -> Confinement {
+    /// The confinement of one tracer graded: the uid of `lease` (root's
+    /// grader leases one per student, [`super::uids::Lease`]).
+    pub fn with_user(self, lease: Option<&super::uids::Lease>) -> Confinement {
         Confinement {
-            user: self.user.map(|_| FIRST_UID + job as u32),
+            user: lease.map(super::uids::Lease::uid).or(self.user),
             ..self
         }
     }
@@ -224,6 +219,8 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         .as_ref()
         .map(ControlGroup::procs)
         .unwrap_or_default();
+    // SAFETY: `getpid` has no preconditions.
+    let grader = unsafe { libc::getpid() };
     // SAFETY: `confine` and `jail::enter` make only async-signal-safe
     // system calls, on data prepared before the fork.
     unsafe {
@@ -233,7 +230,7 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
             }
             match &plan {
                 Some(plan) => super::jail::enter(plan, &confinement),
-                None => confine(&confinement),
+                None => confine(&confinement, grader),
             }
         });
     }
@@ -350,8 +347,9 @@ pub(super) unsafe fn drop_to_user(confinement: &Confinement) -> io::Result<()> {
 
 /// In the forked child, before `exec`, without a box: a process group of
 /// its own, a network namespace when one can be had, then
-/// [`drop_to_user`].
-fn confine(confinement: &Confinement) -> io::Result<()> {
+/// [`drop_to_user`], and last (a change of uid forgets it) death with
+/// `grader` ([`super::jail::die_with`]).
+fn confine(confinement: &Confinement, grader: libc::pid_t) -> io::Result<()> {
     let check = |result: libc::c_int| {
         if result == -1 {
             Err(io::Error::last_os_error())
@@ -365,7 +363,8 @@ fn confine(confinement: &Confinement) -> io::Result<()> {
         if confinement.isolate_network {
             check(libc::unshare(namespaces(confinement.root())))?;
         }
-        drop_to_user(confinement)
+        drop_to_user(confinement)?;
+        super::jail::die_with(grader)
     }
 }
 

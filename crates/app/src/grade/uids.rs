@@ -1,0 +1,87 @@
+//! The uids a root grader runs students as, leased so that no two
+//! students share one, within a run or across `grade` processes running
+//! at once on the machine (a Slurm node grading many students), after
+//! isolate's box ids.
+//!
+//! Each uid from [`FIRST_UID`] has a lock file in a folder only root may
+//! enter ([`FOLDER`], refused when it is a link or someone else's, its
+//! mode corrected when it is root's). A [`Lease`] is an open lock file
+//! held with `flock`: the lowest uid whose lock no one holds. The kernel
+//! releases a lock when the last descriptor of it closes, so a grader
+//! killed with SIGKILL frees its uids, and no grader can keep one it no
+//! longer runs. A grader keeps every lease of its run until it exits, so
+//! the students of one class have a uid each too.
+
+use std::fs::{File, TryLockError};
+use std::io;
+use std::os::unix::fs::{DirBuilderExt, MetadataExt, OpenOptionsExt, PermissionsExt};
+use std::path::Path;
+
+/// The first uid (and gid) of the range: like isolate's boxes, the range
+/// must belong to no one on the machine.
+pub const FIRST_UID: u32 = 60_000;
+
+/// How many uids the range holds (below `nobody`, 65534).
+pub const COUNT: u32 = 5_000;
+
+/// The folder of the lock files, root's and closed to everyone else.
+pub const FOLDER: &str = "/run/raytracer-grade/uids";
+
+/// A uid held for this grader until it is dropped (or the grader dies).
+#[derive(Debug)]
+pub struct Lease {
+    uid: u32,
+    _lock: File,
+}
+
+impl Lease {
+    /// The lowest uid of the range no grader holds.
+    pub fn take() -> io::Result<Lease> {
+        let folder = Path::new(FOLDER);
+        for dir in [folder.parent().unwrap_or(folder), folder] {
+            root_only(dir)?;
+        }
+        for uid in FIRST_UID..FIRST_UID + COUNT {
+            let lock = std::fs::OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .mode(0o600)
+                .custom_flags(libc::O_NOFOLLOW)
+                .open(folder.join(uid.to_string()))?;
+            match lock.try_lock() {
+                Ok(()) => return Ok(Lease { uid, _lock: lock }),
+                Err(TryLockError::WouldBlock) => continue,
+                Err(TryLockError::Error(error)) => return Err(error),
+            }
+        }
+        Err(io::Error::other(format!(
+            "every uid from {FIRST_UID} to {} is in use",
+            FIRST_UID + COUNT - 1
+        )))
+    }
+
+    pub fn uid(&self) -> u32 {
+        self.uid
+    }
+}
+
+/// Make `dir` a folder of root's that only root may enter, or refuse it.
+fn root_only(dir: &Path) -> io::Result<()> {
+    match std::fs::DirBuilder::new().mode(0o700).create(dir) {
+        Err(error) if error.kind() != io::ErrorKind::AlreadyExists => return Err(error),
+        _ => {}
+    }
+    let meta = dir.symlink_metadata()?;
+    if !meta.is_dir() || meta.uid() != 0 {
+        return Err(io::Error::other(format!(
+            "`{}` is not a folder of root's",
+            dir.display()
+        )));
+    }
+    if meta.mode() & 0o077 != 0 {
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o700))?;
+    }
+    Ok(())
+}
+
