@@ -593,6 +593,8 @@ pub fn available(root: bool) -> bool {
         user: root.then_some(super::sandbox::NOBODY),
         boxed: true,
         cgroup: false,
+        landlock: false,
+        seccomp: false,
     };
     let Ok(plan) = Plan::new(Path::new("/"), &Share::default(), &confinement) else {
         return false;

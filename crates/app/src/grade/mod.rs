@@ -16,6 +16,7 @@ pub mod aspects;
 pub mod capture;
 pub mod class;
 pub mod copy;
+pub mod fence;
 pub mod jail;
 pub mod judge;
 pub mod reference;

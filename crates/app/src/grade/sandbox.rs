@@ -8,8 +8,9 @@
 //! namespaces and a root holding only the system folders and what
 //! [`Share`] names, so nothing it starts outlives the run. Without one
 //! (`--unprotected`), in the forked child ([`confine`]): a process group
-//! of its own and a network namespace when one can be had. Either way,
-//! last ([`drop_to_user`]): when the grader is root, a uid of the
+//! of its own, a network namespace when one can be had, and Landlock and
+//! a seccomp filter ([`super::fence`]). Either way
+//! ([`drop_to_user`]): when the grader is root, a uid of the
 //! student's own (leased, [`super::uids`]; [`Confinement::with_user`]),
 //! because root ignores the process-count limit; the resource limits (CPU
 //! seconds, address space, file size, processes, no core files) and
@@ -104,6 +105,10 @@ pub struct Confinement {
     /// `pids`, as root): `--memory` for the whole run, `--max-processes`
     /// for the run's processes alone.
     pub cgroup: bool,
+    /// Without a box: Landlock ([`super::fence`]) where the kernel has it.
+    pub landlock: bool,
+    /// Without a box: the seccomp filter ([`super::fence`]).
+    pub seccomp: bool,
 }
 
 impl Confinement {
@@ -114,12 +119,19 @@ impl Confinement {
         // SAFETY: `geteuid` has no preconditions.
         let root = unsafe { libc::geteuid() } == 0;
         let boxed = super::jail::available(root);
+        let (landlock, seccomp) = if boxed {
+            (false, false)
+        } else {
+            super::fence::available()
+        };
         Confinement {
             limits,
             isolate_network: boxed || network_isolation(root),
             user: root.then_some(NOBODY),
             boxed,
             cgroup: root && ControlGroup::available(),
+            landlock,
+            seccomp,
         }
     }
 
@@ -149,6 +161,12 @@ impl Confinement {
         }
         if self.cgroup {
             names.push("cgroup");
+        }
+        if self.landlock {
+            names.push("landlock");
+        }
+        if self.seccomp {
+            names.push("seccomp");
         }
         names.extend(["rlimits", "no_new_privs"]);
         names.into_iter().map(String::from).collect()
@@ -210,6 +228,8 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
     } else {
         None
     };
+    let fence = (!confinement.boxed)
+        .then(|| super::fence::Fence::new(share, confinement.landlock, confinement.seccomp));
     let group_of_run = if confinement.cgroup {
         ControlGroup::new(&limits)
     } else {
@@ -228,9 +248,9 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
             for path in &procs {
                 join_group(path)?;
             }
-            match &plan {
-                Some(plan) => super::jail::enter(plan, &confinement),
-                None => confine(&confinement, grader),
+            match (&plan, &fence) {
+                (Some(plan), _) => super::jail::enter(plan, &confinement),
+                (None, fence) => confine(&confinement, fence.as_ref(), grader),
             }
         });
     }
@@ -347,9 +367,13 @@ pub(super) unsafe fn drop_to_user(confinement: &Confinement) -> io::Result<()> {
 
 /// In the forked child, before `exec`, without a box: a process group of
 /// its own, a network namespace when one can be had, then
-/// [`drop_to_user`], and last (a change of uid forgets it) death with
-/// `grader` ([`super::jail::die_with`]).
-fn confine(confinement: &Confinement, grader: libc::pid_t) -> io::Result<()> {
+/// [`drop_to_user`], the fence ([`super::fence`]), and last (a change of
+/// uid forgets it) death with `grader` ([`super::jail::die_with`]).
+fn confine(
+    confinement: &Confinement,
+    fence: Option<&super::fence::Fence>,
+    grader: libc::pid_t,
+) -> io::Result<()> {
     let check = |result: libc::c_int| {
         if result == -1 {
             Err(io::Error::last_os_error())
@@ -364,6 +388,9 @@ fn confine(confinement: &Confinement, grader: libc::pid_t) -> io::Result<()> {
             check(libc::unshare(namespaces(confinement.root())))?;
         }
         drop_to_user(confinement)?;
+        if let Some(fence) = fence {
+            fence.enter()?;
+        }
         super::jail::die_with(grader)
     }
 }
