@@ -84,4 +84,3 @@ fn root_only(dir: &Path) -> io::Result<()> {
     }
     Ok(())
 }
-
