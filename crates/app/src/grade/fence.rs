@@ -36,20 +36,6 @@ use super::sandbox::Share;
 /// The Landlock ABI whose rights the fence handles: 6 adds the scopes.
 const LANDLOCK_ABI: ABI = ABI::V6;
 
-/// The system folders the program may read and run from (the box's).
-const SYSTEM: &[&str] = &[
-    "/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32", "/etc",
-];
-
-/// The devices the program may read and write (the box's).
-const DEVICES: &[&str] = &[
-    "/dev/null",
-    "/dev/zero",
-    "/dev/full",
-    "/dev/random",
-    "/dev/urandom",
-];
-
 /// The system calls refused.
 const REFUSED: &[libc::c_long] = &[libc::SYS_socket, libc::SYS_io_uring_setup];
 
@@ -62,20 +48,56 @@ pub struct Fence {
     seccomp: Option<BpfProgram>,
 }
 
-/// What of the fence this kernel allows: Landlock, seccomp.
+/// What of the fence this kernel allows: Landlock, seccomp. Each is
+/// tried alone on `sh -c :`.
 pub fn available() -> (bool, bool) {
-    let fence = Fence::new(&Share::default(), true, true);
-    (fence.landlock.is_some(), fence.seccomp.is_some())
+    let works = |fence: Fence| {
+        let mut probe = std::process::Command::new("sh");
+        probe
+            .args(["-c", ":"])
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null());
+        // SAFETY: `Fence::enter` makes only async-signal-safe calls.
+        unsafe {
+            use std::os::unix::process::CommandExt;
+            probe.pre_exec(move || {
+                libc::prctl(libc::PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0);
+                fence.enter()
+            });
+        }
+        probe.status().is_ok_and(|s| s.success())
+    };
+    let landlock = ruleset(&Share::default()).is_some_and(|ruleset| {
+        works(Fence {
+            landlock: Some(ruleset),
+            seccomp: None,
+        })
+    });
+    let seccomp = filter().is_some_and(|filter| {
+        works(Fence {
+            landlock: None,
+            seccomp: Some(filter),
+        })
+    });
+    (landlock, seccomp)
 }
 
 impl Fence {
     /// The fence of a run sharing `share` (its working folder read-write,
-    /// its command's files read-only), with what of it is wanted.
-    pub fn new(share: &Share, landlock: bool, seccomp: bool) -> Fence {
-        Fence {
-            landlock: landlock.then(|| ruleset(share)).flatten(),
-            seccomp: seccomp.then(filter).flatten(),
-        }
+    /// its command's files read-only), with what of it is wanted; an
+    /// error when a part wanted cannot be made, so no run goes without
+    /// what the report says confines it.
+    pub fn new(share: &Share, landlock: bool, seccomp: bool) -> io::Result<Fence> {
+        let missing = |what: &str| io::Error::other(format!("cannot make the {what}"));
+        Ok(Fence {
+            landlock: landlock
+                .then(|| ruleset(share).ok_or_else(|| missing("Landlock ruleset")))
+                .transpose()?,
+            seccomp: seccomp
+                .then(|| filter().ok_or_else(|| missing("seccomp filter")))
+                .transpose()?,
+        })
     }
 
     /// Install the fence on this process.
@@ -113,8 +135,11 @@ fn ruleset(share: &Share) -> Option<OwnedFd> {
     let read = AccessFs::from_read(LANDLOCK_ABI);
     let all = AccessFs::from_all(LANDLOCK_ABI);
     let read_write_file = AccessFs::from_file(LANDLOCK_ABI) & !AccessFs::Execute;
-    let system = SYSTEM.iter().map(Path::new);
-    let devices = DEVICES.iter().map(Path::new);
+    // The box's system folders and devices ([`super::jail`]).
+    let system = super::jail::SYSTEM.iter().map(Path::new);
+    let devices = super::jail::DEVICES
+        .iter()
+        .map(|device| Path::new("/dev").join(device));
     let created = (|| -> Result<_, landlock::RulesetError> {
         Ruleset::default()
             .set_compatibility(CompatLevel::HardRequirement)
@@ -140,9 +165,9 @@ fn ruleset(share: &Share) -> Option<OwnedFd> {
 fn filter() -> Option<BpfProgram> {
     let mut rules = BTreeMap::new();
     for &call in REFUSED {
-        rules.insert(call as i64, Vec::new());
+        rules.insert(call, Vec::new());
         #[cfg(target_arch = "x86_64")]
-        rules.insert(call as i64 | 0x4000_0000, Vec::new());
+        rules.insert(call | 0x4000_0000, Vec::new());
     }
     let arch = std::env::consts::ARCH.try_into().ok()?;
     SeccompFilter::new(

@@ -42,7 +42,7 @@ use std::sync::OnceLock;
 use super::sandbox::{drop_to_user, Confinement, Share};
 
 /// The system folders bound read-only (links among them stay links).
-const SYSTEM: &[&str] = &[
+pub(super) const SYSTEM: &[&str] = &[
     "/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32", "/etc",
 ];
 
@@ -53,7 +53,7 @@ const SYSTEM: &[&str] = &[
 const NO_LINKS: libc::c_ulong = 1 << 40;
 
 /// The devices bound into the box's `/dev`.
-const DEVICES: &[&str] = &["null", "zero", "full", "random", "urandom"];
+pub(super) const DEVICES: &[&str] = &["null", "zero", "full", "random", "urandom"];
 
 /// One step of building the box's root, in C1.
 #[derive(Debug)]

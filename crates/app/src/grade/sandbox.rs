@@ -228,8 +228,21 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
     } else {
         None
     };
-    let fence = (!confinement.boxed)
-        .then(|| super::fence::Fence::new(share, confinement.landlock, confinement.seccomp));
+    let fence = if confinement.boxed {
+        None
+    } else {
+        match super::fence::Fence::new(share, confinement.landlock, confinement.seccomp) {
+            Ok(fence) => Some(fence),
+            Err(error) => {
+                return Run {
+                    ended: Ended::NotStarted(raytracer_scene::diagnostic::io_reason(&error)),
+                    seconds: start.elapsed().as_secs_f64(),
+                    stdout: Captured::default(),
+                    stderr: Captured::default(),
+                }
+            }
+        }
+    };
     let group_of_run = if confinement.cgroup {
         ControlGroup::new(&limits)
     } else {
@@ -248,9 +261,9 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
             for path in &procs {
                 join_group(path)?;
             }
-            match (&plan, &fence) {
-                (Some(plan), _) => super::jail::enter(plan, &confinement),
-                (None, fence) => confine(&confinement, fence.as_ref(), grader),
+            match &plan {
+                Some(plan) => super::jail::enter(plan, &confinement),
+                None => confine(&confinement, fence.as_ref(), grader),
             }
         });
     }

@@ -12,8 +12,9 @@
 //! longer runs. A grader keeps every lease of its run until it exits, so
 //! the students of one class have a uid each too.
 
-use std::fs::{File, TryLockError};
+use std::fs::File;
 use std::io;
+use std::os::fd::AsRawFd;
 use std::os::unix::fs::{DirBuilderExt, MetadataExt, OpenOptionsExt, PermissionsExt};
 use std::path::Path;
 
@@ -49,10 +50,13 @@ impl Lease {
                 .mode(0o600)
                 .custom_flags(libc::O_NOFOLLOW)
                 .open(folder.join(uid.to_string()))?;
-            match lock.try_lock() {
-                Ok(()) => return Ok(Lease { uid, _lock: lock }),
-                Err(TryLockError::WouldBlock) => continue,
-                Err(TryLockError::Error(error)) => return Err(error),
+            // SAFETY: `flock` on a descriptor we own.
+            if unsafe { libc::flock(lock.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0 {
+                return Ok(Lease { uid, _lock: lock });
+            }
+            let error = io::Error::last_os_error();
+            if error.raw_os_error() != Some(libc::EWOULDBLOCK) {
+                return Err(error);
             }
         }
         Err(io::Error::other(format!(
