@@ -1035,3 +1035,82 @@ exec "$RAYTRACER" render "$1" "$2""#,
         assert_eq!(stdout, expected, "{kind:?}: {scene}");
     }
 }
+
+/// Without a box, a daemon a student started outlives a grader killed
+/// with SIGKILL (docs/grading.md says so), but not the next lease of its
+/// uid: a root grader that takes a uid first kills every process left
+/// running as it, so the next student never shares a uid with it.
+#[test]
+fn without_a_box_a_killed_graders_daemon_dies_with_the_next_lease_of_its_uid() {
+    use std::os::fd::AsRawFd;
+    if !kinds().contains(&Kind::Root) {
+        return;
+    }
+    let attack = Attack::new(
+        "setsid sleep 4249 </dev/null >/dev/null 2>&1 &\n\
+         exec sleep 4249",
+    );
+    let honest = Attack::new("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let mut grader = without_namespaces(&mut attack.command(
+        Kind::Root,
+        None,
+        &["--unprotected", "--timeout", "60"],
+        &[],
+    ))
+    .stdout(Stdio::null())
+    .stderr(Stdio::null())
+    .spawn()
+    .unwrap();
+    let start = std::time::Instant::now();
+    while processes_with("sleep 4249").len() < 2 {
+        assert!(
+            start.elapsed().as_secs() < 30 && grader.try_wait().unwrap().is_none(),
+            "the tracer did not start"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let (pid, _) = processes_with("sleep 4249")[0].clone();
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+    let uid: u32 = status
+        .lines()
+        .find(|l| l.starts_with("Uid:"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .unwrap()
+        .parse()
+        .unwrap();
+    grader.kill().unwrap();
+    grader.wait().unwrap();
+    // Hold every free uid below the daemon's, so the next grader's lowest
+    // free uid is the daemon's (or another grader took it first, and
+    // killed the daemon then).
+    let held: Vec<std::fs::File> = (60_000..uid)
+        .filter_map(|below| {
+            let file = std::fs::OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .open(format!("/run/raytracer-grade/uids/{below}"))
+                .unwrap();
+            // SAFETY: `flock` on a descriptor of ours.
+            let locked =
+                unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0;
+            locked.then_some(file)
+        })
+        .collect();
+    let output = without_namespaces(&mut honest.command(Kind::Root, None, &["--unprotected"], &[]))
+        .output()
+        .unwrap();
+    drop(held);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let left = processes_with("sleep 4249");
+    for (pid, _) in &left {
+        // SAFETY: `kill` has no memory preconditions.
+        unsafe { libc::kill(*pid, libc::SIGKILL) };
+    }
+    assert!(left.is_empty(), "uid {uid}: survivors: {left:?}");
+}

@@ -10,7 +10,9 @@
 //! releases a lock when the last descriptor of it closes, so a grader
 //! killed with SIGKILL frees its uids, and no grader can keep one it no
 //! longer runs. A grader keeps every lease of its run until it exits, so
-//! the students of one class have a uid each too.
+//! the students of one class have a uid each too. A uid no grader holds
+//! runs nothing of ours: taking it first kills every process left
+//! running as it (a killed grader's student's daemon, outside a box).
 
 use std::fs::File;
 use std::io;
@@ -52,6 +54,7 @@ impl Lease {
                 .open(folder.join(uid.to_string()))?;
             // SAFETY: `flock` on a descriptor we own.
             if unsafe { libc::flock(lock.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0 {
+                kill_every_process_of(uid)?;
                 return Ok(Lease { uid, _lock: lock });
             }
             let error = io::Error::last_os_error();
@@ -68,6 +71,39 @@ impl Lease {
     pub fn uid(&self) -> u32 {
         self.uid
     }
+}
+
+/// Kill every process running as `uid`: what a grader killed without
+/// a box may have left running under a uid no grader holds now. A child
+/// takes the uid alone and signals every process it may (`kill(-1)`),
+/// as isolate cleans a box.
+fn kill_every_process_of(uid: u32) -> io::Result<()> {
+    // SAFETY: the child makes only async-signal-safe system calls.
+    unsafe {
+        let child = libc::fork();
+        if child == -1 {
+            return Err(io::Error::last_os_error());
+        }
+        if child == 0 {
+            if libc::setresuid(uid, uid, uid) == 0 {
+                libc::kill(-1, libc::SIGKILL);
+                libc::_exit(0);
+            }
+            libc::_exit(1);
+        }
+        let mut status = 0;
+        while libc::waitpid(child, &mut status, 0) == -1 {
+            if *libc::__errno_location() != libc::EINTR {
+                return Err(io::Error::last_os_error());
+            }
+        }
+        if !libc::WIFEXITED(status) || libc::WEXITSTATUS(status) != 0 {
+            return Err(io::Error::other(format!(
+                "cannot end the processes left running as uid {uid}"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Make `dir` a folder of root's that only root may enter, or refuse it.
