@@ -254,16 +254,16 @@ impl Attack {
         self.dir.path()
     }
 
-    /// Grade with `tracer` (default: the script, with the student's
-    /// renderer as a word so the box holds it) in a run of `kind`; the
-    /// exit code, the scene's entry and summary.json's sandbox.
-    fn grade(
+    /// The command that grades with `tracer` (default: the script, with
+    /// the student's renderer as a word so the box holds it) in a run of
+    /// `kind`, into `report-KIND`.
+    fn command(
         &self,
         kind: Kind,
         tracer: Option<&str>,
         extra: &[&str],
         env: &[(&str, &str)],
-    ) -> (i32, Value, Value) {
+    ) -> Command {
         let d = self.path();
         let report = d.join(format!("report-{kind:?}"));
         let _ = std::fs::remove_dir_all(&report);
@@ -299,7 +299,20 @@ impl Attack {
         for (key, value) in env {
             command.env(key, value);
         }
-        let output = command.output().unwrap();
+        command
+    }
+
+    /// Grade as [`Attack::command`] says; the exit code, the scene's entry
+    /// and summary.json's sandbox.
+    fn grade(
+        &self,
+        kind: Kind,
+        tracer: Option<&str>,
+        extra: &[&str],
+        env: &[(&str, &str)],
+    ) -> (i32, Value, Value) {
+        let report = self.path().join(format!("report-{kind:?}"));
+        let output = self.command(kind, tracer, extra, env).output().unwrap();
         let summary: Value = serde_json::from_slice(
             &std::fs::read(report.join("summary.json")).unwrap_or_else(|_| {
                 panic!(
@@ -439,6 +452,126 @@ fn no_process_of_a_run_survives_it() {
             .collect();
         assert!(left.is_empty(), "{kind:?}: survivors: {left:?}");
     }
+}
+
+/// The processes whose command line holds `marker`: pid and command line.
+fn processes_with(marker: &str) -> Vec<(i32, String)> {
+    std::fs::read_dir("/proc")
+        .unwrap()
+        .flatten()
+        .filter_map(|e| {
+            let pid = e.file_name().to_str()?.parse().ok()?;
+            let cmdline = std::fs::read(e.path().join("cmdline")).ok()?;
+            Some((pid, String::from_utf8_lossy(&cmdline).replace('\0', " ")))
+        })
+        .filter(|(_, cmdline)| cmdline.contains(marker))
+        .collect()
+}
+
+/// A grader killed with SIGKILL (no chance to clean up) leaves nothing of
+/// its box running: the tracer, a daemon in a session of its own and a
+/// double fork that ignores SIGHUP and SIGTERM all die with it.
+#[test]
+fn nothing_of_a_run_survives_a_killed_grader() {
+    let attack = Attack::new(
+        "setsid sleep 4245 </dev/null >/dev/null 2>&1 &\n\
+         ( ( trap '' HUP TERM; exec -a orphan-4245 sleep 4245 ) & ) </dev/null >/dev/null 2>&1\n\
+         exec sleep 4245",
+    );
+    let tmp = attack.path().display().to_string();
+    for kind in kinds() {
+        let mut grader = attack
+            .command(kind, None, &["--timeout", "60"], &[("TMPDIR", &tmp)])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let start = std::time::Instant::now();
+        while processes_with("4245").len() < 3 {
+            assert!(
+                start.elapsed().as_secs() < 30 && grader.try_wait().unwrap().is_none(),
+                "{kind:?}: the tracer did not start: {:?}",
+                processes_with("4245")
+            );
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        grader.kill().unwrap();
+        grader.wait().unwrap();
+        let killed = std::time::Instant::now();
+        let mut left = processes_with("4245");
+        while !left.is_empty() && killed.elapsed().as_secs() < 5 {
+            std::thread::sleep(std::time::Duration::from_millis(20));
+            left = processes_with("4245");
+        }
+        for (pid, _) in &left {
+            // The survivors are this test's own: end them before failing.
+            // SAFETY: `kill` has no memory preconditions.
+            unsafe { libc::kill(*pid, libc::SIGKILL) };
+        }
+        assert!(left.is_empty(), "{kind:?}: survivors: {left:?}");
+    }
+}
+
+/// Two root graders running at once (a Slurm node grading many students)
+/// never run two students as one uid: while both students' tracers run,
+/// their uids differ, and each report names its own.
+#[test]
+fn concurrent_root_graders_give_students_different_uids() {
+    if !kinds().contains(&Kind::Root) {
+        return;
+    }
+    let attacks = [
+        Attack::new("exec sleep 4246"),
+        Attack::new("exec sleep 4246"),
+    ];
+    let mut graders: Vec<_> = attacks
+        .iter()
+        .map(|attack| {
+            attack
+                .command(Kind::Root, None, &["--timeout", "60"], &[])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    let start = std::time::Instant::now();
+    let mut running = processes_with("sleep 4246");
+    while running.len() < 2 {
+        assert!(
+            start.elapsed().as_secs() < 30,
+            "the tracers did not start: {running:?}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        running = processes_with("sleep 4246");
+    }
+    let uid_of = |pid: i32| -> u64 {
+        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+        let line = status.lines().find(|l| l.starts_with("Uid:")).unwrap();
+        line.split_whitespace().nth(1).unwrap().parse().unwrap()
+    };
+    let mut uids: Vec<u64> = running.iter().map(|(pid, _)| uid_of(*pid)).collect();
+    for (pid, _) in &running {
+        // SAFETY: `kill` has no memory preconditions.
+        unsafe { libc::kill(*pid, libc::SIGKILL) };
+    }
+    for grader in &mut graders {
+        grader.wait().unwrap();
+    }
+    assert_ne!(uids[0], uids[1], "two students ran as one uid at once");
+    let mut reported: Vec<u64> = attacks
+        .iter()
+        .map(|attack| {
+            let summary: Value = serde_json::from_slice(
+                &std::fs::read(attack.path().join("report-Root/summary.json")).unwrap(),
+            )
+            .unwrap();
+            summary["sandbox"]["user"].as_u64().unwrap()
+        })
+        .collect();
+    uids.sort_unstable();
+    reported.sort_unstable();
+    assert_eq!(uids, reported);
 }
 
 /// A program that stops its parent (and pid 1) stops neither the grader
@@ -699,4 +832,285 @@ fn memory_is_bounded_per_run_by_a_control_group() {
             assert_eq!(status(&scene), "no_image", "{kind:?}: {scene}");
         }
     }
+}
+
+/// Run `command` as in a container that refuses namespaces: a seccomp
+/// filter fails `unshare` and `clone` with any `CLONE_NEW*` flag with
+/// `EPERM` (and `clone3`, whose flags a filter cannot read, with `ENOSYS`,
+/// so the C library falls back to `clone`).
+fn without_namespaces(command: &mut Command) -> &mut Command {
+    use seccompiler::{
+        SeccompAction, SeccompCmpArgLen, SeccompCmpOp, SeccompCondition, SeccompFilter, SeccompRule,
+    };
+    use std::os::unix::process::CommandExt;
+    let arch = std::env::consts::ARCH.try_into().unwrap();
+    let compile = |rules, action| -> seccompiler::BpfProgram {
+        SeccompFilter::new(rules, SeccompAction::Allow, action, arch)
+            .unwrap()
+            .try_into()
+            .unwrap()
+    };
+    let flags = [
+        libc::CLONE_NEWNS,
+        libc::CLONE_NEWUSER,
+        libc::CLONE_NEWPID,
+        libc::CLONE_NEWNET,
+        libc::CLONE_NEWIPC,
+        libc::CLONE_NEWUTS,
+        libc::CLONE_NEWCGROUP,
+    ];
+    let any_new = || -> Vec<SeccompRule> {
+        flags
+            .iter()
+            .map(|&flag| {
+                let condition = SeccompCondition::new(
+                    0,
+                    SeccompCmpArgLen::Qword,
+                    SeccompCmpOp::MaskedEq(flag as u64),
+                    flag as u64,
+                )
+                .unwrap();
+                SeccompRule::new(vec![condition]).unwrap()
+            })
+            .collect()
+    };
+    let filters = [
+        compile(
+            [(libc::SYS_clone3, vec![])].into_iter().collect(),
+            SeccompAction::Errno(libc::ENOSYS as u32),
+        ),
+        compile(
+            [
+                (libc::SYS_unshare, any_new()),
+                (libc::SYS_clone, any_new()),
+                (libc::SYS_setns, vec![]),
+            ]
+            .into_iter()
+            .collect(),
+            SeccompAction::Errno(libc::EPERM as u32),
+        ),
+    ];
+    // SAFETY: installing a filter compiled before the fork is two system calls.
+    unsafe {
+        command.pre_exec(move || {
+            for filter in &filters {
+                seccompiler::apply_filter(filter)
+                    .map_err(|_| std::io::Error::from_raw_os_error(libc::EPERM))?;
+            }
+            Ok(())
+        });
+    }
+    command
+}
+
+/// Where no namespace can be had, `grade` refuses (exit 2) unless told
+/// `--unprotected`; then it grades without a box, says so, and what its
+/// docs promise still holds: the uid (as root), the limits, `{out}` read
+/// without following a link, and nothing the program started left
+/// running once the run ends.
+#[test]
+fn without_namespaces_grade_refuses_unless_unprotected() {
+    let honest = Attack::new(
+        "setsid sleep 4248 </dev/null >/dev/null 2>&1 &\n\
+         ( ( trap '' HUP TERM; exec -a orphan-4248 sleep 4248 ) & ) </dev/null >/dev/null 2>&1\n\
+         exec \"$RAYTRACER\" render \"$1\" \"$2\"",
+    );
+    let link = Attack::new("ln -s /etc/passwd \"$2\"");
+    for kind in kinds() {
+        let output = without_namespaces(&mut honest.command(kind, None, &[], &[]))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{kind:?}: {stderr}");
+        assert!(stderr.contains("--unprotected"), "{kind:?}: {stderr}");
+        assert!(
+            !honest
+                .path()
+                .join(format!("report-{kind:?}/summary.json"))
+                .exists(),
+            "{kind:?}"
+        );
+
+        let unprotected = ["--unprotected"];
+        let grade = |attack: &Attack| -> (Value, Value) {
+            let report = attack.path().join(format!("report-{kind:?}"));
+            let output = without_namespaces(&mut attack.command(kind, None, &unprotected, &[]))
+                .output()
+                .unwrap();
+            let summary: Value =
+                serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap_or_else(
+                    |_| panic!("{kind:?}: {}", String::from_utf8_lossy(&output.stderr)),
+                ))
+                .unwrap();
+            (summary["scenes"][0].clone(), summary["sandbox"].clone())
+        };
+        let (scene, sandbox) = grade(&honest);
+        assert_eq!(status(&scene), "match", "{kind:?}: {scene}");
+        assert_eq!(sandbox["boxed"], false, "{kind:?}: {sandbox}");
+        let mechanisms: Vec<&str> = sandbox["mechanisms"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| m.as_str().unwrap())
+            .collect();
+        for namespace in ["pid_namespace", "mount_namespace", "network_namespace"] {
+            assert!(!mechanisms.contains(&namespace), "{kind:?}: {sandbox}");
+        }
+        for promised in ["rlimits", "no_new_privs"] {
+            assert!(mechanisms.contains(&promised), "{kind:?}: {sandbox}");
+        }
+        assert_eq!(mechanisms.contains(&"uid"), kind == Kind::Root, "{sandbox}");
+        let left = processes_with("4248");
+        assert!(left.is_empty(), "{kind:?}: survivors: {left:?}");
+        let (scene, _) = grade(&link);
+        assert_eq!(status(&scene), "bad_image", "{kind:?}: {scene}");
+    }
+}
+
+/// Without a box, the fence (Landlock and seccomp) keeps the program to
+/// its folder and the system's: a world-readable file of the grader's,
+/// the reference cache, a UNIX socket file, an abstract socket, a TCP
+/// connection to the loopback and a signal to the grader are all refused,
+/// as root and as `nobody`.
+#[test]
+fn without_a_box_the_fence_keeps_the_program_in() {
+    let dir = open_folder("grade-fence-");
+    let file = dir.path().join("socket");
+    let _listener = std::os::unix::net::UnixListener::bind(&file).unwrap();
+    std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o777)).unwrap();
+    let name = format!("raytracer-grade-fence-{}", std::process::id());
+    let abstract_address =
+        <std::os::unix::net::SocketAddr as std::os::linux::net::SocketAddrExt>::from_abstract_name(
+            name.as_bytes(),
+        )
+        .unwrap();
+    let _abstract = std::os::unix::net::UnixListener::bind_addr(&abstract_address).unwrap();
+    let tcp = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = tcp.local_addr().unwrap().port();
+    let attack = Attack::new(&format!(
+        r#"check() {{ what=$1; shift; if "$@" </dev/null >/dev/null 2>&1; then echo "$what allowed"; else echo "$what refused"; fi; }}
+check secret cat $CASE/secret.txt
+check cache cat $CASE/cache-*/*.png
+check signal kill -0 $PPID
+connect="import socket, sys; socket.socket(socket.AF_UNIX).connect(sys.argv[1])"
+check socket_file python3 -c "$connect" {}
+connect="import socket, sys; socket.socket(socket.AF_UNIX).connect(chr(0) + sys.argv[1])"
+check abstract_socket python3 -c "$connect" {name}
+check tcp python3 -c "import socket; socket.create_connection(('127.0.0.1', {port}))"
+check control python3 -c "print(1)"
+exec "$RAYTRACER" render "$1" "$2""#,
+        file.display()
+    ));
+    let secret = attack.path().join("secret.txt");
+    std::fs::write(&secret, "the grader's\n").unwrap();
+    std::fs::set_permissions(&secret, std::fs::Permissions::from_mode(0o644)).unwrap();
+    for kind in kinds() {
+        // The first run renders the reference into the cache.
+        let run = || {
+            let report = attack.path().join(format!("report-{kind:?}"));
+            let output =
+                without_namespaces(&mut attack.command(kind, None, &["--unprotected"], &[]))
+                    .output()
+                    .unwrap();
+            let summary: Value =
+                serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap_or_else(
+                    |_| panic!("{kind:?}: {}", String::from_utf8_lossy(&output.stderr)),
+                ))
+                .unwrap();
+            (summary["scenes"][0].clone(), summary["sandbox"].clone())
+        };
+        let _ = run();
+        let (scene, sandbox) = run();
+        assert_eq!(status(&scene), "match", "{kind:?}: {scene}");
+        assert_eq!(sandbox["boxed"], false, "{kind:?}: {sandbox}");
+        for mechanism in ["landlock", "seccomp"] {
+            assert!(
+                sandbox["mechanisms"].to_string().contains(mechanism),
+                "{kind:?}: {sandbox}"
+            );
+        }
+        let stdout = scene["stdout"].as_str().unwrap();
+        let expected = "secret refused\ncache refused\nsignal refused\n\
+                        socket_file refused\nabstract_socket refused\ntcp refused\ncontrol allowed\n";
+        assert_eq!(stdout, expected, "{kind:?}: {scene}");
+    }
+}
+
+/// Without a box, a daemon a student started outlives a grader killed
+/// with SIGKILL (docs/grading.md says so), but not the next lease of its
+/// uid: a root grader that takes a uid first kills every process left
+/// running as it, so the next student never shares a uid with it.
+#[test]
+fn without_a_box_a_killed_graders_daemon_dies_with_the_next_lease_of_its_uid() {
+    use std::os::fd::AsRawFd;
+    if !kinds().contains(&Kind::Root) {
+        return;
+    }
+    let attack = Attack::new(
+        "setsid sleep 4249 </dev/null >/dev/null 2>&1 &\n\
+         exec sleep 4249",
+    );
+    let honest = Attack::new("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let mut grader = without_namespaces(&mut attack.command(
+        Kind::Root,
+        None,
+        &["--unprotected", "--timeout", "60"],
+        &[],
+    ))
+    .stdout(Stdio::null())
+    .stderr(Stdio::null())
+    .spawn()
+    .unwrap();
+    let start = std::time::Instant::now();
+    while processes_with("sleep 4249").len() < 2 {
+        assert!(
+            start.elapsed().as_secs() < 30 && grader.try_wait().unwrap().is_none(),
+            "the tracer did not start"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let (pid, _) = processes_with("sleep 4249")[0].clone();
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+    let uid: u32 = status
+        .lines()
+        .find(|l| l.starts_with("Uid:"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .unwrap()
+        .parse()
+        .unwrap();
+    grader.kill().unwrap();
+    grader.wait().unwrap();
+    // Hold every free uid below the daemon's, so the next grader's lowest
+    // free uid is the daemon's (or another grader took it first, and
+    // killed the daemon then).
+    let held: Vec<std::fs::File> = (60_000..uid)
+        .filter_map(|below| {
+            let file = std::fs::OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .open(format!("/run/raytracer-grade/uids/{below}"))
+                .unwrap();
+            // SAFETY: `flock` on a descriptor of ours.
+            let locked =
+                unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0;
+            locked.then_some(file)
+        })
+        .collect();
+    let output = without_namespaces(&mut honest.command(Kind::Root, None, &["--unprotected"], &[]))
+        .output()
+        .unwrap();
+    drop(held);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let left = processes_with("sleep 4249");
+    for (pid, _) in &left {
+        // SAFETY: `kill` has no memory preconditions.
+        unsafe { libc::kill(*pid, libc::SIGKILL) };
+    }
+    assert!(left.is_empty(), "uid {uid}: survivors: {left:?}");
 }

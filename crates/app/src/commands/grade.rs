@@ -29,6 +29,7 @@ use crate::grade::report::{self, SandboxSummary, Summary};
 use crate::grade::sandbox::{self, Confinement, Limits};
 use crate::grade::student::{self, Student, StudentError};
 use crate::grade::suite::{self, SuiteError, SuiteScene};
+use crate::grade::uids::{self, Lease};
 use crate::grade::workdir::{Template, TemplateError};
 use crate::grade::{self, Plan, Programs};
 use raytracer_render::render::probe::{self, Buffers};
@@ -241,10 +242,18 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         confinement,
         pool: &pool,
     };
+    // A uid of its own for each student when root, held until `grade`
+    // exits, so no other student of this run or of a `grade` running
+    // beside it has it.
+    let leases = jobs
+        .iter()
+        .map(|_| graded.confinement.root().then(Lease::take).transpose())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(io_error(Path::new(uids::FOLDER)))?;
     let mut all_match = true;
-    for (index, job) in jobs.iter().enumerate() {
+    for (index, (job, lease)) in jobs.iter().zip(&leases).enumerate() {
         let graded = Graded {
-            confinement: graded.confinement.for_job(index),
+            confinement: graded.confinement.with_user(lease.as_ref()),
             ..graded
         };
         let summary = grade_job(job, &graded, &args);

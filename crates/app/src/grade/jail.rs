@@ -7,7 +7,10 @@
 //! makes a process group of its own and unshares the mount, PID, network,
 //! IPC and UTS namespaces; when the grader is not root, inside a user
 //! namespace of its own that maps only the grader's uid and gid to
-//! themselves (so the program has no capability once it runs). Its first
+//! themselves (so the program has no capability once it runs). C0 dies
+//! with the grader's thread that forked it (`PR_SET_PDEATHSIG`, checked
+//! against a grader that died first), so a grader killed with SIGKILL
+//! still takes the whole box with it ([`die_with`]). Its first
 //! child ("C1") is pid 1 of the new PID namespace, dies with C0
 //! (`PR_SET_PDEATHSIG`), and builds the root: a tmpfs holding read-only
 //! binds of `/usr`, `/bin`, `/sbin`, `/lib*` and `/etc` (links stay
@@ -39,7 +42,7 @@ use std::sync::OnceLock;
 use super::sandbox::{drop_to_user, Confinement, Share};
 
 /// The system folders bound read-only (links among them stay links).
-const SYSTEM: &[&str] = &[
+pub(super) const SYSTEM: &[&str] = &[
     "/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32", "/etc",
 ];
 
@@ -50,7 +53,7 @@ const SYSTEM: &[&str] = &[
 const NO_LINKS: libc::c_ulong = 1 << 40;
 
 /// The devices bound into the box's `/dev`.
-const DEVICES: &[&str] = &["null", "zero", "full", "random", "urandom"];
+pub(super) const DEVICES: &[&str] = &["null", "zero", "full", "random", "urandom"];
 
 /// One step of building the box's root, in C1.
 #[derive(Debug)]
@@ -83,6 +86,8 @@ pub struct Plan {
     /// `/proc/self/stat`), which C1, a fork of the grader, blanks: the
     /// box's `/proc/1/cmdline` names no report or cache.
     arguments: Option<(usize, usize)>,
+    /// The grader's pid: C0 dies with it ([`enter`]).
+    grader: libc::pid_t,
 }
 
 fn c(path: &Path) -> io::Result<CString> {
@@ -243,6 +248,8 @@ impl Plan {
             uid_map: CString::new(format!("{uid} {uid} 1\n")).unwrap_or_default(),
             gid_map: CString::new(format!("{gid} {gid} 1\n")).unwrap_or_default(),
             arguments: arguments(),
+            // SAFETY: `getpid` has no preconditions.
+            grader: unsafe { libc::getpid() },
         })
     }
 }
@@ -305,6 +312,7 @@ pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
             write_file(b"/proc/self/uid_map\0", plan.uid_map.as_bytes())?;
             write_file(b"/proc/self/gid_map\0", plan.gid_map.as_bytes())?;
         }
+        die_with(plan.grader)?;
         let mut status_pipe = [0; 2];
         check(libc::pipe2(status_pipe.as_mut_ptr(), libc::O_CLOEXEC))?;
         let [read_end, write_end] = status_pipe;
@@ -347,6 +355,23 @@ pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
             }
         }
     }
+}
+
+/// Be killed when the thread that forked this process ends (the grader's
+/// thread waiting for the run, and so the grader, killed or not), and
+/// refuse to start if `grader` is no longer this process's parent: it
+/// died before the request was made.
+///
+/// # Safety
+/// Async-signal-safe: called between fork and exec.
+pub(super) unsafe fn die_with(grader: libc::pid_t) -> io::Result<()> {
+    unsafe {
+        check(libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL, 0, 0, 0))?;
+        if libc::getppid() != grader {
+            return Err(io::Error::from_raw_os_error(libc::ESRCH));
+        }
+    }
+    Ok(())
 }
 
 /// Close every descriptor from 3 on but `keep`.
@@ -568,6 +593,8 @@ pub fn available(root: bool) -> bool {
         user: root.then_some(super::sandbox::NOBODY),
         boxed: true,
         cgroup: false,
+        landlock: false,
+        seccomp: false,
     };
     let Ok(plan) = Plan::new(Path::new("/"), &Share::default(), &confinement) else {
         return false;

@@ -16,6 +16,7 @@ pub mod aspects;
 pub mod capture;
 pub mod class;
 pub mod copy;
+pub mod fence;
 pub mod jail;
 pub mod judge;
 pub mod reference;
@@ -24,6 +25,7 @@ pub mod sandbox;
 pub mod student;
 pub mod student_image;
 pub mod suite;
+pub mod uids;
 pub mod workdir;
 
 use std::path::{Path, PathBuf};

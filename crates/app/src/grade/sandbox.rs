@@ -8,10 +8,11 @@
 //! namespaces and a root holding only the system folders and what
 //! [`Share`] names, so nothing it starts outlives the run. Without one
 //! (`--unprotected`), in the forked child ([`confine`]): a process group
-//! of its own and a network namespace when one can be had. Either way,
-//! last ([`drop_to_user`]): when the grader is root, a uid of the
-//! student's own ([`FIRST_UID`] on, [`Confinement::for_job`]), because
-//! root ignores the process-count limit; the resource limits (CPU
+//! of its own, a network namespace when one can be had, and Landlock and
+//! a seccomp filter ([`super::fence`]). Either way
+//! ([`drop_to_user`]): when the grader is root, a uid of the
+//! student's own (leased, [`super::uids`]; [`Confinement::with_user`]),
+//! because root ignores the process-count limit; the resource limits (CPU
 //! seconds, address space, file size, processes, no core files) and
 //! `PR_SET_NO_NEW_PRIVS`. On the wall-clock timeout, and again after the
 //! program ends, its whole process group is killed (in a box, that kills
@@ -104,35 +105,41 @@ pub struct Confinement {
     /// `pids`, as root): `--memory` for the whole run, `--max-processes`
     /// for the run's processes alone.
     pub cgroup: bool,
+    /// Without a box: Landlock ([`super::fence`]) where the kernel has it.
+    pub landlock: bool,
+    /// Without a box: the seccomp filter ([`super::fence`]).
+    pub seccomp: bool,
 }
-
-/// The first uid (and gid) of the range a root grader runs students as:
-/// the `n`th job (student) runs as `FIRST_UID + n`, so no two students
-/// share a uid. Like isolate's boxes, the range must belong to no one.
-pub const FIRST_UID: u32 = 60_000;
 
 impl Confinement {
     /// The confinement for this process: a box when one can be had, else
     /// a network namespace when one can be had; `nobody` when root until
-    /// [`Confinement::for_job`] gives each job its own uid.
+    /// [`Confinement::with_user`] gives each student its own uid.
     pub fn new(limits: Limits) -> Confinement {
         // SAFETY: `geteuid` has no preconditions.
         let root = unsafe { libc::geteuid() } == 0;
         let boxed = super::jail::available(root);
+        let (landlock, seccomp) = if boxed {
+            (false, false)
+        } else {
+            super::fence::available()
+        };
         Confinement {
             limits,
             isolate_network: boxed || network_isolation(root),
             user: root.then_some(NOBODY),
             boxed,
             cgroup: root && ControlGroup::available(),
+            landlock,
+            seccomp,
         }
     }
 
-    /// The confinement of the `job`th tracer graded: a uid of its own from
-    /// [`FIRST_UID`] when root.
-    pub fn for_job(self, job: usize) -> Confinement {
+    /// The confinement of one tracer graded: the uid of `lease` (root's
+    /// grader leases one per student, [`super::uids::Lease`]).
+    pub fn with_user(self, lease: Option<&super::uids::Lease>) -> Confinement {
         Confinement {
-            user: self.user.map(|_| FIRST_UID + job as u32),
+            user: lease.map(super::uids::Lease::uid).or(self.user),
             ..self
         }
     }
@@ -154,6 +161,12 @@ impl Confinement {
         }
         if self.cgroup {
             names.push("cgroup");
+        }
+        if self.landlock {
+            names.push("landlock");
+        }
+        if self.seccomp {
+            names.push("seccomp");
         }
         names.extend(["rlimits", "no_new_privs"]);
         names.into_iter().map(String::from).collect()
@@ -215,6 +228,21 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
     } else {
         None
     };
+    let fence = if confinement.boxed {
+        None
+    } else {
+        match super::fence::Fence::new(share, confinement.landlock, confinement.seccomp) {
+            Ok(fence) => Some(fence),
+            Err(error) => {
+                return Run {
+                    ended: Ended::NotStarted(raytracer_scene::diagnostic::io_reason(&error)),
+                    seconds: start.elapsed().as_secs_f64(),
+                    stdout: Captured::default(),
+                    stderr: Captured::default(),
+                }
+            }
+        }
+    };
     let group_of_run = if confinement.cgroup {
         ControlGroup::new(&limits)
     } else {
@@ -224,6 +252,8 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         .as_ref()
         .map(ControlGroup::procs)
         .unwrap_or_default();
+    // SAFETY: `getpid` has no preconditions.
+    let grader = unsafe { libc::getpid() };
     // SAFETY: `confine` and `jail::enter` make only async-signal-safe
     // system calls, on data prepared before the fork.
     unsafe {
@@ -233,7 +263,7 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
             }
             match &plan {
                 Some(plan) => super::jail::enter(plan, &confinement),
-                None => confine(&confinement),
+                None => confine(&confinement, fence.as_ref(), grader),
             }
         });
     }
@@ -350,8 +380,13 @@ pub(super) unsafe fn drop_to_user(confinement: &Confinement) -> io::Result<()> {
 
 /// In the forked child, before `exec`, without a box: a process group of
 /// its own, a network namespace when one can be had, then
-/// [`drop_to_user`].
-fn confine(confinement: &Confinement) -> io::Result<()> {
+/// [`drop_to_user`], the fence ([`super::fence`]), and last (a change of
+/// uid forgets it) death with `grader` ([`super::jail::die_with`]).
+fn confine(
+    confinement: &Confinement,
+    fence: Option<&super::fence::Fence>,
+    grader: libc::pid_t,
+) -> io::Result<()> {
     let check = |result: libc::c_int| {
         if result == -1 {
             Err(io::Error::last_os_error())
@@ -365,7 +400,11 @@ fn confine(confinement: &Confinement) -> io::Result<()> {
         if confinement.isolate_network {
             check(libc::unshare(namespaces(confinement.root())))?;
         }
-        drop_to_user(confinement)
+        drop_to_user(confinement)?;
+        if let Some(fence) = fence {
+            fence.enter()?;
+        }
+        super::jail::die_with(grader)
     }
 }
 

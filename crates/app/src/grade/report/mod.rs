@@ -71,8 +71,9 @@ pub struct SandboxSummary {
     /// run's working folder (docs/grading.md, "The sandbox").
     pub boxed: bool,
     /// The mechanisms that held for every run of this report, by name:
-    /// `pid_namespace`, `mount_namespace`, `network_namespace`,
-    /// `user_namespace`, `uid`, `cgroup`, `rlimits`, `no_new_privs`.
+    /// `pid_namespace`, `mount_namespace`, `ipc_namespace`,
+    /// `user_namespace`, `network_namespace`, `uid`, `cgroup`, `landlock`
+    /// and `seccomp` (without a box), `rlimits`, `no_new_privs`.
     pub mechanisms: Vec<String>,
 }
 

@@ -1,0 +1,182 @@
+//! The fence around a program run without a box (`--unprotected`, where
+//! the kernel or container refuses namespaces): Landlock and a seccomp
+//! filter, both of which an unprivileged process may install on itself.
+//!
+//! Landlock ([`Fence::new`], prepared before the fork): the program may
+//! read and run what lies under the system folders the box would bind
+//! (`/usr`, `/bin`, `/sbin`, `/lib*`, `/etc`), read `/proc`, use the
+//! devices the box has, read and write its working folder, and read and
+//! run the files its command names; everything else of the file system
+//! (the grader's files, the reference cache, the reports, home folders,
+//! `/tmp`) is refused, whatever its mode. TCP `connect` and `bind` are
+//! refused, as are an abstract UNIX socket and a signal to any process
+//! outside the program's own (Landlock's scopes): the grader cannot be
+//! stopped or killed. The whole ruleset is a hard requirement: a kernel
+//! without Landlock ABI 6 gets no Landlock at all, and the report says
+//! so. The seccomp filter refuses `socket` (any family, so no UNIX socket
+//! file either, which Landlock does not govern) and `io_uring_setup`
+//! (which could open sockets without `socket`), with `EACCES`; on x86-64
+//! the same calls through the x32 numbers too. `socketpair` stays: it
+//! reaches nothing outside. [`Fence::enter`] installs both in the forked
+//! child after it has become the run's user.
+
+use std::collections::BTreeMap;
+use std::io;
+use std::os::fd::{AsRawFd, OwnedFd};
+use std::path::Path;
+
+use landlock::{
+    path_beneath_rules, Access, AccessFs, AccessNet, CompatLevel, Compatible, Ruleset, RulesetAttr,
+    RulesetCreatedAttr, Scope, ABI,
+};
+use seccompiler::{BpfProgram, SeccompAction, SeccompFilter};
+
+use super::sandbox::Share;
+
+/// The Landlock ABI whose rights the fence handles: 6 adds the scopes.
+const LANDLOCK_ABI: ABI = ABI::V6;
+
+/// The system calls refused.
+const REFUSED: &[libc::c_long] = &[libc::SYS_socket, libc::SYS_io_uring_setup];
+
+/// One run's fence, prepared before the fork.
+#[derive(Debug)]
+pub struct Fence {
+    /// The Landlock ruleset, when the kernel has Landlock.
+    landlock: Option<OwnedFd>,
+    /// The seccomp filter, when the kernel has seccomp.
+    seccomp: Option<BpfProgram>,
+}
+
+/// What of the fence this kernel allows: Landlock, seccomp. Each is
+/// tried alone on `sh -c :`.
+pub fn available() -> (bool, bool) {
+    let works = |fence: Fence| {
+        let mut probe = std::process::Command::new("sh");
+        probe
+            .args(["-c", ":"])
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null());
+        // SAFETY: `Fence::enter` makes only async-signal-safe calls.
+        unsafe {
+            use std::os::unix::process::CommandExt;
+            probe.pre_exec(move || {
+                libc::prctl(libc::PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0);
+                fence.enter()
+            });
+        }
+        probe.status().is_ok_and(|s| s.success())
+    };
+    let landlock = ruleset(&Share::default()).is_some_and(|ruleset| {
+        works(Fence {
+            landlock: Some(ruleset),
+            seccomp: None,
+        })
+    });
+    let seccomp = filter().is_some_and(|filter| {
+        works(Fence {
+            landlock: None,
+            seccomp: Some(filter),
+        })
+    });
+    (landlock, seccomp)
+}
+
+impl Fence {
+    /// The fence of a run sharing `share` (its working folder read-write,
+    /// its command's files read-only), with what of it is wanted; an
+    /// error when a part wanted cannot be made, so no run goes without
+    /// what the report says confines it.
+    pub fn new(share: &Share, landlock: bool, seccomp: bool) -> io::Result<Fence> {
+        let missing = |what: &str| io::Error::other(format!("cannot make the {what}"));
+        Ok(Fence {
+            landlock: landlock
+                .then(|| ruleset(share).ok_or_else(|| missing("Landlock ruleset")))
+                .transpose()?,
+            seccomp: seccomp
+                .then(|| filter().ok_or_else(|| missing("seccomp filter")))
+                .transpose()?,
+        })
+    }
+
+    /// Install the fence on this process.
+    ///
+    /// # Safety
+    /// Async-signal-safe: called between fork and exec, after the switch
+    /// to the run's user and `PR_SET_NO_NEW_PRIVS`.
+    pub unsafe fn enter(&self) -> io::Result<()> {
+        if let Some(ruleset) = &self.landlock {
+            // SAFETY: a ruleset descriptor and no flags.
+            let result = unsafe {
+                libc::syscall(
+                    libc::SYS_landlock_restrict_self,
+                    ruleset.as_raw_fd(),
+                    0 as libc::c_uint,
+                )
+            };
+            if result != 0 {
+                return Err(io::Error::last_os_error());
+            }
+        }
+        if let Some(program) = &self.seccomp {
+            seccompiler::apply_filter(program).map_err(|error| match error {
+                seccompiler::Error::Prctl(error) | seccompiler::Error::Seccomp(error) => error,
+                _ => io::Error::from_raw_os_error(libc::EINVAL),
+            })?;
+        }
+        Ok(())
+    }
+}
+
+/// The Landlock ruleset of the module doc, or `None` where the kernel
+/// lacks any of it.
+fn ruleset(share: &Share) -> Option<OwnedFd> {
+    let read = AccessFs::from_read(LANDLOCK_ABI);
+    let all = AccessFs::from_all(LANDLOCK_ABI);
+    let read_write_file = AccessFs::from_file(LANDLOCK_ABI) & !AccessFs::Execute;
+    // The box's system folders and devices ([`super::jail`]).
+    let system = super::jail::SYSTEM.iter().map(Path::new);
+    let devices = super::jail::DEVICES
+        .iter()
+        .map(|device| Path::new("/dev").join(device));
+    let created = (|| -> Result<_, landlock::RulesetError> {
+        Ruleset::default()
+            .set_compatibility(CompatLevel::HardRequirement)
+            .handle_access(all)?
+            .handle_access(AccessNet::from_all(LANDLOCK_ABI))?
+            .scope(Scope::from_all(LANDLOCK_ABI))?
+            .create()?
+            .add_rules(path_beneath_rules(system, read))?
+            .add_rules(path_beneath_rules(
+                [Path::new("/proc")],
+                AccessFs::ReadFile | AccessFs::ReadDir,
+            ))?
+            .add_rules(path_beneath_rules(devices, read_write_file))?
+            .add_rules(path_beneath_rules(&share.read_only, read))?
+            .add_rules(path_beneath_rules(&share.read_write, all))
+    })()
+    .ok()?;
+    created.into()
+}
+
+/// The seccomp filter of the module doc, or `None` on an architecture
+/// seccompiler does not know.
+fn filter() -> Option<BpfProgram> {
+    let mut rules = BTreeMap::new();
+    for &call in REFUSED {
+        rules.insert(call, Vec::new());
+        #[cfg(target_arch = "x86_64")]
+        rules.insert(call | 0x4000_0000, Vec::new());
+    }
+    let arch = std::env::consts::ARCH.try_into().ok()?;
+    SeccompFilter::new(
+        rules,
+        SeccompAction::Allow,
+        SeccompAction::Errno(libc::EACCES as u32),
+        arch,
+    )
+    .ok()?
+    .try_into()
+    .ok()
+}

@@ -1,0 +1,126 @@
+//! The uids a root grader runs students as, leased so that no two
+//! students share one, within a run or across `grade` processes running
+//! at once on the machine (a Slurm node grading many students), after
+//! isolate's box ids.
+//!
+//! Each uid from [`FIRST_UID`] has a lock file in a folder only root may
+//! enter ([`FOLDER`], refused when it is a link or someone else's, its
+//! mode corrected when it is root's). A [`Lease`] is an open lock file
+//! held with `flock`: the lowest uid whose lock no one holds. The kernel
+//! releases a lock when the last descriptor of it closes, so a grader
+//! killed with SIGKILL frees its uids, and no grader can keep one it no
+//! longer runs. A grader keeps every lease of its run until it exits, so
+//! the students of one class have a uid each too. A uid no grader holds
+//! runs nothing of ours: taking it first kills every process left
+//! running as it (a killed grader's student's daemon, outside a box).
+
+use std::fs::File;
+use std::io;
+use std::os::fd::AsRawFd;
+use std::os::unix::fs::{DirBuilderExt, MetadataExt, OpenOptionsExt, PermissionsExt};
+use std::path::Path;
+
+/// The first uid (and gid) of the range: like isolate's boxes, the range
+/// must belong to no one on the machine.
+pub const FIRST_UID: u32 = 60_000;
+
+/// How many uids the range holds (below `nobody`, 65534).
+pub const COUNT: u32 = 5_000;
+
+/// The folder of the lock files, root's and closed to everyone else.
+pub const FOLDER: &str = "/run/raytracer-grade/uids";
+
+/// A uid held for this grader until it is dropped (or the grader dies).
+#[derive(Debug)]
+pub struct Lease {
+    uid: u32,
+    _lock: File,
+}
+
+impl Lease {
+    /// The lowest uid of the range no grader holds.
+    pub fn take() -> io::Result<Lease> {
+        let folder = Path::new(FOLDER);
+        for dir in [folder.parent().unwrap_or(folder), folder] {
+            root_only(dir)?;
+        }
+        for uid in FIRST_UID..FIRST_UID + COUNT {
+            let lock = std::fs::OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .mode(0o600)
+                .custom_flags(libc::O_NOFOLLOW)
+                .open(folder.join(uid.to_string()))?;
+            // SAFETY: `flock` on a descriptor we own.
+            if unsafe { libc::flock(lock.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0 {
+                kill_every_process_of(uid)?;
+                return Ok(Lease { uid, _lock: lock });
+            }
+            let error = io::Error::last_os_error();
+            if error.raw_os_error() != Some(libc::EWOULDBLOCK) {
+                return Err(error);
+            }
+        }
+        Err(io::Error::other(format!(
+            "every uid from {FIRST_UID} to {} is in use",
+            FIRST_UID + COUNT - 1
+        )))
+    }
+
+    pub fn uid(&self) -> u32 {
+        self.uid
+    }
+}
+
+/// Kill every process running as `uid`: what a grader killed without
+/// a box may have left running under a uid no grader holds now. A child
+/// takes the uid alone and signals every process it may (`kill(-1)`),
+/// as isolate cleans a box.
+fn kill_every_process_of(uid: u32) -> io::Result<()> {
+    // SAFETY: the child makes only async-signal-safe system calls.
+    unsafe {
+        let child = libc::fork();
+        if child == -1 {
+            return Err(io::Error::last_os_error());
+        }
+        if child == 0 {
+            if libc::setresuid(uid, uid, uid) == 0 {
+                libc::kill(-1, libc::SIGKILL);
+                libc::_exit(0);
+            }
+            libc::_exit(1);
+        }
+        let mut status = 0;
+        while libc::waitpid(child, &mut status, 0) == -1 {
+            if *libc::__errno_location() != libc::EINTR {
+                return Err(io::Error::last_os_error());
+            }
+        }
+        if !libc::WIFEXITED(status) || libc::WEXITSTATUS(status) != 0 {
+            return Err(io::Error::other(format!(
+                "cannot end the processes left running as uid {uid}"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Make `dir` a folder of root's that only root may enter, or refuse it.
+fn root_only(dir: &Path) -> io::Result<()> {
+    match std::fs::DirBuilder::new().mode(0o700).create(dir) {
+        Err(error) if error.kind() != io::ErrorKind::AlreadyExists => return Err(error),
+        _ => {}
+    }
+    let meta = dir.symlink_metadata()?;
+    if !meta.is_dir() || meta.uid() != 0 {
+        return Err(io::Error::other(format!(
+            "`{}` is not a folder of root's",
+            dir.display()
+        )));
+    }
+    if meta.mode() & 0o077 != 0 {
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o700))?;
+    }
+    Ok(())
+}
