@@ -74,6 +74,13 @@ pub enum GradeError {
     )]
     NoBox { reason: String },
 
+    #[error("cannot use `{path}` as the reference's options: {reason}")]
+    #[diagnostic(
+        code(usage::reference_options),
+        help("a JSON object with any of `ambient`, `diffuse`, `specular`, `exponent` (numbers), `pixel` (`\"centre\"` or `\"corner\"`), `reflection` (`\"added\"` or `\"blended\"`) and `depth` (docs/grading.md)")
+    )]
+    ReferenceOptions { path: String, reason: String },
+
     #[error("no folder for the reference cache: neither `XDG_CACHE_HOME` nor `HOME` is set")]
     #[diagnostic(code(usage::no_cache), help("give one with `--cache DIR`"))]
     NoCache,
@@ -159,7 +166,19 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         None => reference::default_folder().ok_or(GradeError::NoCache)?,
     };
     std::fs::create_dir_all(report_folder).map_err(io_error(report_folder))?;
-    let cache = Cache::open(&cache_folder).map_err(io_error(&cache_folder))?;
+    let options = match &args.reference_options {
+        Some(path) => std::fs::read_to_string(path)
+            .map_err(|e| io_reason(&e))
+            .and_then(|text| reference::read_options(&text))
+            .map_err(|reason| GradeError::ReferenceOptions {
+                path: path.display().to_string(),
+                reason,
+            })?,
+        None => Options::default(),
+    };
+    let cache = Cache::open(&cache_folder)
+        .map_err(io_error(&cache_folder))?
+        .with_options(options);
 
     // The built-in suite is graded from a copy, like any folder.
     let built_in = if args.suite.is_empty() {
@@ -205,7 +224,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         .map_err(io_error(&cache_folder))?;
     let buffers: Vec<Buffers> = scenes
         .par_iter()
-        .map(|scene| probe::buffers(&scene.scene, Options::default().max_depth))
+        .map(|scene| probe::buffers(&scene.scene, options.max_depth, options.model))
         .collect();
     let rendered = references.iter().filter(|(_, fresh)| *fresh).count();
     if rendered > 0 {
