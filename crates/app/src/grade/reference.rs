@@ -73,12 +73,9 @@ pub fn read_options(text: &str) -> Result<Options, String> {
     };
     let mut options = Options::default();
     if let Some(depth) = object.remove(DEPTH) {
-        options.max_depth = depth
-            .as_u64()
-            .filter(|d| *d <= MAX_DEPTH)
-            .ok_or_else(|| {
-                format!("expected a whole number from 0 to {MAX_DEPTH} for `{DEPTH}`, found {depth}")
-            })? as u32;
+        options.max_depth = depth.as_u64().filter(|d| *d <= MAX_DEPTH).ok_or_else(|| {
+            format!("expected a whole number from 0 to {MAX_DEPTH} for `{DEPTH}`, found {depth}")
+        })? as u32;
     }
     options.model = serde_json::from_value::<Model>(serde_json::Value::Object(object))
         .map_err(|error| error.to_string())?;

@@ -21,8 +21,8 @@ pub mod bvh;
 #[cfg(test)]
 mod fixture;
 pub mod geometry;
-mod prim;
 pub mod model;
+mod prim;
 pub mod probe;
 pub mod real;
 mod sampling;
@@ -282,7 +282,8 @@ fn pixels_in<R: Real, T: Copy + Send>(
     let size = scene.resolution;
     let tracer = Tracer::<R>::with_accel(scene, options.max_depth, options.skip, options.accel)
         .with_model(options.model);
-    let sampler = Sampler::new(size, options.spp, options.seed).shifted(options.model.pixel_shift());
+    let sampler =
+        Sampler::new(size, options.spp, options.seed).shifted(options.model.pixel_shift());
     let adaptive = sampler.count() > 1;
     let (corners, mut counters) = match options.antialias {
         Antialias::Adaptive { threshold } if adaptive => {

@@ -106,8 +106,7 @@ impl Buffers {
 /// `max_depth` times under `model` for [`Probe::reflected_radiance`].
 pub fn buffers(scene: &ir::Scene, max_depth: u32, model: Model) -> Buffers {
     let mut main = probe_all(scene, max_depth, model);
-    main.swapped =
-        swapped_planes(scene).map(|other| Box::new(probe_all(&other, max_depth, model)));
+    main.swapped = swapped_planes(scene).map(|other| Box::new(probe_all(&other, max_depth, model)));
     main
 }
 

@@ -113,7 +113,12 @@ impl Sampler {
         }
         slots.resize(n, 0);
         let [dx, dy, dz] = dirs;
-        camera_dirs(self.size, f64::from(j) + 0.5 + self.shift, self.shift, [dx, dy, dz]);
+        camera_dirs(
+            self.size,
+            f64::from(j) + 0.5 + self.shift,
+            self.shift,
+            [dx, dy, dz],
+        );
         tracer.first_hits(eye::<R>(), [dx, dy, dz], distances, slots);
         counters.primary_rays += u64::from(self.size);
         let hits = FirstHits {

@@ -217,7 +217,15 @@ impl<'a, R: Real> Tracer<'a, R> {
         let surface = self.surface(&ray, first.t, prim, material);
         let albedo = self.albedo(material, surface.uv, counters);
         let weight = self.model.local_weight(material.reflectivity);
-        let local = self.local(&surface, ray.dir, first.slot, albedo, DVec3::ZERO, weight, counters);
+        let local = self.local(
+            &surface,
+            ray.dir,
+            first.slot,
+            albedo,
+            DVec3::ZERO,
+            weight,
+            counters,
+        );
         self.onwards(
             ray,
             first.slot,
@@ -645,6 +653,58 @@ mod tests {
             assert_eq!(color32, color);
             assert_eq!((counters.shadow_rays, counters.non_finite), (0, 0));
         }
+    }
+
+    /// Another model's constants: ambient and diffuse weights, a
+    /// highlight, blended reflection, at the front pole of a sphere lit
+    /// from the eye (`N·L = R·V = 1`), whose reflection sees nothing.
+    #[test]
+    fn a_models_constants_weigh_the_terms() {
+        use super::super::model::{Model, Reflection};
+        let albedo = DVec3::new(0.5, 0.25, 1.0);
+        let scene = |reflectivity: f64| ir::Scene {
+            resolution: 1,
+            objects: vec![ir::Object {
+                shape: ir::Shape::Sphere {
+                    center: DVec3::new(0.0, 0.0, -5.0),
+                    radius: 1.0,
+                },
+                material: 0,
+            }],
+            materials: vec![ir::Material {
+                color: albedo,
+                reflectivity,
+                texture: None,
+            }],
+            lights: vec![ir::Light {
+                position: DVec3::ZERO,
+                color: DVec3::ONE,
+            }],
+            textures: Vec::new(),
+            effects: ir::Effects::default(),
+        };
+        let seen = |reflectivity: f64, model: Model| {
+            let scene = scene(reflectivity);
+            let tracer = Tracer::<f64>::new(&scene, 8, false).with_model(model);
+            let ray = crate::render::camera_ray::<f64>(1, 0.5, 0.5);
+            tracer.radiance(ray, &mut Counters::default())
+        };
+        let close = |a: DVec3, b: DVec3| (a - b).abs().max_element() < 1e-12;
+        assert!(close(seen(0.0, Model::default()), albedo * 1.1));
+        let other = Model {
+            ambient: 0.2,
+            diffuse: 0.7,
+            specular: 0.5,
+            exponent: 20.0,
+            ..Model::default()
+        };
+        assert!(close(seen(0.0, other), albedo * 0.9 + DVec3::splat(0.5)));
+        let blended = Model {
+            reflection: Reflection::Blended,
+            ..Model::default()
+        };
+        assert!(close(seen(0.5, Model::default()), albedo * 1.1));
+        assert!(close(seen(0.5, blended), albedo * 0.55));
     }
 
     #[test]
