@@ -415,6 +415,29 @@ fn the_reference_takes_a_courses_constants() {
         }
     }
 
+    // A suite's own constants, in its suite.json's `reference`.
+    let course = d.join("course");
+    std::fs::create_dir(&course).unwrap();
+    std::fs::copy(&tint, course.join("tint.txt")).unwrap();
+    support::write(
+        &course,
+        "suite.json",
+        r#"{"reference": {"ambient": 0.2, "diffuse": 0.7},
+            "scenes": [{"scene": "tint.txt", "points": 1}]}"#,
+    );
+    let report = d.join("course-report");
+    let out = run(&[
+        "grade",
+        "--student",
+        students.join("other_constants").to_str().unwrap(),
+        "-o",
+        report.to_str().unwrap(),
+        "--cache",
+        d.join("cache").to_str().unwrap(),
+        course.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+
     // A file that is not the reference's options is named, with the key.
     let bad = support::write(d, "bad.json", r#"{"ambiant": 0.2}"#);
     let out = run(&[

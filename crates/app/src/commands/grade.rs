@@ -32,7 +32,6 @@ use crate::grade::suite::{self, SuiteError, SuiteScene};
 use crate::grade::workdir::{Template, TemplateError};
 use crate::grade::{self, Plan, Programs};
 use raytracer_render::render::probe::{self, Buffers};
-use raytracer_render::render::Options;
 use raytracer_scene::diagnostic::{io_reason, BoxedDiagnostic};
 
 /// Why `grade` could not grade.
@@ -167,18 +166,18 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     };
     std::fs::create_dir_all(report_folder).map_err(io_error(report_folder))?;
     let options = match &args.reference_options {
-        Some(path) => std::fs::read_to_string(path)
-            .map_err(|e| io_reason(&e))
-            .and_then(|text| reference::read_options(&text))
-            .map_err(|reason| GradeError::ReferenceOptions {
-                path: path.display().to_string(),
-                reason,
-            })?,
-        None => Options::default(),
+        Some(path) => Some(
+            std::fs::read_to_string(path)
+                .map_err(|e| io_reason(&e))
+                .and_then(|text| reference::read_options(&text))
+                .map_err(|reason| GradeError::ReferenceOptions {
+                    path: path.display().to_string(),
+                    reason,
+                })?,
+        ),
+        None => None,
     };
-    let cache = Cache::open(&cache_folder)
-        .map_err(io_error(&cache_folder))?
-        .with_options(options);
+    let cache = Cache::open(&cache_folder).map_err(io_error(&cache_folder))?;
 
     // The built-in suite is graded from a copy, like any folder.
     let built_in = if args.suite.is_empty() {
@@ -193,6 +192,14 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         None => args.suite.clone(),
     };
     let scenes = suite::load(&paths).map_err(GradeError::from)?;
+    // `--reference-options` over a suite.json's `reference`.
+    let options = match options {
+        Some(options) => options,
+        None => suite::reference_options(&paths)
+            .map_err(GradeError::from)?
+            .unwrap_or_default(),
+    };
+    let cache = cache.with_options(options);
 
     let confinement = Confinement::new(limits(&args.sandbox));
     if !confinement.boxed && !args.sandbox.unprotected {
