@@ -567,6 +567,12 @@ pub struct GradeArgs {
     /// images cached by a hash of the command, its files and the scene.
     #[arg(long, value_name = "COMMAND")]
     pub reference_tracer: Option<String>,
+    /// Render our reference with the course's constants instead of ours:
+    /// a JSON file like `{"ambient": 0.2, "diffuse": 0.7, "specular": 0.5,
+    /// "exponent": 20, "pixel": "corner", "reflection": "blended",
+    /// "depth": 5}`, every key optional (docs/grading.md).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["references", "reference_tracer"])]
+    pub reference_options: Option<PathBuf>,
     /// Scenes graded at once.
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
     pub jobs: u32,

@@ -33,7 +33,6 @@ use crate::grade::uids::{self, Lease};
 use crate::grade::workdir::{Template, TemplateError};
 use crate::grade::{self, Plan, Programs};
 use raytracer_render::render::probe::{self, Buffers};
-use raytracer_render::render::Options;
 use raytracer_scene::diagnostic::{io_reason, BoxedDiagnostic, FileError};
 
 /// Why `grade` could not grade.
@@ -78,6 +77,13 @@ pub enum GradeError {
         help("the box needs mount and PID namespaces: run `grade` as root, or allow unprivileged user namespaces (docs/grading.md, \"The sandbox\"); `--unprotected` grades without one")
     )]
     NoBox { reason: String },
+
+    #[error("cannot use `{path}` as the reference's options: {reason}")]
+    #[diagnostic(
+        code(usage::reference_options),
+        help("a JSON object with any of `ambient`, `diffuse`, `specular`, `exponent` (numbers), `pixel` (`\"centre\"` or `\"corner\"`), `reflection` (`\"added\"` or `\"blended\"`) and `depth` (docs/grading.md)")
+    )]
+    ReferenceOptions { path: String, reason: String },
 
     #[error("no folder for the reference cache: neither `XDG_CACHE_HOME` nor `HOME` is set")]
     #[diagnostic(code(usage::no_cache), help("give one with `--cache DIR`"))]
@@ -161,6 +167,20 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     std::fs::create_dir_all(report_folder)
         .map_err(FileError::writing(report_folder))
         .map_err(GradeError::from)?;
+    let options = match &args.reference_options {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(FileError::reading(path))
+                .map_err(GradeError::from)?;
+            let options =
+                reference::read_options(&text).map_err(|reason| GradeError::ReferenceOptions {
+                    path: path.display().to_string(),
+                    reason,
+                })?;
+            Some(options)
+        }
+        None => None,
+    };
     let cache = Cache::open(&cache_folder)
         .map_err(FileError::writing(&cache_folder))
         .map_err(GradeError::from)?;
@@ -180,6 +200,14 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         None => args.suite.clone(),
     };
     let scenes = suite::load(&paths).map_err(GradeError::from)?;
+    // `--reference-options` over a suite.json's `reference`.
+    let options = match options {
+        Some(options) => options,
+        None => suite::reference_options(&paths)
+            .map_err(GradeError::from)?
+            .unwrap_or_default(),
+    };
+    let cache = cache.with_options(options);
 
     let confinement = Confinement::new(limits(&args.sandbox));
     if !confinement.boxed && !args.sandbox.unprotected {
@@ -217,7 +245,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         .map_err(GradeError::from)?;
     let buffers: Vec<Buffers> = scenes
         .par_iter()
-        .map(|scene| probe::buffers(&scene.scene, Options::default().max_depth))
+        .map(|scene| probe::buffers(&scene.scene, options.max_depth, options.model))
         .collect();
     let rendered = references.iter().filter(|(_, fresh)| *fresh).count();
     if rendered > 0 {

@@ -99,6 +99,7 @@ pub fn run(args: RenderArgs) -> Result<Outcome, BoxedDiagnostic> {
         skip: !args.no_skip,
         accel: args.accel.into(),
         seed: 0,
+        model: Default::default(),
     };
     let precision = args.sampling.precision;
     let tile = match args.tile {

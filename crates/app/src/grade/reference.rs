@@ -5,6 +5,11 @@
 //! image is `KEY.png` in the folder. Grading the next student renders
 //! nothing.
 //!
+//! Our renderer can render with a course's constants instead of its own
+//! ([`read_options`], `--reference-options`): the ambient share, diffuse
+//! and specular weights, pixel point, reflection mode and depth; the key
+//! then hashes them too.
+//!
 //! A course may bring its own reference instead ([`Source`]): a folder of
 //! images, or its own solution run under the sandbox once per scene and
 //! cached the same way (`instructor-KEY.png`, the key hashing the command,
@@ -29,13 +34,53 @@ use super::suite::SuiteScene;
 use super::workdir::{self, Template};
 use crate::compare::{self, Picture};
 use raytracer_render::render::Precision;
-use raytracer_render::render::{self, Options};
+use raytracer_render::render::{self, Model, Options};
 
 /// The reference cache.
 pub struct Cache {
     folder: PathBuf,
     /// The hash of the renderer.
     renderer: [u8; 32],
+    /// How our references are rendered.
+    options: Options,
+}
+
+/// The keys of `--reference-options`: the [`Model`]'s and `depth`.
+const DEPTH: &str = "depth";
+
+/// The most reflections `depth` may ask for.
+const MAX_DEPTH: u64 = 64;
+
+/// Our renderer's options as a `--reference-options` file gives them: a
+/// JSON object with any of the [`Model`]'s keys and `depth`, the others
+/// left at our renderer's own; a message in words for anything else.
+pub fn read_options(text: &str) -> Result<Options, String> {
+    let mut object = match serde_json::from_str::<serde_json::Value>(text) {
+        Ok(serde_json::Value::Object(object)) => object,
+        Ok(other) => {
+            return Err(format!(
+                "expected a JSON object, found {}",
+                match other {
+                    serde_json::Value::Array(_) => "an array",
+                    serde_json::Value::String(_) => "a string",
+                    serde_json::Value::Number(_) => "a number",
+                    serde_json::Value::Bool(_) => "a boolean",
+                    _ => "null",
+                }
+            ))
+        }
+        Err(error) => return Err(format!("not JSON: {error}")),
+    };
+    let mut options = Options::default();
+    if let Some(depth) = object.remove(DEPTH) {
+        options.max_depth = depth.as_u64().filter(|d| *d <= MAX_DEPTH).ok_or_else(|| {
+            format!("expected a whole number from 0 to {MAX_DEPTH} for `{DEPTH}`, found {depth}")
+        })? as u32;
+    }
+    options.model = serde_json::from_value::<Model>(serde_json::Value::Object(object))
+        .map_err(|error| error.to_string())?;
+    options.model.validate()?;
+    Ok(options)
 }
 
 /// The default cache folder: `$XDG_CACHE_HOME/raytracer/references`, else
@@ -87,7 +132,13 @@ impl Cache {
         Ok(Cache {
             folder: folder.to_path_buf(),
             renderer: Sha256::digest(&exe).into(),
+            options: Options::default(),
         })
+    }
+
+    /// This cache, rendering our references with `options`.
+    pub fn with_options(self, options: Options) -> Cache {
+        Cache { options, ..self }
     }
 
     /// The reference image of `scene`: read from the cache, else rendered
@@ -97,7 +148,7 @@ impl Cache {
         if let Some(picture) = read_private(&path) {
             return Ok((picture, false));
         }
-        let (image, _) = render::render(Precision::F64, &scene.scene, &Options::default(), &|| {});
+        let (image, _) = render::render(Precision::F64, &scene.scene, &self.options, &|| {});
         let picture = Picture {
             width: image.size,
             height: image.size,
@@ -127,6 +178,15 @@ impl Cache {
     fn key(&self, scene: &SuiteScene) -> std::io::Result<String> {
         let mut hash = Sha256::new();
         hash.update(self.renderer);
+        // The default options add nothing, so their images keep their keys.
+        if self.options.model != Model::default()
+            || self.options.max_depth != Options::default().max_depth
+        {
+            hash.update(b"options\0");
+            let model = serde_json::to_vec(&self.options.model).map_err(std::io::Error::other)?;
+            hash.update(&model);
+            hash.update(self.options.max_depth.to_le_bytes());
+        }
         for file in &scene.files {
             let bytes = std::fs::read(scene.root.join(file))?;
             let name = file.to_string_lossy();

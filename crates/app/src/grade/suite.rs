@@ -265,6 +265,45 @@ pub fn load(paths: &[PathBuf]) -> Result<Vec<SuiteScene>, SuiteError> {
     Ok(scenes)
 }
 
+/// The constants our reference is rendered with when a suite.json of
+/// `paths` gives them (its `reference` object, read as
+/// `--reference-options` reads a file); `None` when none does. Two
+/// folders that give different ones are refused.
+pub fn reference_options(
+    paths: &[PathBuf],
+) -> Result<Option<raytracer_render::render::Options>, SuiteError> {
+    let mut found: Option<(PathBuf, raytracer_render::render::Options)> = None;
+    for path in paths.iter().filter(|p| p.is_dir()) {
+        let manifest_path = path.join("suite.json");
+        if !manifest_path.is_file() {
+            continue;
+        }
+        let text =
+            std::fs::read_to_string(&manifest_path).map_err(FileError::reading(&manifest_path))?;
+        let invalid = |reason: String| SuiteError::Manifest {
+            path: manifest_path.display().to_string(),
+            reason,
+        };
+        let manifest: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| invalid(e.to_string()))?;
+        let Some(reference) = manifest.get("reference") else {
+            continue;
+        };
+        let options = super::reference::read_options(&reference.to_string())
+            .map_err(|reason| invalid(format!("its `reference`: {reason}")))?;
+        if let Some((first, other)) = &found {
+            if *other != options {
+                return Err(invalid(format!(
+                    "its `reference` differs from that of `{}`",
+                    first.join("suite.json").display()
+                )));
+            }
+        }
+        found = Some((manifest_path, options));
+    }
+    Ok(found.map(|(_, options)| options))
+}
+
 /// The scenes of one folder: those of its suite.json, or every scene file.
 fn load_folder(root: &Path) -> Result<Vec<SuiteScene>, SuiteError> {
     let manifest_path = root.join("suite.json");

@@ -21,6 +21,7 @@ pub mod bvh;
 #[cfg(test)]
 mod fixture;
 pub mod geometry;
+pub mod model;
 mod prim;
 pub mod probe;
 pub mod real;
@@ -37,6 +38,7 @@ use serde::Serialize;
 use crate::ir;
 use adaptive::Corners;
 use geometry::Ray;
+pub use model::Model;
 pub use real::Real;
 use real::Vector;
 use sampling::{RowRays, Sampler};
@@ -64,6 +66,11 @@ pub struct Options {
     /// The jitter of the samples: 0 is the renderer's; another seed gives
     /// an independent stratification (for estimating a reference's error).
     pub seed: u64,
+    /// The illumination model's open constants; the default one is not
+    /// serialised, so the options hash of tiles rendered with it is the
+    /// one it was before the model could be set.
+    #[serde(skip_serializing_if = "Model::is_default")]
+    pub model: Model,
 }
 
 impl Default for Options {
@@ -76,6 +83,7 @@ impl Default for Options {
             skip: true,
             accel: Accel::Auto,
             seed: 0,
+            model: Model::default(),
         }
     }
 }
@@ -272,8 +280,10 @@ fn pixels_in<R: Real, T: Copy + Send>(
     finish: impl Fn(DVec3) -> T + Sync,
 ) -> (Vec<T>, Counters) {
     let size = scene.resolution;
-    let tracer = Tracer::<R>::with_accel(scene, options.max_depth, options.skip, options.accel);
-    let sampler = Sampler::new(size, options.spp, options.seed);
+    let tracer = Tracer::<R>::with_accel(scene, options.max_depth, options.skip, options.accel)
+        .with_model(options.model);
+    let sampler =
+        Sampler::new(size, options.spp, options.seed).shifted(options.model.pixel_shift());
     let adaptive = sampler.count() > 1;
     let (corners, mut counters) = match options.antialias {
         Antialias::Adaptive { threshold } if adaptive => {

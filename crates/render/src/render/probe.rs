@@ -13,7 +13,7 @@
 use rayon::prelude::*;
 
 use super::trace::Tracer;
-use super::{camera_ray, Accel};
+use super::{camera_ray, Accel, Model};
 use crate::ir;
 
 /// The most lights whose visibility [`Probe::visible`] records.
@@ -103,10 +103,10 @@ impl Buffers {
 }
 
 /// Probe `scene` at every pixel centre and corner, reflecting up to
-/// `max_depth` times for [`Probe::reflected_radiance`].
-pub fn buffers(scene: &ir::Scene, max_depth: u32) -> Buffers {
-    let mut main = probe_all(scene, max_depth);
-    main.swapped = swapped_planes(scene).map(|other| Box::new(probe_all(&other, max_depth)));
+/// `max_depth` times under `model` for [`Probe::reflected_radiance`].
+pub fn buffers(scene: &ir::Scene, max_depth: u32, model: Model) -> Buffers {
+    let mut main = probe_all(scene, max_depth, model);
+    main.swapped = swapped_planes(scene).map(|other| Box::new(probe_all(&other, max_depth, model)));
     main
 }
 
@@ -127,9 +127,9 @@ pub fn swapped_planes(scene: &ir::Scene) -> Option<ir::Scene> {
 }
 
 /// [`buffers`] of one reading.
-fn probe_all(scene: &ir::Scene, max_depth: u32) -> Buffers {
+fn probe_all(scene: &ir::Scene, max_depth: u32, model: Model) -> Buffers {
     let size = scene.resolution;
-    let tracer = Tracer::<f64>::with_accel(scene, max_depth, false, Accel::Auto);
+    let tracer = Tracer::<f64>::with_accel(scene, max_depth, false, Accel::Auto).with_model(model);
     let grid = |n: u32, offset: f64| -> Vec<Probe> {
         (0..n * n)
             .into_par_iter()
@@ -176,7 +176,7 @@ mod tests {
              plane\ndimension 8 8\ncenter 0 -.5 -3\nnormal 0 1 0\nheadup 0 0 -1\n\
              color 1 1 1\nreflectivity .5\nlight\nlocation 0 3 -3\ncolor 1 1 1\n",
         );
-        let b = buffers(&s, 4);
+        let b = buffers(&s, 4, Model::default());
         assert_eq!(b.corners.len(), 21 * 21);
         // The middle pixel sees the sphere, lit from above.
         let mid = b.centre(10, 8);

@@ -20,6 +20,9 @@ pub(super) struct Sampler {
     size: u32,
     grid: u32,
     seed: u64,
+    /// Added to every sample's column and row ([`super::Model::pixel_shift`]):
+    /// 0, an exact identity, for rays through pixel centres.
+    shift: f64,
 }
 
 impl Sampler {
@@ -29,7 +32,13 @@ impl Sampler {
             size,
             grid: spp.isqrt().max(1),
             seed,
+            shift: 0.0,
         }
+    }
+
+    /// These samples moved by `shift` pixels right and down.
+    pub(super) fn shifted(self, shift: f64) -> Self {
+        Sampler { shift, ..self }
     }
 
     /// Samples per pixel.
@@ -52,7 +61,8 @@ impl Sampler {
         counters: &mut Counters,
     ) -> DVec3 {
         let (u, v) = self.offset((i, j), s);
-        let ray = camera_ray::<R>(self.size, f64::from(i) + u, f64::from(j) + v);
+        let (x, y) = (f64::from(i) + u + self.shift, f64::from(j) + v + self.shift);
+        let ray = camera_ray::<R>(self.size, x, y);
         tracer
             .radiance(ray, counters)
             .clamp(DVec3::ZERO, DVec3::ONE)
@@ -103,7 +113,12 @@ impl Sampler {
         }
         slots.resize(n, 0);
         let [dx, dy, dz] = dirs;
-        camera_dirs(self.size, f64::from(j) + 0.5, [dx, dy, dz]);
+        camera_dirs(
+            self.size,
+            f64::from(j) + 0.5 + self.shift,
+            self.shift,
+            [dx, dy, dz],
+        );
         tracer.first_hits(eye::<R>(), [dx, dy, dz], distances, slots);
         counters.primary_rays += u64::from(self.size);
         let hits = FirstHits {
@@ -124,7 +139,8 @@ impl Sampler {
         (x, y): (u32, u32),
         counters: &mut Counters,
     ) -> DVec3 {
-        let ray = camera_ray::<R>(self.size, f64::from(x), f64::from(y));
+        let (x, y) = (f64::from(x) + self.shift, f64::from(y) + self.shift);
+        let ray = camera_ray::<R>(self.size, x, y);
         tracer
             .radiance(ray, counters)
             .clamp(DVec3::ZERO, DVec3::ONE)
@@ -162,30 +178,31 @@ pub(super) struct RowRays<R: Real> {
 }
 
 /// The directions of the camera rays through the centres of row `y`'s
-/// pixels ([`camera_ray`]), in AVX2 lanes where the processor has them
-/// (on SSE2 the compiler already runs two `f64` lanes).
-fn camera_dirs<R: Real>(size: u32, y: f64, dirs: [&mut [R]; 3]) {
+/// pixels ([`camera_ray`]), each moved `shift` pixels right, in AVX2 lanes
+/// where the processor has them (on SSE2 the compiler already runs two
+/// `f64` lanes).
+fn camera_dirs<R: Real>(size: u32, y: f64, shift: f64, dirs: [&mut [R]; 3]) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2, the one feature it enables.
-        unsafe { camera_dirs_avx2(size, y, dirs) };
+        unsafe { camera_dirs_avx2(size, y, shift, dirs) };
         return;
     }
-    camera_dirs_in_lanes(size, y, dirs);
+    camera_dirs_in_lanes(size, y, shift, dirs);
 }
 
 /// [`camera_dirs_in_lanes`] compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn camera_dirs_avx2<R: Real>(size: u32, y: f64, dirs: [&mut [R]; 3]) {
-    camera_dirs_in_lanes(size, y, dirs);
+unsafe fn camera_dirs_avx2<R: Real>(size: u32, y: f64, shift: f64, dirs: [&mut [R]; 3]) {
+    camera_dirs_in_lanes(size, y, shift, dirs);
 }
 
 /// [`camera_dirs`], a loop the compiler vectorises.
 #[inline(always)]
-fn camera_dirs_in_lanes<R: Real>(size: u32, y: f64, [dx, dy, dz]: [&mut [R]; 3]) {
+fn camera_dirs_in_lanes<R: Real>(size: u32, y: f64, shift: f64, [dx, dy, dz]: [&mut [R]; 3]) {
     for (i, ((x, y_), z)) in (0..size).zip(dx.iter_mut().zip(dy.iter_mut()).zip(dz)) {
-        let dir = camera_ray::<R>(size, f64::from(i) + 0.5, y).dir;
+        let dir = camera_ray::<R>(size, f64::from(i) + 0.5 + shift, y).dir;
         (*x, *y_, *z) = (dir.x(), dir.y(), dir.z());
     }
 }

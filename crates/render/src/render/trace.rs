@@ -2,7 +2,9 @@
 //!
 //! Local light is `0.1·C + Σ C ⊙ I·max(0, N·L̂)` over the lights a shadow
 //! ray reaches; a reflective surface adds `k ·` the colour along the mirror
-//! direction, up to `max_depth` reflections. The recursion is a loop that
+//! direction, up to `max_depth` reflections. Those are the constants of the
+//! default [`Model`]; another sets the ambient share, the diffuse weight, a
+//! Phong highlight and blended reflection. The recursion is a loop that
 //! carries the product of reflectivities, so depth costs no stack.
 //!
 //! Only the work a scene calls for is done: no reflection ray leaves a
@@ -18,6 +20,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::geometry::{error_scale, offset_origin, Ray, Rect, Shape, Sphere};
+use super::model::Model;
 use super::real::{Real, Vector};
 use super::world::{Accel, Fan, Hit, Prim, World};
 use crate::ir;
@@ -90,6 +93,7 @@ pub struct Tracer<'a, R: Real> {
     lights: Vec<Light<R>>,
     max_depth: u32,
     skip: bool,
+    model: Model,
 }
 
 impl<'a, R: Real> Tracer<'a, R> {
@@ -115,7 +119,14 @@ impl<'a, R: Real> Tracer<'a, R> {
             lights,
             max_depth,
             skip,
+            model: Model::default(),
         }
+    }
+
+    /// This tracer with the illumination model `model` instead of the
+    /// default one.
+    pub fn with_model(self, model: Model) -> Self {
+        Tracer { model, ..self }
     }
 
     /// The colour seen along a camera ray, before clamping.
@@ -193,7 +204,16 @@ impl<'a, R: Real> Tracer<'a, R> {
         let material = &self.world.materials[prim.material as usize];
         let surface = self.surface(&ray, first.t, prim, material);
         let albedo = self.albedo(material, surface.uv, counters);
-        let local = self.local(&surface, first.slot, albedo, DVec3::ZERO, 1.0, counters);
+        let weight = self.model.local_weight(material.reflectivity);
+        let local = self.local(
+            &surface,
+            ray.dir,
+            first.slot,
+            albedo,
+            DVec3::ZERO,
+            weight,
+            counters,
+        );
         self.onwards(
             ray,
             first.slot,
@@ -229,10 +249,12 @@ impl<'a, R: Real> Tracer<'a, R> {
                 let material = &self.world.materials[prim.material as usize];
                 surface = self.surface(&ray, hit.t, prim, material);
                 let albedo = self.albedo(material, surface.uv, counters);
-                local = self.local(&surface, slot, albedo, color, weight, counters);
                 k = material.reflectivity;
+                let share = weight * self.model.local_weight(k);
+                local = self.local(&surface, ray.dir, slot, albedo, color, share, counters);
             }
-            color += local * weight;
+            // `weight · 1` when reflection is added: the same bits.
+            color += local * (weight * self.model.local_weight(k));
             if k == 0.0 || depth == self.max_depth {
                 break;
             }
@@ -360,21 +382,25 @@ impl<'a, R: Real> Tracer<'a, R> {
         }
     }
 
-    /// Ambient plus every light a shadow ray reaches, times the albedo.
-    /// `color` and `weight` are the path so far, for the saturation skip.
+    /// Ambient plus every light a shadow ray reaches, times the albedo,
+    /// for a ray along `dir`. `color` and `weight` (the weight this local
+    /// light will be added with) are the path so far, for the saturation
+    /// skip.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn local(
         &self,
         surface: &Surface<R>,
+        dir: R::Vec,
         slot: u32,
         albedo: DVec3,
         color: DVec3,
         weight: f64,
         counters: &mut Counters,
     ) -> DVec3 {
-        let mut local = albedo * AMBIENT;
+        let mut local = albedo * self.model.ambient;
         for light in &self.lights {
-            let step = self.light_step(light, surface, slot, albedo, color, weight, local);
+            let step = self.light_step(light, surface, dir, slot, albedo, color, weight, local);
             counters.shadow_rays_skipped += u64::from(step.skipped);
             if step.cast {
                 counters.shadow_rays += 1;
@@ -396,6 +422,7 @@ impl<'a, R: Real> Tracer<'a, R> {
         &self,
         light: &Light<R>,
         surface: &Surface<R>,
+        dir: R::Vec,
         slot: u32,
         albedo: DVec3,
         color: DVec3,
@@ -408,8 +435,10 @@ impl<'a, R: Real> Tracer<'a, R> {
         // A light at the hit point has no direction to normalise (it would
         // be NaN): it lights nothing there, and is not counted as skipped.
         let at_light = length.is_zero();
-        let cos = surface.normal.dot(to_light * length.recip()).wide();
-        let black = contribution.cmpeq(DVec3::ZERO).all();
+        let towards = to_light * length.recip();
+        let cos = surface.normal.dot(towards).wide();
+        // A black surface still shows a highlight when the model has one.
+        let black = contribution.cmpeq(DVec3::ZERO).all() & (self.model.specular <= 0.0);
         let skipped =
             !at_light & self.skip & ((cos <= 0.0) | black | saturated(color + local * weight));
         let origin = offset_origin::<R>(surface.point, surface.normal, surface.error_scale);
@@ -425,8 +454,34 @@ impl<'a, R: Real> Tracer<'a, R> {
                 from: slot,
             },
             reach: distance * R::SHADOW_REACH,
-            lit: contribution * cos.max(0.0),
+            // `cos · 1` with the default diffuse weight: the same bits.
+            lit: contribution * (cos.max(0.0) * self.model.diffuse)
+                + self.highlight(light, surface, dir, towards, cos),
         }
+    }
+
+    /// The white Phong highlight of `light` (towards it: `towards`, at
+    /// cosine `cos` to the normal) seen along `dir`: `k_s·I·max(0,
+    /// R·V)^n`, black when the model has none.
+    #[inline(always)]
+    fn highlight(
+        &self,
+        light: &Light<R>,
+        surface: &Surface<R>,
+        dir: R::Vec,
+        towards: R::Vec,
+        cos: f64,
+    ) -> DVec3 {
+        if self.model.specular <= 0.0 || cos <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let n = surface.normal;
+        let mirror = dir - n * (R::of(2.0) * dir.dot(n));
+        let alignment = mirror.dot(towards).wide();
+        if alignment <= 0.0 {
+            return DVec3::ZERO;
+        }
+        light.color * (self.model.specular * alignment.powf(self.model.exponent))
     }
 }
 
@@ -586,6 +641,58 @@ mod tests {
             assert_eq!(color32, color);
             assert_eq!((counters.shadow_rays, counters.non_finite), (0, 0));
         }
+    }
+
+    /// Another model's constants: ambient and diffuse weights, a
+    /// highlight, blended reflection, at the front pole of a sphere lit
+    /// from the eye (`N·L = R·V = 1`), whose reflection sees nothing.
+    #[test]
+    fn a_models_constants_weigh_the_terms() {
+        use super::super::model::{Model, Reflection};
+        let albedo = DVec3::new(0.5, 0.25, 1.0);
+        let scene = |reflectivity: f64| ir::Scene {
+            resolution: 1,
+            objects: vec![ir::Object {
+                shape: ir::Shape::Sphere {
+                    center: DVec3::new(0.0, 0.0, -5.0),
+                    radius: 1.0,
+                },
+                material: 0,
+            }],
+            materials: vec![ir::Material {
+                color: albedo,
+                reflectivity,
+                texture: None,
+            }],
+            lights: vec![ir::Light {
+                position: DVec3::ZERO,
+                color: DVec3::ONE,
+            }],
+            textures: Vec::new(),
+            effects: ir::Effects::default(),
+        };
+        let seen = |reflectivity: f64, model: Model| {
+            let scene = scene(reflectivity);
+            let tracer = Tracer::<f64>::new(&scene, 8, false).with_model(model);
+            let ray = crate::render::camera_ray::<f64>(1, 0.5, 0.5);
+            tracer.radiance(ray, &mut Counters::default())
+        };
+        let close = |a: DVec3, b: DVec3| (a - b).abs().max_element() < 1e-12;
+        assert!(close(seen(0.0, Model::default()), albedo * 1.1));
+        let other = Model {
+            ambient: 0.2,
+            diffuse: 0.7,
+            specular: 0.5,
+            exponent: 20.0,
+            ..Model::default()
+        };
+        assert!(close(seen(0.0, other), albedo * 0.9 + DVec3::splat(0.5)));
+        let blended = Model {
+            reflection: Reflection::Blended,
+            ..Model::default()
+        };
+        assert!(close(seen(0.5, Model::default()), albedo * 1.1));
+        assert!(close(seen(0.5, blended), albedo * 0.55));
     }
 
     #[test]
