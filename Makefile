@@ -7,7 +7,7 @@ CARGO ?= cargo
 CARGO_FLAGS ?=
 BIN := target/release/raytracer
 
-.PHONY: all build test man web test-web cold-times run render-scenes bench bench-scaling accuracy fuzz fuzz-cmin clean \
+.PHONY: all build test man web test-web cold-times run render-scenes bench bench-profile bench-scaling accuracy fuzz fuzz-cmin clean \
 	vsix preview-screenshot preview-latency grading-screenshot playground-screenshot
 
 all: raytracer
@@ -84,6 +84,12 @@ render-scenes: raytracer
 # docs/performance.md. REPS=N for more samples.
 bench:
 	scripts/bench.sh
+
+# Where a 100,000-sphere render's instructions go (cachegrind), and this
+# build against BASE (an older binary) on the sphere grids, alternating:
+# tables written into docs/performance.md (scripts/bench_profile.sh).
+bench-profile:
+	scripts/bench_profile.sh
 
 # Our render time against object count (10 to 1,000,000 spheres), medians
 # to docs/scaling.csv, plotted to docs/scaling.png (scripts/scaling.sh).
