@@ -271,11 +271,10 @@ impl Bvh {
 
     /// The nearest hit in `(0, t_max)` among `prims` (the list the
     /// hierarchy was built over); among hits at the same `t`, the primitive
-    /// with the lowest IR index. Marked `inline(always)`, so that
+    /// with the lowest IR index. Marked `inline`, so that
     /// `World::closest_in` holds the traversal without a second call per
-    /// ray whichever codegen unit each lands in, compiled for the
-    /// instruction set its caller enables.
-    #[inline(always)]
+    /// ray whichever codegen unit each lands in.
+    #[inline]
     pub fn closest<R: Real>(&self, prims: &[Prim<R>], ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {
         let slab = Slab::new(ray);
         let mut best: Option<Hit<R>> = None;
@@ -283,6 +282,22 @@ impl Bvh {
         // Children still to visit, the nearest on top.
         let mut stack = ArrayVec::<Child, STACK>::new();
         let mut node = 0usize;
+        // A primitive's `t` does not depend on the limit it is given (only
+        // whether it is returned), so testing against `t_max` and keeping
+        // the nearest, the lower index on a tie, is what a scan finds.
+        let mut test_leaf = |child: Child, reach: &mut f32| {
+            for slot in child.slots() {
+                let prim = &prims[slot as usize];
+                if let Some(t) = prim.hit(slot, ray, t_max) {
+                    if best.is_none_or(|hit| {
+                        t < hit.t || (t == hit.t && prim.id < prims[hit.slot as usize].id)
+                    }) {
+                        best = Some(Hit { t, slot });
+                        *reach = reach_f32(t);
+                    }
+                }
+            }
+        };
         loop {
             let w = &self.nodes[node];
             let (near, mut mask) = slab.enter(w, reach);
@@ -295,7 +310,7 @@ impl Bvh {
                     node = child.index as usize;
                     continue;
                 }
-                test_leaf(prims, ray, t_max, child, &mut best, &mut reach);
+                test_leaf(child, &mut reach);
                 mask = 0;
             }
             // The entered children, nearest first.
@@ -323,7 +338,7 @@ impl Bvh {
                 }
                 let child = Child::of(w, lane, entry);
                 if !child.is_interior() {
-                    test_leaf(prims, ray, t_max, child, &mut best, &mut reach);
+                    test_leaf(child, &mut reach);
                     continue;
                 }
                 next = Some(child.index as usize);
@@ -349,15 +364,15 @@ impl Bvh {
                     node = child.index as usize;
                     break;
                 }
-                test_leaf(prims, ray, t_max, child, &mut best, &mut reach);
+                test_leaf(child, &mut reach);
             }
         }
     }
 
     /// Whether any of `prims` lies on the ray in `(0, t_max)`. Marked
-    /// `inline(always)`: its caller holds the traversal without a call
-    /// per ray, compiled for the instruction set that caller enables.
-    #[inline(always)]
+    /// `inline`: the tracer's path loop, which makes the shadow rays,
+    /// then holds the traversal without a call per ray.
+    #[inline]
     pub fn occluded<R: Real>(&self, prims: &[Prim<R>], ray: &Ray<R>, t_max: R) -> bool {
         let slab = Slab::new(ray);
         let reach = reach_f32(t_max);
@@ -385,34 +400,6 @@ impl Bvh {
                 return false;
             };
             node = next;
-        }
-    }
-}
-
-/// Test the primitives of leaf `child` for [`Bvh::closest`], keeping in
-/// `best` the nearest hit (the lower IR index on a tie) and in `reach`
-/// how far boxes are still worth entering. A primitive's `t` does not
-/// depend on the limit it is given (only whether it is returned), so
-/// testing against `t_max` and keeping the nearest is what a scan finds.
-/// Inlined (a call per leaf spilled the ray's lanes around it).
-#[inline(always)]
-fn test_leaf<R: Real>(
-    prims: &[Prim<R>],
-    ray: &Ray<R>,
-    t_max: R,
-    child: Child,
-    best: &mut Option<Hit<R>>,
-    reach: &mut f32,
-) {
-    for slot in child.slots() {
-        let prim = &prims[slot as usize];
-        if let Some(t) = prim.hit(slot, ray, t_max) {
-            if best.is_none_or(|hit| {
-                t < hit.t || (t == hit.t && prim.id < prims[hit.slot as usize].id)
-            }) {
-                *best = Some(Hit { t, slot });
-                *reach = reach_f32(t);
-            }
         }
     }
 }

@@ -52,12 +52,6 @@ pub struct World<R: Real> {
     pub materials: Vec<ir::Material>,
     /// The hierarchy, when one is used.
     bvh: Option<Bvh>,
-    /// Whether the processor has AVX2, for which the hierarchy's
-    /// traversals are compiled a second time (the same source and
-    /// arithmetic, so the same hits; VEX's three-operand instructions
-    /// and wider lanes).
-    #[cfg(target_arch = "x86_64")]
-    avx2: bool,
 }
 
 /// Rays that leave one `origin` (and primitive `from`, or
@@ -100,8 +94,6 @@ impl<R: Real> World<R> {
             prims,
             materials: scene.materials.clone(),
             bvh,
-            #[cfg(target_arch = "x86_64")]
-            avx2: std::arch::is_x86_feature_detected!("avx2"),
         }
     }
 
@@ -219,46 +211,21 @@ impl<R: Real> World<R> {
         }
     }
 
-    /// [`Bvh::closest`] over this world's primitives, compiled for AVX2
-    /// where the processor has it.
+    /// [`Bvh::closest`] over this world's primitives.
     #[inline(never)]
     fn closest_in(&self, bvh: &Bvh, ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {
-        #[cfg(target_arch = "x86_64")]
-        if self.avx2 {
-            // SAFETY: `avx2` says the processor has AVX2.
-            return unsafe { self.closest_in_avx2(bvh, ray, t_max) };
-        }
-        bvh.closest(&self.prims, ray, t_max)
-    }
-
-    /// [`World::closest_in`] compiled for AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn closest_in_avx2(&self, bvh: &Bvh, ray: &Ray<R>, t_max: R) -> Option<Hit<R>> {
         bvh.closest(&self.prims, ray, t_max)
     }
 
     /// Whether anything lies on the ray in `(0, t_max)`.
     pub fn occluded(&self, ray: &Ray<R>, t_max: R) -> bool {
         if let Some(bvh) = &self.bvh {
-            #[cfg(target_arch = "x86_64")]
-            if self.avx2 {
-                // SAFETY: `avx2` says the processor has AVX2.
-                return unsafe { self.occluded_avx2(bvh, ray, t_max) };
-            }
             return bvh.occluded(&self.prims, ray, t_max);
         }
         self.prims
             .iter()
             .enumerate()
             .any(|(slot, prim)| prim.hit(slot as u32, ray, t_max).is_some())
-    }
-
-    /// [`Bvh::occluded`] compiled for AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn occluded_avx2(&self, bvh: &Bvh, ray: &Ray<R>, t_max: R) -> bool {
-        bvh.occluded(&self.prims, ray, t_max)
     }
 }
 
