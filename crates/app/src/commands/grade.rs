@@ -249,7 +249,8 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         .iter()
         .map(|_| graded.confinement.root().then(Lease::take).transpose())
         .collect::<Result<Vec<_>, _>>()
-        .map_err(io_error(Path::new(uids::FOLDER)))?;
+        .map_err(FileError::writing(Path::new(uids::FOLDER)))
+        .map_err(GradeError::from)?;
     let mut all_match = true;
     for (index, (job, lease)) in jobs.iter().zip(&leases).enumerate() {
         let graded = Graded {
