@@ -220,6 +220,19 @@ fn kinds() -> Vec<Kind> {
     }
 }
 
+/// `grade` for a run of `kind`: a user run as `nobody` through `setpriv`
+/// when the tests run as root, else as the tests' own user.
+fn grader(kind: Kind) -> Command {
+    if kind == Kind::Root || !support::is_root() {
+        return Command::new(binary());
+    }
+    let mut command = Command::new("setpriv");
+    command
+        .args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
+        .arg(binary());
+    command
+}
+
 /// An attack's folder: a one-scene suite, the attacker's script, the
 /// report and the cache, open to `nobody`.
 struct Attack {
@@ -272,15 +285,7 @@ impl Attack {
             d.join("tracer.sh").display(),
             crate::grade_cli::student_binary().display()
         );
-        let mut command = match kind {
-            Kind::Root => Command::new(binary()),
-            Kind::User => {
-                let mut c = Command::new("setpriv");
-                c.args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
-                    .arg(binary());
-                c
-            }
-        };
+        let mut command = grader(kind);
         command
             .args(["grade", "--tracer", tracer.unwrap_or(&default)])
             .args(if extra.contains(&"--timeout") {
@@ -763,15 +768,7 @@ fn students_of_a_class_cannot_reach_one_another() {
     );
     for kind in kinds() {
         let report = d.join(format!("report-{kind:?}"));
-        let mut command = match kind {
-            Kind::Root => Command::new(binary()),
-            Kind::User => {
-                let mut c = Command::new("setpriv");
-                c.args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
-                    .arg(binary());
-                c
-            }
-        };
+        let mut command = grader(kind);
         let output = command
             .args(["grade", "--timeout", "5", "--class"])
             .arg(d.join("class"))
