@@ -519,6 +519,31 @@ fn nothing_of_a_run_survives_a_killed_grader() {
             unsafe { libc::kill(*pid, libc::SIGKILL) };
         }
         assert!(left.is_empty(), "{kind:?}: survivors: {left:?}");
+        if kind == Kind::Root && cgroup_v1() {
+            // Its control groups are left; the next grader removes them
+            // once they are a minute old (made so here).
+            let mine = format!("raytracer-grade-{}-", grader.id());
+            let left = || -> Vec<std::path::PathBuf> {
+                ["memory", "pids"]
+                    .iter()
+                    .flat_map(|c| std::fs::read_dir(Path::new("/sys/fs/cgroup").join(c)).unwrap())
+                    .flatten()
+                    .filter(|e| e.file_name().to_string_lossy().starts_with(&mine))
+                    .map(|e| e.path())
+                    .collect()
+            };
+            assert_eq!(left().len(), 2, "{kind:?}: {:?}", left());
+            for group in left() {
+                let aged = Command::new("touch")
+                    .args(["-d", "2 minutes ago"])
+                    .arg(&group)
+                    .status()
+                    .unwrap();
+                assert!(aged.success());
+            }
+            attack.grade(kind, Some("true {scene} {out}"), &[], &[]);
+            assert_eq!(left(), Vec::<std::path::PathBuf>::new(), "{kind:?}");
+        }
     }
 }
 

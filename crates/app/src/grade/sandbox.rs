@@ -533,7 +533,44 @@ impl ControlGroup {
             processes: 8,
             output: 0,
         };
+        for (controller, _) in CONTROLLERS {
+            if let Some(parent) = ControlGroup::parent(controller) {
+                ControlGroup::sweep(&parent);
+            }
+        }
         ControlGroup::new(&limits).is_some()
+    }
+
+    /// Remove the groups in `parent` that graders which died left (one
+    /// killed with SIGKILL removes nothing): named for a pid no process
+    /// has, unchanged for a minute (so never one a grader of another PID
+    /// namespace is making), and empty (the kernel removes no group that
+    /// holds a process or a group).
+    fn sweep(parent: &Path) {
+        let Ok(entries) = std::fs::read_dir(parent) else {
+            return;
+        };
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let Some(pid) = name
+                .to_str()
+                .and_then(|n| n.strip_prefix("raytracer-grade-"))
+                .and_then(|rest| rest.split('-').next())
+                .and_then(|pid| pid.parse::<libc::pid_t>().ok())
+            else {
+                continue;
+            };
+            // SAFETY: `kill` with signal 0 sends nothing.
+            let dead = unsafe { libc::kill(pid, 0) } == -1
+                && io::Error::last_os_error().raw_os_error() == Some(libc::ESRCH);
+            let old = entry
+                .metadata()
+                .and_then(|m| m.modified())
+                .is_ok_and(|t| t.elapsed().is_ok_and(|age| age > Duration::from_secs(60)));
+            if dead && old {
+                let _ = std::fs::remove_dir(entry.path());
+            }
+        }
     }
 
     /// A run's groups with `limits`' memory and processes, or `None`.
