@@ -17,12 +17,12 @@
 //! `PR_SET_NO_NEW_PRIVS`. Where control groups can be made
 //! ([`ControlGroup`]: as root, or in a box under a group delegated to the
 //! grader), the run's first process joins groups of its own that bound
-//! the memory and the processes of the whole run. On the wall-clock timeout, and again after the
-//! program ends, its whole process group is killed (in a box, that kills
-//! the box's pid 1 and so everything in it). `grade` is the subreaper of
-//! everything the program starts, so a process that leaves the group
-//! outside a box is still reparented to `grade`, and [`reap_orphans`]
-//! kills and reaps it. An interrupted `grade` kills every running group
+//! the memory and the processes of the whole run. On the wall-clock
+//! timeout, and again after the program ends, its whole process group is
+//! killed (in a box, that kills the box's pid 1 and so everything in
+//! it). `grade` is the subreaper of everything the program starts, so a
+//! process that leaves the group outside a box is still reparented to
+//! `grade`, and [`reap_orphans`] kills and reaps it. An interrupted `grade` kills every running group
 //! ([`kill_running`]) before it exits.
 
 use std::ffi::OsString;
