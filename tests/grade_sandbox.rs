@@ -220,6 +220,19 @@ fn kinds() -> Vec<Kind> {
     }
 }
 
+/// `grade` for a run of `kind`: a user run as `nobody` through `setpriv`
+/// when the tests run as root, else as the tests' own user.
+fn grader(kind: Kind) -> Command {
+    if kind == Kind::Root || !support::is_root() {
+        return Command::new(binary());
+    }
+    let mut command = Command::new("setpriv");
+    command
+        .args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
+        .arg(binary());
+    command
+}
+
 /// An attack's folder: a one-scene suite, the attacker's script, the
 /// report and the cache, open to `nobody`.
 struct Attack {
@@ -272,15 +285,7 @@ impl Attack {
             d.join("tracer.sh").display(),
             crate::grade_cli::student_binary().display()
         );
-        let mut command = match kind {
-            Kind::Root => Command::new(binary()),
-            Kind::User => {
-                let mut c = Command::new("setpriv");
-                c.args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
-                    .arg(binary());
-                c
-            }
-        };
+        let mut command = grader(kind);
         command
             .args(["grade", "--tracer", tracer.unwrap_or(&default)])
             .args(if extra.contains(&"--timeout") {
@@ -311,8 +316,13 @@ impl Attack {
         extra: &[&str],
         env: &[(&str, &str)],
     ) -> (i32, Value, Value) {
+        self.grade_by(kind, self.command(kind, tracer, extra, env))
+    }
+
+    /// Grade by `command`, made by [`Attack::command`] for `kind`.
+    fn grade_by(&self, kind: Kind, mut command: Command) -> (i32, Value, Value) {
         let report = self.path().join(format!("report-{kind:?}"));
-        let output = self.command(kind, tracer, extra, env).output().unwrap();
+        let output = command.output().unwrap();
         let summary: Value = serde_json::from_slice(
             &std::fs::read(report.join("summary.json")).unwrap_or_else(|_| {
                 panic!(
@@ -509,6 +519,31 @@ fn nothing_of_a_run_survives_a_killed_grader() {
             unsafe { libc::kill(*pid, libc::SIGKILL) };
         }
         assert!(left.is_empty(), "{kind:?}: survivors: {left:?}");
+        if kind == Kind::Root && cgroup_v1() {
+            // Its control groups are left; the next grader removes them
+            // once they are a minute old (made so here).
+            let mine = format!("raytracer-grade-{}-", grader.id());
+            let left = || -> Vec<std::path::PathBuf> {
+                ["memory", "pids"]
+                    .iter()
+                    .flat_map(|c| std::fs::read_dir(Path::new("/sys/fs/cgroup").join(c)).unwrap())
+                    .flatten()
+                    .filter(|e| e.file_name().to_string_lossy().starts_with(&mine))
+                    .map(|e| e.path())
+                    .collect()
+            };
+            assert_eq!(left().len(), 2, "{kind:?}: {:?}", left());
+            for group in left() {
+                let aged = Command::new("touch")
+                    .args(["-d", "2 minutes ago"])
+                    .arg(&group)
+                    .status()
+                    .unwrap();
+                assert!(aged.success());
+            }
+            attack.grade(kind, Some("true {scene} {out}"), &[], &[]);
+            assert_eq!(left(), Vec::<std::path::PathBuf>::new(), "{kind:?}");
+        }
     }
 }
 
@@ -758,15 +793,7 @@ fn students_of_a_class_cannot_reach_one_another() {
     );
     for kind in kinds() {
         let report = d.join(format!("report-{kind:?}"));
-        let mut command = match kind {
-            Kind::Root => Command::new(binary()),
-            Kind::User => {
-                let mut c = Command::new("setpriv");
-                c.args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
-                    .arg(binary());
-                c
-            }
-        };
+        let mut command = grader(kind);
         let output = command
             .args(["grade", "--timeout", "5", "--class"])
             .arg(d.join("class"))
@@ -811,20 +838,34 @@ fn students_of_a_class_cannot_reach_one_another() {
     }
 }
 
+/// Four processes of 60 MiB each: under `--memory 128` they do not all
+/// live where the run is held in a control group.
+const MEMORY_ACROSS_PROCESSES: &str =
+    "for i in 1 2 3 4; do python3 -c 'import time; b = bytearray(60 << 20); time.sleep(2)' & done\n\
+     status=0; for job in $(jobs -p); do wait $job || status=1; done\n\
+     exit $status";
+
+/// Whether cgroup v1's `memory` and `pids` hierarchies are mounted here.
+fn cgroup_v1() -> bool {
+    ["memory", "pids"].iter().all(|c| {
+        Path::new("/sys/fs/cgroup")
+            .join(c)
+            .join("cgroup.procs")
+            .is_file()
+    })
+}
+
 /// Memory is bounded per run where a control group can be made (a root
 /// run here): four processes of 60 MiB each under `--memory 128` do not
-/// all live; without one (a user run) each process alone is bounded.
+/// all live; without one (a user run with no group delegated to it) each
+/// process alone is bounded.
 #[test]
 fn memory_is_bounded_per_run_by_a_control_group() {
-    let attack = Attack::new(
-        "for i in 1 2 3 4; do python3 -c 'import time; b = bytearray(60 << 20); time.sleep(2)' & done\n\
-         status=0; for job in $(jobs -p); do wait $job || status=1; done\n\
-         exit $status",
-    );
+    let attack = Attack::new(MEMORY_ACROSS_PROCESSES);
     for kind in kinds() {
         let (_, scene, sandbox) = attack.grade(kind, None, &["--memory", "128"], &[]);
         let mechanisms = sandbox["mechanisms"].to_string();
-        if kind == Kind::Root && std::path::Path::new("/sys/fs/cgroup/memory").is_dir() {
+        if kind == Kind::Root && cgroup_v1() {
             assert!(mechanisms.contains("cgroup"), "{sandbox}");
             assert_eq!(status(&scene), "crashed", "{kind:?}: {scene}");
         } else {
@@ -832,6 +873,184 @@ fn memory_is_bounded_per_run_by_a_control_group() {
             assert_eq!(status(&scene), "no_image", "{kind:?}: {scene}");
         }
     }
+}
+
+/// A cgroup v1 `memory` and `pids` group delegated to `nobody` as an
+/// administrator would (systemd's `Delegate=`, or by hand): a folder of
+/// each hierarchy, it and its files given to uid 65534. Removed, with
+/// whatever groups were left in it, when dropped.
+struct Delegated {
+    folders: Vec<std::path::PathBuf>,
+}
+
+impl Delegated {
+    fn new() -> Delegated {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        static MADE: AtomicUsize = AtomicUsize::new(0);
+        let name = format!(
+            "raytracer-test-delegated-{}-{}",
+            std::process::id(),
+            MADE.fetch_add(1, Ordering::Relaxed)
+        );
+        let mut delegated = Delegated {
+            folders: Vec::new(),
+        };
+        for controller in ["memory", "pids"] {
+            let folder = Path::new("/sys/fs/cgroup").join(controller).join(&name);
+            std::fs::create_dir(&folder).unwrap();
+            delegated.folders.push(folder.clone());
+            std::os::unix::fs::chown(&folder, Some(65_534), Some(65_534)).unwrap();
+            for file in std::fs::read_dir(&folder).unwrap() {
+                std::os::unix::fs::chown(file.unwrap().path(), Some(65_534), Some(65_534)).unwrap();
+            }
+        }
+        delegated
+    }
+
+    /// The groups made in the delegated folders.
+    fn children(&self) -> Vec<std::path::PathBuf> {
+        self.folders
+            .iter()
+            .flat_map(|f| std::fs::read_dir(f).unwrap().flatten())
+            .map(|e| e.path())
+            .filter(|p| p.is_dir())
+            .collect()
+    }
+
+    /// `command` started in the delegated groups: a root shell writes its
+    /// pid to each group's `cgroup.procs`, then execs it (`setpriv`).
+    fn inside(&self, command: &Command) -> Command {
+        let mut script = String::new();
+        for folder in &self.folders {
+            script += &format!("echo $$ > {}/cgroup.procs && ", folder.display());
+        }
+        script += "exec \"$@\"";
+        let mut wrapped = Command::new("sh");
+        wrapped
+            .args(["-c", &script, "sh"])
+            .arg(command.get_program())
+            .args(command.get_args())
+            .stdin(Stdio::null());
+        for (key, value) in command.get_envs() {
+            match value {
+                Some(value) => wrapped.env(key, value),
+                None => wrapped.env_remove(key),
+            };
+        }
+        wrapped
+    }
+}
+
+impl Drop for Delegated {
+    fn drop(&mut self) {
+        for child in self.children() {
+            let _ = std::fs::remove_dir(child);
+        }
+        for folder in &self.folders {
+            // A process that left a group leaves it a moment later.
+            for _ in 0..200 {
+                if std::fs::remove_dir(folder).is_ok() {
+                    break;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+        }
+    }
+}
+
+/// Whether a delegated group can be tried here: as root, with `setpriv`
+/// and cgroup v1's `memory` and `pids` hierarchies.
+fn delegation_possible(test: &str) -> bool {
+    if !support::is_root() {
+        support::skipped(&format!("{test}: delegating a group needs root"));
+        return false;
+    }
+    if !cgroup_v1() {
+        support::skipped(&format!("{test}: no cgroup v1 `memory` and `pids` here"));
+        return false;
+    }
+    kinds().contains(&Kind::User)
+}
+
+/// A user run whose grader holds a delegated group bounds each run's
+/// memory across its processes in groups it makes there (summary.json
+/// names `cgroup`), and removes them after.
+#[test]
+fn a_delegated_control_group_bounds_a_user_run() {
+    if !delegation_possible("a delegated group") {
+        return;
+    }
+    let attack = Attack::new(MEMORY_ACROSS_PROCESSES);
+    let delegated = Delegated::new();
+    let command = attack.command(Kind::User, None, &["--memory", "128"], &[]);
+    let (_, scene, sandbox) = attack.grade_by(Kind::User, delegated.inside(&command));
+    assert!(
+        sandbox["mechanisms"].to_string().contains("cgroup"),
+        "{sandbox}"
+    );
+    assert_eq!(status(&scene), "crashed", "{scene}");
+    assert_eq!(delegated.children(), Vec::<std::path::PathBuf>::new());
+}
+
+/// The groups a delegated grader makes are its uid's, which is also the
+/// program's: in the box the program can neither reach the delegated
+/// folders to move itself out nor mount its own groups (through a user
+/// and cgroup namespace of its own) to raise its limit. Outside a box the
+/// same attack works (the control).
+#[test]
+fn a_program_cannot_leave_or_loosen_its_delegated_group() {
+    if !delegation_possible("leaving a delegated group") {
+        return;
+    }
+    let delegated = Delegated::new();
+    let mut script = String::from("escaped=\n");
+    for folder in &delegated.folders {
+        script += &format!(
+            "echo $$ 2>/dev/null > {}/cgroup.procs && escaped=\"$escaped procs\"\n",
+            folder.display()
+        );
+    }
+    script += "mounted=$(mktemp -d)\n\
+        unshare -Urm -C sh -c \"mount -t cgroup -o memory none $mounted && \
+          echo 9223372036854771712 > $mounted/memory.limit_in_bytes\" 2>/dev/null \
+          && escaped=\"$escaped mount\"\n\
+        rmdir \"$mounted\"\n\
+        [ -z \"$escaped\" ] && exec \"$RAYTRACER\" render \"$1\" \"$2\"\n\
+        echo \"escaped:$escaped\"; exit 1";
+    let attack = Attack::new(&script);
+    let command = attack.command(Kind::User, None, &["--memory", "128"], &[]);
+    let (_, scene, sandbox) = attack.grade_by(Kind::User, delegated.inside(&command));
+    assert!(
+        sandbox["mechanisms"].to_string().contains("cgroup"),
+        "{sandbox}"
+    );
+    assert_eq!(status(&scene), "match", "{scene}");
+    // The control: the script as `nobody` in a group of the delegated
+    // folders, as the grader makes them, with no box.
+    let child = Delegated {
+        folders: delegated
+            .folders
+            .iter()
+            .map(|f| f.join("control"))
+            .collect(),
+    };
+    for folder in &child.folders {
+        let made = Command::new("setpriv")
+            .args(["--reuid=65534", "--regid=65534", "--clear-groups", "mkdir"])
+            .arg(folder)
+            .status()
+            .unwrap();
+        assert!(made.success());
+    }
+    let mut control = Command::new("setpriv");
+    control
+        .args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
+        .arg(attack.path().join("tracer.sh"))
+        .args(["scene", "image"])
+        .current_dir(attack.path());
+    let output = child.inside(&control).output().unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(stdout.trim(), "escaped: procs procs mount", "{output:?}");
 }
 
 /// Run `command` as in a container that refuses namespaces: a seccomp

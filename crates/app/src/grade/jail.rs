@@ -20,7 +20,9 @@
 //! paths (the run's working folder read-write, a `--tracer` program's file
 //! read-only); the grader's own executable is covered by `/dev/null` if it
 //! lies under a bound system folder. It then pivots into that root,
-//! detaches the old one, makes `/` read-only, and forks the program
+//! detaches the old one, makes `/` read-only, in a user namespace allows
+//! no user namespace to be made inside it (so the program cannot mount the
+//! control groups it is held in), and forks the program
 //! ("C2"), which drops to the run's uid, takes the limits and
 //! `PR_SET_NO_NEW_PRIVS`, and execs. C1 reaps whatever is reparented to
 //! it and exits when the program does, handing the program's wait status
@@ -332,6 +334,13 @@ pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
             std::ptr::write_bytes(start as *mut u8, 0, end - start);
         }
         build_root(plan)?;
+        if !confinement.root() {
+            // No user namespace may be made inside the box's: in one, with
+            // a cgroup namespace, the program could mount the control
+            // groups it runs in, which a delegated grader's uid owns
+            // (`sandbox::ControlGroup`), and raise its own limits.
+            write_file(b"/proc/sys/user/max_user_namespaces\0", b"0")?;
+        }
         let program = libc::fork();
         check(program)?;
         if program == 0 {

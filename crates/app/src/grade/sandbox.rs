@@ -14,12 +14,15 @@
 //! student's own (leased, [`super::uids`]; [`Confinement::with_user`]),
 //! because root ignores the process-count limit; the resource limits (CPU
 //! seconds, address space, file size, processes, no core files) and
-//! `PR_SET_NO_NEW_PRIVS`. On the wall-clock timeout, and again after the
-//! program ends, its whole process group is killed (in a box, that kills
-//! the box's pid 1 and so everything in it). `grade` is the subreaper of
-//! everything the program starts, so a process that leaves the group
-//! outside a box is still reparented to `grade`, and [`reap_orphans`]
-//! kills and reaps it. An interrupted `grade` kills every running group
+//! `PR_SET_NO_NEW_PRIVS`. Where control groups can be made
+//! ([`ControlGroup`]: as root, or in a box under a group delegated to the
+//! grader), the run's first process joins groups of its own that bound
+//! the memory and the processes of the whole run. On the wall-clock
+//! timeout, and again after the program ends, its whole process group is
+//! killed (in a box, that kills the box's pid 1 and so everything in
+//! it). `grade` is the subreaper of everything the program starts, so a
+//! process that leaves the group outside a box is still reparented to
+//! `grade`, and [`reap_orphans`] kills and reaps it. An interrupted `grade` kills every running group
 //! ([`kill_running`]) before it exits.
 
 use std::ffi::OsString;
@@ -102,7 +105,8 @@ pub struct Confinement {
     /// its own when the grader is not root.
     pub boxed: bool,
     /// Hold each run in control groups of its own (cgroup v1 `memory` and
-    /// `pids`, as root): `--memory` for the whole run, `--max-processes`
+    /// `pids`; as root, or in a box under a delegated group,
+    /// [`ControlGroup`]): `--memory` for the whole run, `--max-processes`
     /// for the run's processes alone.
     pub cgroup: bool,
     /// Without a box: Landlock ([`super::fence`]) where the kernel has it.
@@ -129,7 +133,7 @@ impl Confinement {
             isolate_network: boxed || network_isolation(root),
             user: root.then_some(NOBODY),
             boxed,
-            cgroup: root && ControlGroup::available(),
+            cgroup: (root || boxed) && ControlGroup::available(),
             landlock,
             seccomp,
         }
@@ -505,14 +509,21 @@ fn parent_and_group(pid: i32) -> Option<(i32, i32)> {
 const CONTROLLERS: [(&str, &str); 2] = [("memory", "memory.limit_in_bytes"), ("pids", "pids.max")];
 
 /// A run's control groups (cgroup v1 `memory` and `pids`), removed when
-/// dropped, once the run's processes are gone.
+/// dropped, once the run's processes are gone. A root grader makes them
+/// at the top of each hierarchy. An ordinary user's grader makes them in
+/// its own group of each hierarchy (`/proc/self/cgroup`) when that group
+/// is delegated to it (its folder writable by the grader's uid): then the
+/// run's groups are the grader's uid's, which is also the program's, so
+/// they are used only in a box, which holds no `/sys` and lets no user
+/// namespace be made in it to mount one ([`super::jail`]).
 pub struct ControlGroup {
     folders: Vec<std::path::PathBuf>,
 }
 
 impl ControlGroup {
-    /// Whether this grader can make control groups: root, with cgroup v1's
-    /// `memory` and `pids` hierarchies mounted and writable.
+    /// Whether this grader can make control groups: cgroup v1's `memory`
+    /// and `pids` hierarchies mounted, and writable where
+    /// [`ControlGroup::parent`] says.
     fn available() -> bool {
         let limits = Limits {
             timeout: Duration::from_secs(1),
@@ -522,7 +533,44 @@ impl ControlGroup {
             processes: 8,
             output: 0,
         };
+        for (controller, _) in CONTROLLERS {
+            if let Some(parent) = ControlGroup::parent(controller) {
+                ControlGroup::sweep(&parent);
+            }
+        }
         ControlGroup::new(&limits).is_some()
+    }
+
+    /// Remove the groups in `parent` that graders which died left (one
+    /// killed with SIGKILL removes nothing): named for a pid no process
+    /// has, unchanged for a minute (so never one a grader of another PID
+    /// namespace is making), and empty (the kernel removes no group that
+    /// holds a process or a group).
+    fn sweep(parent: &Path) {
+        let Ok(entries) = std::fs::read_dir(parent) else {
+            return;
+        };
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let Some(pid) = name
+                .to_str()
+                .and_then(|n| n.strip_prefix("raytracer-grade-"))
+                .and_then(|rest| rest.split('-').next())
+                .and_then(|pid| pid.parse::<libc::pid_t>().ok())
+            else {
+                continue;
+            };
+            // SAFETY: `kill` with signal 0 sends nothing.
+            let dead = unsafe { libc::kill(pid, 0) } == -1
+                && io::Error::last_os_error().raw_os_error() == Some(libc::ESRCH);
+            let old = entry
+                .metadata()
+                .and_then(|m| m.modified())
+                .is_ok_and(|t| t.elapsed().is_ok_and(|age| age > Duration::from_secs(60)));
+            if dead && old {
+                let _ = std::fs::remove_dir(entry.path());
+            }
+        }
     }
 
     /// A run's groups with `limits`' memory and processes, or `None`.
@@ -538,7 +586,7 @@ impl ControlGroup {
             folders: Vec::new(),
         };
         for (controller, file) in CONTROLLERS {
-            let folder = Path::new("/sys/fs/cgroup").join(controller).join(&name);
+            let folder = ControlGroup::parent(controller)?.join(&name);
             std::fs::create_dir(&folder).ok()?;
             group.folders.push(folder.clone());
             let value = match controller {
@@ -548,6 +596,25 @@ impl ControlGroup {
             std::fs::write(folder.join(file), value.to_string()).ok()?;
         }
         Some(group)
+    }
+
+    /// The folder a run's group of `controller`'s hierarchy is made in:
+    /// the hierarchy's root as root, else this process's own group.
+    fn parent(controller: &str) -> Option<std::path::PathBuf> {
+        let hierarchy = Path::new("/sys/fs/cgroup").join(controller);
+        // SAFETY: `geteuid` has no preconditions.
+        if unsafe { libc::geteuid() } == 0 {
+            return Some(hierarchy);
+        }
+        let groups = std::fs::read_to_string("/proc/self/cgroup").ok()?;
+        groups.lines().find_map(|line| {
+            let mut fields = line.splitn(3, ':');
+            let (_, controllers, path) = (fields.next()?, fields.next()?, fields.next()?);
+            controllers
+                .split(',')
+                .any(|c| c == controller)
+                .then(|| hierarchy.join(path.trim_start_matches('/')))
+        })
     }
 
     /// The `cgroup.procs` file of each group.
