@@ -31,7 +31,7 @@ use landlock::{
 };
 use seccompiler::{BpfProgram, SeccompAction, SeccompFilter};
 
-use super::sandbox::Share;
+use super::sandbox::{self, Share};
 
 /// The Landlock ABI whose rights the fence handles: 6 adds the scopes.
 const LANDLOCK_ABI: ABI = ABI::V6;
@@ -52,21 +52,13 @@ pub struct Fence {
 /// tried alone on `sh -c :`.
 pub fn available() -> (bool, bool) {
     let works = |fence: Fence| {
-        let mut probe = std::process::Command::new("sh");
-        probe
-            .args(["-c", ":"])
-            .stdin(std::process::Stdio::null())
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null());
         // SAFETY: `Fence::enter` makes only async-signal-safe calls.
         unsafe {
-            use std::os::unix::process::CommandExt;
-            probe.pre_exec(move || {
+            sandbox::sh_runs_after(move || {
                 libc::prctl(libc::PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0);
                 fence.enter()
-            });
+            })
         }
-        probe.status().is_ok_and(|s| s.success())
     };
     let landlock = ruleset(&Share::default()).is_some_and(|ruleset| {
         works(Fence {

@@ -608,16 +608,6 @@ pub fn available(root: bool) -> bool {
     let Ok(plan) = Plan::new(Path::new("/"), &Share::default(), &confinement) else {
         return false;
     };
-    let mut probe = std::process::Command::new("sh");
-    probe
-        .args(["-c", ":"])
-        .stdin(std::process::Stdio::null())
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null());
     // SAFETY: `enter` makes only async-signal-safe calls on the plan.
-    unsafe {
-        use std::os::unix::process::CommandExt;
-        probe.pre_exec(move || enter(&plan, &confinement));
-    }
-    probe.status().is_ok_and(|s| s.success())
+    unsafe { super::sandbox::sh_runs_after(move || enter(&plan, &confinement)) }
 }

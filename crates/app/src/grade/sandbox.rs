@@ -182,6 +182,28 @@ impl Confinement {
     }
 }
 
+/// Whether `sh -c :` runs and exits 0 with `setup` done in the child
+/// before exec: how a confinement is tried once before any student runs
+/// under it.
+///
+/// # Safety
+///
+/// `setup` runs between fork and exec, so it may make only
+/// async-signal-safe calls.
+pub unsafe fn sh_runs_after(setup: impl FnMut() -> io::Result<()> + Send + Sync + 'static) -> bool {
+    let mut probe = Command::new("sh");
+    probe
+        .args(["-c", ":"])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null());
+    // SAFETY: the caller promises `setup` is async-signal-safe.
+    unsafe {
+        probe.pre_exec(setup);
+    }
+    probe.status().is_ok_and(|s| s.success())
+}
+
 /// Make this process the subreaper of its descendants, so a program's
 /// orphans come back to it to be killed and reaped ([`reap_orphans`]).
 pub fn become_subreaper() {
