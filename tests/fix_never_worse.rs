@@ -19,7 +19,7 @@ use raytracer_scene::ast::SectionKind;
 use raytracer_scene::convert::json::to_json;
 use raytracer_scene::fix::{self, Applicability};
 use raytracer_scene::frontend::load_bytes;
-use raytracer_scene::language::{self, Arity, Constraint, Key};
+use raytracer_scene::language::{self, Arity, Key};
 
 /// The folder the scenes are checked in: the shipped scenes', which holds
 /// `wood_tex.ppm`.
@@ -253,24 +253,6 @@ fn a_section_in_braces_is_read_as_meant() {
     assert_eq!(lines(&before.fixed), lines(&meant), "{}", before.fixed);
 }
 
-/// Values that break `spec`'s rule, one set per way to break it (as in
-/// tests/registry.rs); none for a rule no number breaks.
-fn breaking(spec: &language::AttrSpec) -> Vec<Vec<f64>> {
-    let n = spec.count();
-    match spec.constraint {
-        Constraint::Any | Constraint::Image => Vec::new(),
-        Constraint::Range { min, max, .. } => vec![vec![max + 0.5; n], vec![min - 0.5; n]],
-        Constraint::Positive => vec![vec![0.0; n], vec![-2.0; n]],
-        Constraint::NonNegative { warn_above } => vec![vec![-1.0; n], vec![warn_above * 2.0; n]],
-        Constraint::NonZero { .. } => vec![vec![0.0; n]],
-        Constraint::Whole { min, max } => vec![
-            vec![f64::from(max) + 1.0],
-            vec![f64::from(min) - 1.0],
-            vec![f64::from(min) + 0.5],
-        ],
-    }
-}
-
 /// The JSON object of the first `kind` section of a JSON scene.
 fn section_mut<'a>(scene: &'a mut Value, kind: &SectionKind) -> Option<&'a mut Value> {
     match kind {
@@ -333,7 +315,7 @@ fn every_fix_leaves_a_better_json_file() {
         assert_eq!(check_json(&json).0, Vec::<String>::new(), "{json}");
         let meant: Value = serde_json::from_str(&json).unwrap();
         for (kind, spec) in language::rows() {
-            for values in breaking(spec) {
+            for values in super::registry::breaking(spec) {
                 let mut broken = meant.clone();
                 let Some(object) = section_mut(&mut broken, &kind) else {
                     continue;

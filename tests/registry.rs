@@ -18,8 +18,9 @@ fn load(text: &str) -> Loaded {
 }
 
 /// Values (as scene text) that break `spec`'s rule, one set per way to
-/// break it; none for a rule no number breaks.
-fn breaking(spec: &AttrSpec) -> Vec<Vec<f64>> {
+/// break it; none for a rule no number breaks. The fix property test
+/// (tests/fix_never_worse.rs) breaks rules the same ways.
+pub fn breaking(spec: &AttrSpec) -> Vec<Vec<f64>> {
     let n = spec.count();
     match spec.constraint {
         Constraint::Any | Constraint::Image => Vec::new(),
