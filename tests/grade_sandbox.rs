@@ -13,7 +13,7 @@
 //! the grader is root: an ordinary user's grader changes no owner.
 
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use crate::grade_cli::{binary, open_folder};
@@ -629,21 +629,32 @@ fn a_program_cannot_stop_the_grader() {
     }
 }
 
-/// A UNIX socket file of the grader's machine and an abstract socket are
-/// out of reach; so is the network.
-#[test]
-fn sockets_outside_the_box_are_out_of_reach() {
-    let dir = open_folder("grade-socket-");
-    let file = dir.path().join("socket");
-    let _listener = std::os::unix::net::UnixListener::bind(&file).unwrap();
+/// A UNIX socket file in `dir` that anyone may connect to and an abstract
+/// socket named `prefix` and this process's id, both listening while the
+/// listeners are kept: the socket file's path and the abstract name.
+fn socket_listeners(
+    dir: &Path,
+    prefix: &str,
+) -> (PathBuf, String, [std::os::unix::net::UnixListener; 2]) {
+    let file = dir.join("socket");
+    let listener = std::os::unix::net::UnixListener::bind(&file).unwrap();
     std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o777)).unwrap();
-    let name = format!("raytracer-grade-test-{}", std::process::id());
+    let name = format!("{prefix}{}", std::process::id());
     let abstract_address =
         <std::os::unix::net::SocketAddr as std::os::linux::net::SocketAddrExt>::from_abstract_name(
             name.as_bytes(),
         )
         .unwrap();
-    let _abstract = std::os::unix::net::UnixListener::bind_addr(&abstract_address).unwrap();
+    let listening = std::os::unix::net::UnixListener::bind_addr(&abstract_address).unwrap();
+    (file, name, [listener, listening])
+}
+
+/// A UNIX socket file of the grader's machine and an abstract socket are
+/// out of reach; so is the network.
+#[test]
+fn sockets_outside_the_box_are_out_of_reach() {
+    let dir = open_folder("grade-socket-");
+    let (file, name, _listeners) = socket_listeners(dir.path(), "raytracer-grade-test-");
     let attack = Attack::new(&format!(
         r#"python3 - <<'END' || exit 3
 import socket, sys
@@ -1195,16 +1206,7 @@ fn without_namespaces_grade_refuses_unless_unprotected() {
 #[test]
 fn without_a_box_the_fence_keeps_the_program_in() {
     let dir = open_folder("grade-fence-");
-    let file = dir.path().join("socket");
-    let _listener = std::os::unix::net::UnixListener::bind(&file).unwrap();
-    std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o777)).unwrap();
-    let name = format!("raytracer-grade-fence-{}", std::process::id());
-    let abstract_address =
-        <std::os::unix::net::SocketAddr as std::os::linux::net::SocketAddrExt>::from_abstract_name(
-            name.as_bytes(),
-        )
-        .unwrap();
-    let _abstract = std::os::unix::net::UnixListener::bind_addr(&abstract_address).unwrap();
+    let (file, name, _listeners) = socket_listeners(dir.path(), "raytracer-grade-fence-");
     let tcp = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let port = tcp.local_addr().unwrap().port();
     let attack = Attack::new(&format!(
