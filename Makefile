@@ -18,6 +18,12 @@ raytracer: build
 build:
 	$(CARGO) build --release --locked $(CARGO_FLAGS)
 
+# The suite spends most of its time waiting on the programs it runs (the
+# graded tracers in their sandboxes, the Slurm cluster's scheduling, the
+# timeouts it tests), so it runs twice as many tests at once as there are
+# cores (docs/performance.md, "Build time").
+TEST_THREADS ?= $(shell echo $$(( $$(nproc) * 2 )))
+
 # Everything CI checks, over the whole workspace: formatting, lints, each
 # crate's unit tests, the integration and snapshot tests of tests/ (which
 # include the tidy checks of the layering), and the doc tests. Clippy and
@@ -27,11 +33,6 @@ build:
 # built again here (clippy --all-targets checks them). The playground's test
 # runs in `make test-web`, but is linted here: --all-targets leaves out a
 # test that `test = false` keeps from `cargo test`.
-# The suite spends most of its time waiting on the programs it runs (the
-# graded tracers in their sandboxes, the Slurm cluster's scheduling, the
-# timeouts it tests), so it runs twice as many tests at once as there are
-# cores (docs/performance.md, "Build time").
-TEST_THREADS ?= $(shell echo $$(( $$(nproc) * 2 )))
 test: raytracer
 	$(CARGO) fmt --all --check
 	$(CARGO) clippy --release --locked --workspace --all-targets -- -D warnings
