@@ -26,6 +26,7 @@
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
+. scripts/lib/splice.sh
 REPS=${REPS:-5}
 OUT=target/bench
 BIN=target/release/raytracer
@@ -309,13 +310,7 @@ failed=0
   echo "<!-- bench:end -->"
 } >"$GEN"
 
-# Splice the section into the document between its markers.
-awk -v gen="$GEN" '
-  /^<!-- bench:begin/ {while ((getline line < gen) > 0) print line; skip = 1; next}
-  /^<!-- bench:end -->/ {skip = 0; next}
-  !skip {print}' "$DOC" >"$OUT/performance.md.new"
-grep -q '^<!-- bench:begin' "$DOC" || { echo "bench: $DOC has no bench:begin marker" >&2; exit 2; }
-mv "$OUT/performance.md.new" "$DOC"
+splice_section "$DOC" bench "$GEN"
 cat "$GEN"
 echo "samples: $OUT/samples.csv, $OUT/agreement.csv, $OUT/frontend.csv; wrote $DOC" >&2
 

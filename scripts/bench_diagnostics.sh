@@ -18,6 +18,7 @@
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
+. scripts/lib/splice.sh
 REPS=${REPS:-3}
 OUT=target/bench/diagnostics
 BIN=target/release/raytracer
@@ -108,10 +109,5 @@ GEN="$OUT/generated.md"
   echo "<!-- diagnostics:end -->"
 } >"$GEN"
 
-grep -q '^<!-- diagnostics:begin' "$DOC" || { echo "bench: $DOC has no diagnostics:begin marker" >&2; exit 2; }
-awk -v gen="$GEN" '
-  /^<!-- diagnostics:begin/ {while ((getline line < gen) > 0) print line; skip = 1; next}
-  /^<!-- diagnostics:end -->/ {skip = 0; next}
-  !skip {print}' "$DOC" >"$OUT/performance.md.new"
-mv "$OUT/performance.md.new" "$DOC"
+splice_section "$DOC" diagnostics "$GEN"
 cat "$GEN"

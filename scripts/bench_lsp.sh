@@ -11,6 +11,7 @@
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
+. scripts/lib/splice.sh
 OUT=target/bench
 DOC=docs/editors.md
 KEYS=${KEYS:-61}
@@ -48,9 +49,5 @@ table="$OUT/lsp_latency.md"
   echo
   echo "<!-- lsp-latency:end -->"
 } >"$table"
-awk -v table="$table" '
-  /^<!-- lsp-latency:begin/ {while ((getline line < table) > 0) print line; skip = 1; next}
-  /^<!-- lsp-latency:end -->/ {skip = 0; next}
-  !skip {print}' "$DOC" >"$OUT/editors.md.new"
-mv "$OUT/editors.md.new" "$DOC"
+splice_section "$DOC" lsp-latency "$table"
 cat "$table"

@@ -24,6 +24,7 @@
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
+. scripts/lib/splice.sh
 BASE=${BASE:?set BASE to the binary to compare with, e.g. a copy of an older target/release/raytracer}
 # How the tables name BASE (say, the commit it was built from).
 BASE_LABEL=${BASE_LABEL:-$(basename "$BASE")}
@@ -145,10 +146,5 @@ GEN=$OUT/section.md
   echo "<!-- profile:end -->"
 } >"$GEN"
 
-grep -q '^<!-- profile:begin' "$DOC" || { echo "bench-profile: $DOC has no profile:begin marker" >&2; exit 2; }
-awk -v gen="$GEN" '
-  /^<!-- profile:begin/ {while ((getline line < gen) > 0) print line; skip = 1; next}
-  /^<!-- profile:end -->/ {skip = 0; next}
-  !skip {print}' "$DOC" >"$OUT/performance.md.new"
-mv "$OUT/performance.md.new" "$DOC"
+splice_section "$DOC" profile "$GEN"
 cat "$GEN"

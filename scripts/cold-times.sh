@@ -18,6 +18,7 @@
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
+. scripts/lib/splice.sh
 ROOT=$PWD
 DOC=docs/contributing.md
 OUT=$ROOT/target/cold-times
@@ -100,11 +101,6 @@ gen=$(mktemp)
   echo "$TEST_TOP"
   echo "<!-- cold-times:end -->"
 } >"$gen"
-awk -v gen="$gen" '
-  /^<!-- cold-times:begin/ {while ((getline line < gen) > 0) print line; skip = 1; next}
-  /^<!-- cold-times:end -->/ {skip = 0; next}
-  !skip {print}
-' "$DOC" >"$DOC.new"
-mv "$DOC.new" "$DOC"
+splice_section "$DOC" cold-times "$gen"
 rm -f "$gen"
 echo "cold-times: make run $(mmss "$RUN"), make test $(mmss "$TEST"), after one file $(mmss "$REBUILD")"
