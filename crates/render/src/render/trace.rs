@@ -604,13 +604,14 @@ mod tests {
         assert_eq!(texel(&texture, -1e-17, 1.0 + 1e-17), DVec3::splat(0.0));
     }
 
-    /// A light exactly at the hit point (the sphere's front pole, which
-    /// the centre ray hits and the reprojection puts exactly at
-    /// `(0, 0, −4)`) is skipped before its direction would be normalised:
-    /// ambient only, no shadow ray, nothing non-finite, in both precisions.
-    #[test]
-    fn a_light_at_distance_zero_is_skipped_not_normalised() {
-        let scene = ir::Scene {
+    /// The colour of [`unit_sphere_lit_from`]'s sphere.
+    const UNIT_SPHERE_ALBEDO: DVec3 = DVec3::new(0.5, 0.25, 1.0);
+
+    /// A one-pixel scene: a sphere of radius 1 at `(0, 0, −5)`, of colour
+    /// [`UNIT_SPHERE_ALBEDO`] and `reflectivity`, lit by one white light at
+    /// `light`.
+    fn unit_sphere_lit_from(light: DVec3, reflectivity: f64) -> ir::Scene {
+        ir::Scene {
             resolution: 1,
             objects: vec![ir::Object {
                 shape: ir::Shape::Sphere {
@@ -620,22 +621,31 @@ mod tests {
                 material: 0,
             }],
             materials: vec![ir::Material {
-                color: DVec3::new(0.5, 0.25, 1.0),
-                reflectivity: 0.0,
+                color: UNIT_SPHERE_ALBEDO,
+                reflectivity,
                 texture: None,
             }],
             lights: vec![ir::Light {
-                position: DVec3::new(0.0, 0.0, -4.0),
+                position: light,
                 color: DVec3::ONE,
             }],
             textures: Vec::new(),
             effects: ir::Effects::default(),
-        };
+        }
+    }
+
+    /// A light exactly at the hit point (the sphere's front pole, which
+    /// the centre ray hits and the reprojection puts exactly at
+    /// `(0, 0, −4)`) is skipped before its direction would be normalised:
+    /// ambient only, no shadow ray, nothing non-finite, in both precisions.
+    #[test]
+    fn a_light_at_distance_zero_is_skipped_not_normalised() {
+        let scene = unit_sphere_lit_from(DVec3::new(0.0, 0.0, -4.0), 0.0);
         for skip in [true, false] {
             let mut counters = Counters::default();
             let ray = crate::render::camera_ray::<f64>(1, 0.5, 0.5);
             let color = Tracer::<f64>::new(&scene, 8, skip).radiance(ray, &mut counters);
-            assert_eq!(color, DVec3::new(0.5, 0.25, 1.0) * AMBIENT);
+            assert_eq!(color, UNIT_SPHERE_ALBEDO * AMBIENT);
             let ray = crate::render::camera_ray::<f32>(1, 0.5, 0.5);
             let color32 = Tracer::<f32>::new(&scene, 8, skip).radiance(ray, &mut counters);
             assert_eq!(color32, color);
@@ -649,30 +659,9 @@ mod tests {
     #[test]
     fn a_models_constants_weigh_the_terms() {
         use super::super::model::{Model, Reflection};
-        let albedo = DVec3::new(0.5, 0.25, 1.0);
-        let scene = |reflectivity: f64| ir::Scene {
-            resolution: 1,
-            objects: vec![ir::Object {
-                shape: ir::Shape::Sphere {
-                    center: DVec3::new(0.0, 0.0, -5.0),
-                    radius: 1.0,
-                },
-                material: 0,
-            }],
-            materials: vec![ir::Material {
-                color: albedo,
-                reflectivity,
-                texture: None,
-            }],
-            lights: vec![ir::Light {
-                position: DVec3::ZERO,
-                color: DVec3::ONE,
-            }],
-            textures: Vec::new(),
-            effects: ir::Effects::default(),
-        };
+        let albedo = UNIT_SPHERE_ALBEDO;
         let seen = |reflectivity: f64, model: Model| {
-            let scene = scene(reflectivity);
+            let scene = unit_sphere_lit_from(DVec3::ZERO, reflectivity);
             let tracer = Tracer::<f64>::new(&scene, 8, false).with_model(model);
             let ray = crate::render::camera_ray::<f64>(1, 0.5, 0.5);
             tracer.radiance(ray, &mut Counters::default())
