@@ -400,8 +400,6 @@ impl<'a> Checker<'a> {
 }
 
 impl Checker<'_> {
-    /// A fix that removes `span` (and its line, when nothing else is on
-    /// it), in scene text only.
     /// The language of the file, for help lines.
     fn language(&self) -> language::Language {
         if self.scene_text {
@@ -411,6 +409,8 @@ impl Checker<'_> {
         }
     }
 
+    /// A fix that removes `span` (and its line, when nothing else is on
+    /// it), in scene text only.
     fn removal(&self, message: &str, applicability: Applicability, span: Span) -> Option<Box<Fix>> {
         self.scene_text.then(|| {
             let removed = crate::fix::removal(&self.source.text, span);
