@@ -119,7 +119,8 @@ pub fn check_writable(out: &Path) -> Result<(), OutputError> {
     temp_builder()
         .tempfile_in(folder_of(out))
         .map(drop)
-        .map_err(|error| OutputError::Write(FileError::writing(out)(error)))
+        .map_err(FileError::writing(out))
+        .map_err(OutputError::Write)
 }
 
 /// Encode `image` as `format` and put it at `path` atomically.
@@ -134,7 +135,8 @@ pub fn write_with(
     encode: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<(), OutputError> {
     write_atomically(path, encode)
-        .map_err(|error| OutputError::Write(FileError::writing(path)(error)))
+        .map_err(FileError::writing(path))
+        .map_err(OutputError::Write)
 }
 
 /// Put what `body` writes at `path`, whole or not at all: it goes to a

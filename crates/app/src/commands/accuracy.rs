@@ -243,7 +243,8 @@ struct Drawn {
 fn write_assets(m: &Measurement, stem: &str, assets: &Assets) -> Result<Drawn, BoxedDiagnostic> {
     let write_text = |path: &PathBuf, text: String| {
         output::write_atomically(path, |out| out.write_all(text.as_bytes()))
-            .map_err(|error| AccuracyError::Write(FileError::writing(path)(error)))
+            .map_err(FileError::writing(path))
+            .map_err(AccuracyError::Write)
     };
     let sampling = report::sampling_csv(m);
     let pareto = report::pareto_csv(m);
@@ -323,7 +324,8 @@ fn draw_chart(chart: &Chart, csv: &str, path: &Path) -> Result<bool, BoxedDiagno
         drawn => drawn.map_err(failed)?,
     };
     output::write_atomically(path, |out| out.write_all(&drawn.png))
-        .map_err(|error| AccuracyError::Write(FileError::writing(path)(error)))?;
+        .map_err(FileError::writing(path))
+        .map_err(AccuracyError::Write)?;
     Ok(true)
 }
 
@@ -339,7 +341,8 @@ struct Assets {
 /// Make DIR and check its files can be written, before any work.
 fn prepare_assets(dir: &Path, stem: &str) -> Result<Assets, BoxedDiagnostic> {
     std::fs::create_dir_all(dir)
-        .map_err(|error| AccuracyError::Write(FileError::writing(dir)(error)))?;
+        .map_err(FileError::writing(dir))
+        .map_err(AccuracyError::Write)?;
     let assets = Assets {
         sampling: dir.join(format!("{stem}.sampling.csv")),
         pareto: dir.join(format!("{stem}.pareto.csv")),

@@ -63,7 +63,8 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, BoxedDiagnostic> {
             let textures = checked.textures.values().map(|t| Path::new(&t.path));
             check_not_input(path, scene.into_iter().chain(textures))?;
             write_atomically(path, |out| out.write_all(text.as_bytes())).map_err(|error| {
-                Box::new(WriteOutputError(FileError::writing(path)(error))) as BoxedDiagnostic
+                Box::new(WriteOutputError(FileError::written("write", path, &error)))
+                    as BoxedDiagnostic
             })?
         }
         None => {

@@ -178,7 +178,8 @@ fn format_file(path: &Path, check: bool) -> Result<Formatted, FmtError> {
             })?;
     } else if changed && !check {
         write_atomically(path, |out| out.write_all(formatted.as_bytes()))
-            .map_err(|error| FmtError::Write(FileError::writing(path)(error)))?;
+            .map_err(FileError::writing(path))
+            .map_err(FmtError::Write)?;
     }
     Ok(if changed {
         Formatted::Changed

@@ -147,7 +147,8 @@ pub fn merge(report: &Path) -> Result<Class, ClassError> {
     for (name, text) in files {
         let path = report.join(name);
         raytracer_render::output::write_atomically(&path, |out| out.write_all(text.as_bytes()))
-            .map_err(|error| ClassError::Write(FileError::writing(&path)(error)))?;
+            .map_err(FileError::writing(&path))
+            .map_err(ClassError::Write)?;
     }
     Ok(class)
 }
