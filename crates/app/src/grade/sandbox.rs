@@ -92,6 +92,19 @@ pub struct Run {
     pub stderr: Captured,
 }
 
+impl Run {
+    /// A run whose program never started, for `reason`, `start` being when
+    /// the run began.
+    fn not_started(reason: String, start: Instant) -> Run {
+        Run {
+            ended: Ended::NotStarted(reason),
+            seconds: start.elapsed().as_secs_f64(),
+            stdout: Captured::default(),
+            stderr: Captured::default(),
+        }
+    }
+}
+
 /// How the child is confined, decided once per grading.
 #[derive(Clone, Copy, Debug)]
 pub struct Confinement {
@@ -240,15 +253,13 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         match super::jail::Plan::new(dir, share, &confinement) {
             Ok(plan) => Some(plan),
             Err(error) => {
-                return Run {
-                    ended: Ended::NotStarted(format!(
+                return Run::not_started(
+                    format!(
                         "cannot prepare the box: {}",
                         raytracer_scene::diagnostic::io_reason(&error)
-                    )),
-                    seconds: start.elapsed().as_secs_f64(),
-                    stdout: Captured::default(),
-                    stderr: Captured::default(),
-                }
+                    ),
+                    start,
+                )
             }
         }
     } else {
@@ -260,12 +271,7 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         match super::fence::Fence::new(share, confinement.landlock, confinement.seccomp) {
             Ok(fence) => Some(fence),
             Err(error) => {
-                return Run {
-                    ended: Ended::NotStarted(raytracer_scene::diagnostic::io_reason(&error)),
-                    seconds: start.elapsed().as_secs_f64(),
-                    stdout: Captured::default(),
-                    stderr: Captured::default(),
-                }
+                return Run::not_started(raytracer_scene::diagnostic::io_reason(&error), start)
             }
         }
     };
@@ -302,12 +308,7 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
     let mut child = match spawned {
         Ok(child) => child,
         Err(error) => {
-            return Run {
-                ended: Ended::NotStarted(super::workdir::start_failure(&argv[0], &error)),
-                seconds: start.elapsed().as_secs_f64(),
-                stdout: Captured::default(),
-                stderr: Captured::default(),
-            }
+            return Run::not_started(super::workdir::start_failure(&argv[0], &error), start)
         }
     };
     let group = child.id() as libc::pid_t;
