@@ -179,7 +179,7 @@ impl Cache {
         let mut hash = Sha256::new();
         hash.update(self.renderer);
         // The default options add nothing, so their images keep their keys.
-        if self.options.model != Model::default()
+        if !self.options.model.is_default()
             || self.options.max_depth != Options::default().max_depth
         {
             hash.update(b"options\0");
