@@ -438,6 +438,35 @@ fn the_reference_takes_a_courses_constants() {
     ]);
     assert_eq!(out.status.code(), Some(0), "{out:?}");
 
+    // Two suites whose constants differ are refused, naming both files.
+    let other = d.join("other-course");
+    std::fs::create_dir(&other).unwrap();
+    std::fs::copy(&tint, other.join("tint.txt")).unwrap();
+    support::write(
+        &other,
+        "suite.json",
+        r#"{"reference": {"ambient": 0.3},
+            "scenes": [{"scene": "tint.txt", "points": 1}]}"#,
+    );
+    let out = run(&[
+        "grade",
+        "--tracer",
+        "true {scene} {out}",
+        "-o",
+        d.join("both").to_str().unwrap(),
+        "--cache",
+        d.join("cache").to_str().unwrap(),
+        course.to_str().unwrap(),
+        other.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    let named = |folder: &std::path::Path| format!("`{}`", folder.join("suite.json").display());
+    assert!(
+        stderr.contains(&named(&other)) && stderr.contains(&named(&course)),
+        "{stderr}"
+    );
+
     // A file that is not the reference's options is named, with the key.
     let bad = support::write(d, "bad.json", r#"{"ambiant": 0.2}"#);
     let out = run(&[

@@ -199,14 +199,16 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         Some(dir) => vec![dir.path().to_path_buf()],
         None => args.suite.clone(),
     };
-    let scenes = suite::load(&paths).map_err(GradeError::from)?;
+    let suite = suite::load(&paths).map_err(GradeError::from)?;
     // `--reference-options` over a suite.json's `reference`.
     let options = match options {
         Some(options) => options,
-        None => suite::reference_options(&paths)
+        None => suite
+            .reference_options()
             .map_err(GradeError::from)?
             .unwrap_or_default(),
     };
+    let scenes = suite.scenes;
     let cache = cache.with_options(options);
 
     let confinement = Confinement::new(limits(&args.sandbox));

@@ -158,6 +158,17 @@ pub struct SuiteScene {
 #[derive(Deserialize)]
 struct Manifest {
     scenes: Vec<ManifestEntry>,
+    /// The constants of our reference, read only when no
+    /// `--reference-options` is given ([`Suite::reference_options`]).
+    #[serde(default)]
+    reference: Option<serde_json::Value>,
+}
+
+/// The scenes of a suite, and the `reference` objects its suite.json
+/// files give, each with the file's path.
+pub struct Suite {
+    pub scenes: Vec<SuiteScene>,
+    references: Vec<(PathBuf, serde_json::Value)>,
 }
 
 #[derive(Deserialize)]
@@ -244,11 +255,14 @@ pub fn export(dir: &Path) -> Result<(), SuiteError> {
 }
 
 /// Load the scenes of `paths` (files or folders).
-pub fn load(paths: &[PathBuf]) -> Result<Vec<SuiteScene>, SuiteError> {
-    let mut scenes = Vec::new();
+pub fn load(paths: &[PathBuf]) -> Result<Suite, SuiteError> {
+    let mut suite = Suite {
+        scenes: Vec::new(),
+        references: Vec::new(),
+    };
     for path in paths {
         if path.is_dir() {
-            scenes.extend(load_folder(path)?);
+            load_folder(path, &mut suite)?;
         } else {
             let root = path
                 .parent()
@@ -259,53 +273,46 @@ pub fn load(paths: &[PathBuf]) -> Result<Vec<SuiteScene>, SuiteError> {
                 .unwrap_or_default()
                 .to_string_lossy()
                 .into_owned();
-            scenes.push(load_scene(root, &name, Points::Total(1.0), String::new())?);
+            let scene = load_scene(root, &name, Points::Total(1.0), String::new())?;
+            suite.scenes.push(scene);
         }
     }
-    Ok(scenes)
+    Ok(suite)
 }
 
-/// The constants our reference is rendered with when a suite.json of
-/// `paths` gives them (its `reference` object, read as
-/// `--reference-options` reads a file); `None` when none does. Two
-/// folders that give different ones are refused.
-pub fn reference_options(
-    paths: &[PathBuf],
-) -> Result<Option<raytracer_render::render::Options>, SuiteError> {
-    let mut found: Option<(PathBuf, raytracer_render::render::Options)> = None;
-    for path in paths.iter().filter(|p| p.is_dir()) {
-        let manifest_path = path.join("suite.json");
-        if !manifest_path.is_file() {
-            continue;
-        }
-        let text =
-            std::fs::read_to_string(&manifest_path).map_err(FileError::reading(&manifest_path))?;
-        let invalid = |reason: String| SuiteError::Manifest {
-            path: manifest_path.display().to_string(),
-            reason,
-        };
-        let manifest: serde_json::Value =
-            serde_json::from_str(&text).map_err(|e| invalid(e.to_string()))?;
-        let Some(reference) = manifest.get("reference") else {
-            continue;
-        };
-        let options = super::reference::read_options(&reference.to_string())
-            .map_err(|reason| invalid(format!("its `reference`: {reason}")))?;
-        if let Some((first, other)) = &found {
-            if *other != options {
-                return Err(invalid(format!(
-                    "its `reference` differs from that of `{}`",
-                    first.join("suite.json").display()
-                )));
+impl Suite {
+    /// The constants our reference is rendered with when a suite.json
+    /// gives them (its `reference` object, read as `--reference-options`
+    /// reads a file); `None` when none does. Two folders that give
+    /// different ones are refused.
+    pub fn reference_options(
+        &self,
+    ) -> Result<Option<raytracer_render::render::Options>, SuiteError> {
+        let mut found: Option<(&Path, raytracer_render::render::Options)> = None;
+        for (manifest_path, reference) in &self.references {
+            let invalid = |reason: String| SuiteError::Manifest {
+                path: manifest_path.display().to_string(),
+                reason,
+            };
+            let options = super::reference::read_options(&reference.to_string())
+                .map_err(|reason| invalid(format!("its `reference`: {reason}")))?;
+            if let Some((first, other)) = &found {
+                if *other != options {
+                    return Err(invalid(format!(
+                        "its `reference` differs from that of `{}`",
+                        first.display()
+                    )));
+                }
             }
+            found = Some((manifest_path, options));
         }
-        found = Some((manifest_path, options));
+        Ok(found.map(|(_, options)| options))
     }
-    Ok(found.map(|(_, options)| options))
 }
 
-/// The scenes of one folder: those of its suite.json, or every scene file.
-fn load_folder(root: &Path) -> Result<Vec<SuiteScene>, SuiteError> {
+/// The scenes of one folder, added to `suite`: those of its suite.json
+/// (and its `reference`, if any), or every scene file.
+fn load_folder(root: &Path, suite: &mut Suite) -> Result<(), SuiteError> {
     let manifest_path = root.join("suite.json");
     let entries = if manifest_path.is_file() {
         let text =
@@ -314,6 +321,9 @@ fn load_folder(root: &Path) -> Result<Vec<SuiteScene>, SuiteError> {
             path: manifest_path.display().to_string(),
             reason: e.to_string(),
         })?;
+        if let Some(reference) = manifest.reference {
+            suite.references.push((manifest_path, reference));
+        }
         manifest.scenes
     } else {
         let mut names = Vec::new();
@@ -333,10 +343,11 @@ fn load_folder(root: &Path) -> Result<Vec<SuiteScene>, SuiteError> {
             path: root.display().to_string(),
         });
     }
-    entries
-        .into_iter()
-        .map(|e| load_scene(root, &e.scene, e.points, e.description))
-        .collect()
+    for e in entries {
+        let scene = load_scene(root, &e.scene, e.points, e.description)?;
+        suite.scenes.push(scene);
+    }
+    Ok(())
 }
 
 /// Collect the scene files under `folder`, as paths relative to `root`.
@@ -438,7 +449,7 @@ mod tests {
     fn the_built_in_suite_loads_every_listed_scene() {
         let dir = tempfile::tempdir().unwrap();
         export(dir.path()).unwrap();
-        let scenes = load(&[dir.path().to_path_buf()]).unwrap();
+        let scenes = load(&[dir.path().to_path_buf()]).unwrap().scenes;
         assert_eq!(scenes.len(), 26);
         assert!(scenes
             .iter()
