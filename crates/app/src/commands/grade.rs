@@ -326,9 +326,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
 /// Build the job's student, if any, grade every scene, and write the report.
 fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, GradeError> {
     let images = job.report.join("images");
-    std::fs::create_dir_all(&images)
-        .map_err(FileError::writing(&images))
-        .map_err(GradeError::from)?;
+    std::fs::create_dir_all(&images).map_err(FileError::writing(&images))?;
     // A student's folder that cannot be copied is that student's failure:
     // the rest of a class is still graded.
     let (prepared, build, skip) = match job.student.map(|s| s.prepare(graded.confinement)) {
@@ -381,9 +379,7 @@ fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, Gr
     });
     sandbox::reap_orphans(None);
     progress.finish_and_clear();
-    let results = results
-        .map_err(FileError::writing(&job.report))
-        .map_err(GradeError::from)?;
+    let results = results.map_err(FileError::writing(&job.report))?;
 
     let mut summary = Summary {
         tracer: job.tracer.clone(),
@@ -396,9 +392,7 @@ fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, Gr
         scenes: results,
     };
     summary.sort();
-    report::write(&job.report, &summary)
-        .map_err(FileError::writing(&job.report))
-        .map_err(GradeError::from)?;
+    report::write(&job.report, &summary).map_err(FileError::writing(&job.report))?;
     Ok(summary)
 }
 
