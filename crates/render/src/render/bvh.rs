@@ -145,16 +145,26 @@ pub struct Bvh {
 #[derive(Clone, Copy)]
 struct Item {
     /// The minimum corner, and in the fourth lane the item's slot before
-    /// reordering, as bits.
+    /// reordering, as the bits of a float (see [`SLOT_BITS`]).
     lo: Vec4,
     /// The maximum corner (fourth lane 0).
     hi: Vec4,
 }
 
+/// What an item's slot is XORed with to become the bits of its fourth
+/// lane: every SIMD operation on the item's corners and centroid also
+/// computes that lane, and a slot's plain bits (below 2²³) are a
+/// subnormal float, which the processor handles by a slow microcode
+/// assist in every addition and multiplication. With bit 30 flipped the
+/// exponent is at least 128 for any slot below 2³⁰, so the lane is a
+/// normal number, an infinity or a NaN, which cost nothing extra
+/// (docs/performance.md has what binning lost to the assists).
+const SLOT_BITS: u32 = 1 << 30;
+
 impl Item {
     fn new(lo: Vec3A, hi: Vec3A, slot: u32) -> Item {
         Item {
-            lo: lo.extend(f32::from_bits(slot)),
+            lo: lo.extend(f32::from_bits(slot ^ SLOT_BITS)),
             hi: hi.extend(0.0),
         }
     }
@@ -186,7 +196,7 @@ impl Item {
     }
 
     fn slot(&self) -> u32 {
-        self.lo.w.to_bits()
+        self.lo.w.to_bits() ^ SLOT_BITS
     }
 }
 
@@ -850,6 +860,27 @@ mod tests {
         for axis in 0..3 {
             assert!(f64::from(lo[axis]) <= lo64[axis], "{axis}");
             assert!(f64::from(hi[axis]) >= hi64[axis], "{axis}");
+        }
+    }
+
+    #[test]
+    fn an_items_slot_survives_and_its_lane_is_never_subnormal() {
+        for slot in [
+            0,
+            1,
+            12_345,
+            (1 << 23) - 1,
+            1 << 23,
+            (1 << 30) - 1,
+            1 << 30,
+            u32::MAX,
+        ] {
+            let item = Item::new(Vec3A::ZERO, Vec3A::ONE, slot);
+            assert_eq!(item.slot(), slot);
+            if slot < 1 << 30 {
+                assert!(!item.lo.w.is_subnormal() && item.lo.w != 0.0, "{slot}");
+                assert!(!(item.lo + item.hi).w.is_subnormal(), "{slot}");
+            }
         }
     }
 
