@@ -13,14 +13,17 @@
 # 4×2 pixels through rtcIntersect8) and ours with `--threads 2`. No anti-aliasing anywhere. Embree's ray counts and image
 # are compared with ours (and with ours in single precision, rendered once
 # per scene, as Embree's geometry is); a scene where they disagree fails
-# the run.
+# the run. Each repetition also builds each scene's world alone
+# (crates/render/examples/bvh_build.rs), so the grids' building and
+# tracing are compared with Embree's apart.
 #
 # Then the front end on the million-sphere file: `raytracer check` against
 # `wc -w`, alternating, and check's peak memory against the file size.
 #
 # The tables (medians), the machine and the targets replace the part of
 # docs/performance.md between its `bench:begin` and `bench:end` markers.
-# Raw samples go to target/bench/samples.csv and frontend.csv.
+# Raw samples go to target/bench/samples.csv, agreement.csv, phases.csv and
+# frontend.csv.
 #
 # REPS=7 make bench   (default 5)
 set -euo pipefail
@@ -49,6 +52,7 @@ need_apt /usr/include/embree3/rtcore.h libembree-dev
 
 cargo build --release --locked --quiet
 cargo build --release --locked --quiet --example grid_scene
+cargo build --release --locked --quiet -p raytracer-render --example bvh_build
 mkdir -p "$OUT"
 g++ -O2 -std=c++17 -o "$OUT/embree_harness" bench/embree/harness.cpp -lembree3
 cp scenes/wood_tex.ppm "$OUT/"
@@ -70,6 +74,11 @@ echo "scene,tracer,threads,seconds,wall,peak_kb,rays,primary,front_s,cpu_s" >"$O
 # embree8: packets), ours_rays, embree_rays, then the largest and mean
 # difference from our image and from our f32 image
 echo "scene,mode,ours_rays,embree_rays,max_diff,mean_diff,max_diff_f32,mean_diff_f32" >"$OUT/agreement.csv"
+# Building apart from tracing, per run: scene, tracer (ours: the world built
+# alone by crates/render/examples/bvh_build.rs; embree, embree8: as the
+# harness times its rtcCommitScene and its rays), build and trace seconds
+# (ours: trace left empty, its render's seconds minus the build's median)
+echo "scene,tracer,build,trace" >"$OUT/phases.csv"
 
 json_number() {
   # $1 key, $2 file: the number after "key":
@@ -92,6 +101,11 @@ ours() {
   read -r _ peak user system <"$timing"
   wall=$(awk -v a="$start" -v b="$end" 'BEGIN {printf "%.4f", b - a}')
   echo "$1,ours,$2,$render,$wall,$peak,$rays,$primary,$front,$(awk -v u="$user" -v s="$system" 'BEGIN {print u + s}')" >>"$OUT/samples.csv"
+}
+
+ours_build() {
+  # $1 scene: building its world alone, on one thread, once
+  echo "$1,ours,$(target/release/examples/bvh_build "$OUT/$1.txt" 1 | sed -n 's/^seconds //p')," >>"$OUT/phases.csv"
 }
 
 pov() {
@@ -118,6 +132,7 @@ embree() {
   rays=$(awk '/^(primary|shadow|reflection)_rays / {s += $2} END {print s}' "$report")
   read -r wall peak user system <"$OUT/$1.$2.time"
   echo "$1,$2,1,$(value seconds),$wall,$peak,$rays,$(value primary_rays),,$(awk -v u="$user" -v s="$system" 'BEGIN {print u + s}')" >>"$OUT/samples.csv"
+  echo "$1,$2,$(value build),$(value trace)" >>"$OUT/phases.csv"
   local ours_rays diffs
   ours_rays=$(awk -F, -v s="$1" '$1 == s && $2 == "ours" {r = $7} END {print r}' "$OUT/samples.csv")
   diffs=$(awk '/^diff / {printf ",%s,%s", $3, $4}' "$report")
@@ -132,6 +147,7 @@ for rep in $(seq "$REPS"); do
   for s in "${SCENES[@]}"; do
     echo "rep $rep/$REPS: $s" >&2
     ours "$s" 1
+    ours_build "$s"
     case "$POV_SCENES" in *" $s "*) pov "$s" ;; esac
     embree "$s" embree
     embree "$s" embree8
@@ -209,6 +225,22 @@ failed=0
   echo
   echo "POV-Ray does not render the million-sphere grid here: parsing its 1,000,000 \`sphere\` blocks"
   echo "alone would take longer than the rest of the run."
+  echo
+  echo "### Building and tracing apart, grids, one thread, medians of $REPS"
+  echo
+  echo "Ours: building the world alone (\`crates/render/examples/bvh_build.rs\`: the objects converted and"
+  echo "the hierarchy built, in a process of its own, once per repetition), and tracing as \`seconds.render\`"
+  echo "minus that build (medians of each). Embree: the harness's \`rtcCommitScene\` and its rays."
+  echo
+  echo "| scene | ours build s | ours trace s | Embree build s | Embree trace s | Embree 8 build s | Embree 8 trace s | ours build/Embree build | ours trace/Embree trace | ours trace/Embree 8 trace |"
+  echo "|---|---|---|---|---|---|---|---|---|---|"
+  for s in grid10000 grid100000 grid1000000; do
+    awk -v s="$s" -v o="$(sample "$s" ours,1 4)" -v ob="$(median "$s" ours 3 "$OUT/phases.csv")" \
+      -v eb="$(median "$s" embree 3 "$OUT/phases.csv")" -v et="$(median "$s" embree 4 "$OUT/phases.csv")" \
+      -v e8b="$(median "$s" embree8 3 "$OUT/phases.csv")" -v e8t="$(median "$s" embree8 4 "$OUT/phases.csv")" 'BEGIN {
+      printf "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %.2f | %.2f |\n",
+        s, ob, o - ob, eb, et, e8b, e8t, ob / eb, (o - ob) / et, (o - ob) / e8t }'
+  done
   echo
   echo "### Embree against ours: the same picture"
   echo
@@ -307,12 +339,23 @@ failed=0
       printf "| %s: ours ≤ 0.35 × POV-Ray | %.2f | %s |\n", s, o / p, o / p <= 0.35 ? "met" : "not met" }'
   done
   echo
+  echo "What each grid's single-ray target leaves for building, given tracing as it is (the table"
+  echo "\"Building and tracing apart\"): 0.8 × Embree's build and trace, less ours' tracing alone."
+  echo
+  echo "| scene | 0.8 × Embree s | ours trace s | left for the build s | ours build s |"
+  echo "|---|---|---|---|---|"
+  for s in grid10000 grid100000 grid1000000; do
+    awk -v s="$s" -v o="$(sample "$s" ours,1 4)" -v e="$(sample "$s" embree,1 4)" \
+      -v ob="$(median "$s" ours 3 "$OUT/phases.csv")" 'BEGIN {
+      printf "| %s | %.3f | %.3f | %.3f | %.3f |\n", s, 0.8 * e, o - ob, 0.8 * e - (o - ob), ob }'
+  done
+  echo
   echo "<!-- bench:end -->"
 } >"$GEN"
 
 splice_section "$DOC" bench "$GEN"
 cat "$GEN"
-echo "samples: $OUT/samples.csv, $OUT/agreement.csv, $OUT/frontend.csv; wrote $DOC" >&2
+echo "samples: $OUT/samples.csv, $OUT/agreement.csv, $OUT/phases.csv, $OUT/frontend.csv; wrote $DOC" >&2
 
 scripts/bench_lsp.sh
 scripts/bench_diagnostics.sh
