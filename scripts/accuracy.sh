@@ -22,6 +22,7 @@
 # 256) samples per pixel in each half of each reference; CANDIDATES
 # (default 0.125,0.25,0.5,1) the thresholds the tuning set chooses among.
 set -eu
+. scripts/lib/commit.sh
 
 REPS=${REPS:-5}
 REFERENCE_SPP=${REFERENCE_SPP:-256}
@@ -39,9 +40,8 @@ for name in 2_lights_color.txt christmas_ornaments.txt plane.txt reflection.txt 
     held_out="$held_out $CORPUS/$name"
 done
 
-# The code measured: the commit, marked when src/ differs from it.
-commit=$(git rev-parse --short HEAD)
-git diff --quiet HEAD -- src Cargo.toml Cargo.lock || commit="$commit plus uncommitted changes"
+# The code measured: the commit, marked when the sources differ from it.
+commit=$(measured_commit ' plus uncommitted changes')
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

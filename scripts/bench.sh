@@ -30,6 +30,7 @@ set -euo pipefail
 
 cd "$(dirname "$0")/.."
 . scripts/lib/splice.sh
+. scripts/lib/commit.sh
 REPS=${REPS:-5}
 OUT=target/bench
 BIN=target/release/raytracer
@@ -194,7 +195,7 @@ failed=0
   echo "$(nproc) logical CPUs ($(grep -c '^processor' /proc/cpuinfo) in /proc/cpuinfo), $(awk '/MemTotal/ {printf "%.1f GiB", $2 / 1048576}' /proc/meminfo) memory,"
   echo "load average $LOAD_BEFORE at the start and $(cut -d' ' -f1-3 /proc/loadavg) at the end"
   echo "(the machine is shared: loads above $(nproc) mean other jobs took turns on our core)."
-  echo "Binary: \`$BIN\` of commit $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src Cargo.toml Cargo.lock || echo ' plus uncommitted changes'); $(rustc --version | cut -d' ' -f1-2);"
+  echo "Binary: \`$BIN\` of commit $(measured_commit ' plus uncommitted changes'); $(rustc --version | cut -d' ' -f1-2);"
   echo "$(povray --version 2>&1 | sed -n 's/^POV-Ray \(3[.0-9]*[0-9]\).*/POV-Ray \1/p' | head -1); Embree $(dpkg-query -W -f '${Version}' libembree-dev 2>/dev/null | cut -d+ -f1) (Debian's \`libembree-dev\`, $(g++ --version | head -1 | sed 's/ (.*)//'), -O2)."
   echo
   echo "### Renders, one thread, medians of $REPS"

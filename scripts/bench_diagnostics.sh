@@ -19,6 +19,7 @@ set -euo pipefail
 
 cd "$(dirname "$0")/.."
 . scripts/lib/splice.sh
+. scripts/lib/commit.sh
 REPS=${REPS:-3}
 OUT=target/bench/diagnostics
 BIN=target/release/raytracer
@@ -76,7 +77,7 @@ GEN="$OUT/generated.md"
   echo "### Reporting against the number of problems"
   echo
   echo "\`raytracer check\` on scenes of spheres with one error each (\`dimension 0\`), medians of $REPS"
-  echo "runs (wall seconds), started $STARTED on commit $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src Cargo.toml Cargo.lock || echo ' plus uncommitted changes'),"
+  echo "runs (wall seconds), started $STARTED on commit $(measured_commit ' plus uncommitted changes'),"
   echo "load average $(cut -d' ' -f1-3 /proc/loadavg) at the end. Slope: least-squares µs per"
   echo "diagnostic; exponent: the fit of log time against log count (1 is linear, 2 quadratic)."
   echo

@@ -12,13 +12,13 @@ set -euo pipefail
 
 cd "$(dirname "$0")/.."
 . scripts/lib/splice.sh
+. scripts/lib/commit.sh
 OUT=target/bench
 DOC=docs/editors.md
 KEYS=${KEYS:-61}
 SIZES=(65536 262144 1048576)
 grep -q '^<!-- lsp-latency:begin' "$DOC" || { echo "bench_lsp: $DOC has no lsp-latency:begin marker" >&2; exit 2; }
-commit=$(git rev-parse --short HEAD)
-git diff --quiet HEAD -- src Cargo.toml Cargo.lock || commit="$commit plus uncommitted changes"
+commit=$(measured_commit ' plus uncommitted changes')
 cargo build --release --locked --quiet
 cargo build --release --locked --quiet --example lsp_latency
 mkdir -p "$OUT"

@@ -25,6 +25,7 @@ set -euo pipefail
 
 cd "$(dirname "$0")/.."
 . scripts/lib/splice.sh
+. scripts/lib/commit.sh
 BASE=${BASE:?set BASE to the binary to compare with, e.g. a copy of an older target/release/raytracer}
 # How the tables name BASE (say, the commit it was built from).
 BASE_LABEL=${BASE_LABEL:-$(basename "$BASE")}
@@ -104,7 +105,7 @@ GEN=$OUT/section.md
   echo
   echo "\`make bench-profile\`, started $STARTED, load average $(cut -d' ' -f1-3 /proc/loadavg) at the end;"
   echo "base: $BASE_LABEL;"
-  echo "new: \`target/release/raytracer\` of commit $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- crates || echo ' with uncommitted changes')."
+  echo "new: \`target/release/raytracer\` of commit $(measured_commit ' with uncommitted changes')."
   echo "Instructions and simulated cache misses (cachegrind: 32 KiB first level, 1 MiB last level)"
   echo "of one render of the 100,000-sphere grid at 1000², one thread; both builds wrote the same image."
   echo

@@ -18,6 +18,7 @@
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
+. scripts/lib/commit.sh
 seconds=${FUZZ_SECONDS:-600}
 cargo=${CARGO:-cargo}
 log=docs/reliability.md
@@ -37,8 +38,7 @@ triple=$(rustc -vV | sed -n 's/^host: //p')
 
 # The code fuzzed, read when it is built: the commit, marked `+changes`
 # when the sources differ from it.
-commit=$(git rev-parse --short HEAD 2>/dev/null || echo '?')
-git diff --quiet HEAD -- src fuzz/fuzz_targets Cargo.toml 2>/dev/null || commit="$commit+changes"
+commit=$(measured_commit +changes fuzz/fuzz_targets)
 
 # Build every target first, so the times below are the fuzzers' alone.
 (cd fuzz && for target in "$@"; do

@@ -11,13 +11,13 @@
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
+. scripts/lib/commit.sh
 REPS=${REPS:-3}
 OUT=target/bench
 BIN=target/release/raytracer
 COUNTS=(10 100 1000 10000 100000 1000000)
 
-commit=$(git rev-parse --short HEAD)
-git diff --quiet HEAD -- src Cargo.toml Cargo.lock || commit="$commit+changes"
+commit=$(measured_commit +changes)
 
 cargo build --release --locked --quiet
 cargo build --release --locked --quiet --example grid_scene --example plot
