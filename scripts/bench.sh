@@ -13,7 +13,7 @@
 # 4×2 pixels through rtcIntersect8) and ours with `--threads 2`. No anti-aliasing anywhere. Embree's ray counts and image
 # are compared with ours (and with ours in single precision, rendered once
 # per scene, as Embree's geometry is); a scene where they disagree fails
-# the run. Each repetition also builds each scene's world alone
+# the run. Each repetition also builds each grid's world alone
 # (crates/render/examples/bvh_build.rs), so the grids' building and
 # tracing are compared with Embree's apart.
 #
@@ -75,7 +75,7 @@ echo "scene,tracer,threads,seconds,wall,peak_kb,rays,primary,front_s,cpu_s" >"$O
 # embree8: packets), ours_rays, embree_rays, then the largest and mean
 # difference from our image and from our f32 image
 echo "scene,mode,ours_rays,embree_rays,max_diff,mean_diff,max_diff_f32,mean_diff_f32" >"$OUT/agreement.csv"
-# Building apart from tracing, per run: scene, tracer (ours: the world built
+# Building apart from tracing, per run of a grid: scene, tracer (ours: the world built
 # alone by crates/render/examples/bvh_build.rs; embree, embree8: as the
 # harness times its rtcCommitScene and its rays), build and trace seconds
 # (ours: trace left empty, its render's seconds minus the build's median)
@@ -106,7 +106,9 @@ ours() {
 
 ours_build() {
   # $1 scene: building its world alone, on one thread, once
-  echo "$1,ours,$(target/release/examples/bvh_build "$OUT/$1.txt" 1 | sed -n 's/^seconds //p')," >>"$OUT/phases.csv"
+  local report
+  report=$(target/release/examples/bvh_build "$OUT/$1.txt" 1)
+  echo "$1,ours,$(sed -n 's/^seconds //p' <<<"$report")," >>"$OUT/phases.csv"
 }
 
 pov() {
@@ -148,7 +150,7 @@ for rep in $(seq "$REPS"); do
   for s in "${SCENES[@]}"; do
     echo "rep $rep/$REPS: $s" >&2
     ours "$s" 1
-    ours_build "$s"
+    case "$s" in grid*) ours_build "$s" ;; esac
     case "$POV_SCENES" in *" $s "*) pov "$s" ;; esac
     embree "$s" embree
     embree "$s" embree8
@@ -341,7 +343,7 @@ failed=0
   done
   echo
   echo "What each grid's single-ray target leaves for building, given tracing as it is (the table"
-  echo "\"Building and tracing apart\"): 0.8 × Embree's build and trace, less ours' tracing alone."
+  echo "\"Building and tracing apart\"): 0.8 × Embree's build and trace, less our tracing alone."
   echo
   echo "| scene | 0.8 × Embree s | ours trace s | left for the build s | ours build s |"
   echo "|---|---|---|---|---|"
