@@ -453,18 +453,14 @@ fn no_process_of_a_run_survives_it() {
     for kind in kinds() {
         let (_, scene, _) = attack.grade(kind, None, &[], &[]);
         assert_eq!(status(&scene), "match", "{kind:?}: {scene}");
-        let left: Vec<String> = std::fs::read_dir("/proc")
-            .unwrap()
-            .flatten()
-            .filter_map(|e| std::fs::read(e.path().join("cmdline")).ok())
-            .map(|c| String::from_utf8_lossy(&c).replace('\0', " "))
-            .filter(|c| c.contains("4243"))
-            .collect();
+        let left = processes_with("4243");
         assert!(left.is_empty(), "{kind:?}: survivors: {left:?}");
     }
 }
 
-/// The processes whose command line holds `marker`: pid and command line.
+/// The processes one of whose arguments is `marker` (a whole word, so a
+/// path of another test's that happens to hold the digits never counts):
+/// pid and command line.
 fn processes_with(marker: &str) -> Vec<(i32, String)> {
     std::fs::read_dir("/proc")
         .unwrap()
@@ -472,9 +468,11 @@ fn processes_with(marker: &str) -> Vec<(i32, String)> {
         .filter_map(|e| {
             let pid = e.file_name().to_str()?.parse().ok()?;
             let cmdline = std::fs::read(e.path().join("cmdline")).ok()?;
-            Some((pid, String::from_utf8_lossy(&cmdline).replace('\0', " ")))
+            let words: Vec<&[u8]> = cmdline.split(|&b| b == 0).collect();
+            words
+                .contains(&marker.as_bytes())
+                .then(|| (pid, String::from_utf8_lossy(&cmdline).replace('\0', " ")))
         })
-        .filter(|(_, cmdline)| cmdline.contains(marker))
         .collect()
 }
 
@@ -571,14 +569,14 @@ fn concurrent_root_graders_give_students_different_uids() {
         })
         .collect();
     let start = std::time::Instant::now();
-    let mut running = processes_with("sleep 4246");
+    let mut running = processes_with("4246");
     while running.len() < 2 {
         assert!(
             start.elapsed().as_secs() < 30,
             "the tracers did not start: {running:?}"
         );
         std::thread::sleep(std::time::Duration::from_millis(20));
-        running = processes_with("sleep 4246");
+        running = processes_with("4246");
     }
     let uid_of = |pid: i32| -> u64 {
         let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
@@ -789,13 +787,19 @@ fn students_of_a_class_cannot_reach_one_another() {
             std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
         }
     };
+    // Mallory looks for reports where they are (this test's folder, where
+    // the other kind's run wrote its reports) and where a grader might
+    // leave one, not over the whole of `/`, whose walk takes seconds.
     student(
         "a-mallory",
-        "echo secret > /tmp/mallory; echo secret > /dev/shm/mallory\n\
-         setsid sleep 4244 </dev/null >/dev/null 2>&1 &\n\
-         find / -name summary.json 2>/dev/null\n\
-         ls /proc/*/cwd/ 2>/dev/null | head -3\n\
-         exec ./renderer render \"$1\" \"$2\"\n",
+        &format!(
+            "echo secret > /tmp/mallory; echo secret > /dev/shm/mallory\n\
+             setsid sleep 4244 </dev/null >/dev/null 2>&1 &\n\
+             find {} /tmp /var/tmp /dev/shm /run /home /root -name summary.json 2>/dev/null\n\
+             ls /proc/*/cwd/ 2>/dev/null | head -3\n\
+             exec ./renderer render \"$1\" \"$2\"\n",
+            d.display()
+        ),
     );
     student(
         "b-victim",
@@ -806,7 +810,7 @@ fn students_of_a_class_cannot_reach_one_another() {
         let report = d.join(format!("report-{kind:?}"));
         let mut command = grader(kind);
         let output = command
-            .args(["grade", "--timeout", "5", "--class"])
+            .args(["grade", "--class"])
             .arg(d.join("class"))
             .arg("-o")
             .arg(&report)
@@ -839,13 +843,8 @@ fn students_of_a_class_cannot_reach_one_another() {
                 victim["sandbox"]["user"].to_string().as_str().into()
             );
         }
-        let left = std::fs::read_dir("/proc")
-            .unwrap()
-            .flatten()
-            .filter_map(|e| std::fs::read(e.path().join("cmdline")).ok())
-            .filter(|c| String::from_utf8_lossy(c).contains("4244"))
-            .count();
-        assert_eq!(left, 0, "{kind:?}: the daemon survived");
+        let left = processes_with("4244");
+        assert!(left.is_empty(), "{kind:?}: the daemon survived: {left:?}");
     }
 }
 
@@ -1261,13 +1260,15 @@ exec "$RAYTRACER" render "$1" "$2""#,
 /// Without a box, a daemon a student started outlives a grader killed
 /// with SIGKILL (docs/grading.md says so), but not the next lease of its
 /// uid: a root grader that takes a uid first kills every process left
-/// running as it, so the next student never shares a uid with it.
+/// running as it, so the next student never shares a uid with it. The
+/// graders lease from a range of this test's own (`--uids`), so the
+/// lowest free uid is the daemon's whatever other tests' graders hold.
 #[test]
 fn without_a_box_a_killed_graders_daemon_dies_with_the_next_lease_of_its_uid() {
-    use std::os::fd::AsRawFd;
     if !kinds().contains(&Kind::Root) {
         return;
     }
+    const RANGE: &str = "65100-65109";
     let attack = Attack::new(
         "setsid sleep 4249 </dev/null >/dev/null 2>&1 &\n\
          exec sleep 4249",
@@ -1276,7 +1277,7 @@ fn without_a_box_a_killed_graders_daemon_dies_with_the_next_lease_of_its_uid() {
     let mut grader = without_namespaces(&mut attack.command(
         Kind::Root,
         None,
-        &["--unprotected", "--timeout", "60"],
+        &["--unprotected", "--timeout", "60", "--uids", RANGE],
         &[],
     ))
     .stdout(Stdio::null())
@@ -1284,14 +1285,14 @@ fn without_a_box_a_killed_graders_daemon_dies_with_the_next_lease_of_its_uid() {
     .spawn()
     .unwrap();
     let start = std::time::Instant::now();
-    while processes_with("sleep 4249").len() < 2 {
+    while processes_with("4249").len() < 2 {
         assert!(
             start.elapsed().as_secs() < 30 && grader.try_wait().unwrap().is_none(),
             "the tracer did not start"
         );
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    let (pid, _) = processes_with("sleep 4249")[0].clone();
+    let (pid, _) = processes_with("4249")[0].clone();
     let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
     let uid: u32 = status
         .lines()
@@ -1300,36 +1301,27 @@ fn without_a_box_a_killed_graders_daemon_dies_with_the_next_lease_of_its_uid() {
         .unwrap()
         .parse()
         .unwrap();
+    assert_eq!(uid, 65_100, "the student ran as the range's first uid");
     grader.kill().unwrap();
     grader.wait().unwrap();
-    // Hold every free uid below the daemon's, so the next grader's lowest
-    // free uid is the daemon's (or another grader took it first, and
-    // killed the daemon then).
-    let held: Vec<std::fs::File> = (60_000..uid)
-        .filter_map(|below| {
-            let file = std::fs::OpenOptions::new()
-                .read(true)
-                .write(true)
-                .create(true)
-                .truncate(false)
-                .open(format!("/run/raytracer-grade/uids/{below}"))
-                .unwrap();
-            // SAFETY: `flock` on a descriptor of ours.
-            let locked =
-                unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0;
-            locked.then_some(file)
-        })
-        .collect();
-    let output = without_namespaces(&mut honest.command(Kind::Root, None, &["--unprotected"], &[]))
-        .output()
-        .unwrap();
-    drop(held);
+    assert!(
+        !processes_with("4249").is_empty(),
+        "the daemon died with the grader"
+    );
+    let output = without_namespaces(&mut honest.command(
+        Kind::Root,
+        None,
+        &["--unprotected", "--uids", RANGE],
+        &[],
+    ))
+    .output()
+    .unwrap();
     assert!(
         output.status.success(),
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    let left = processes_with("sleep 4249");
+    let left = processes_with("4249");
     for (pid, _) in &left {
         // SAFETY: `kill` has no memory preconditions.
         unsafe { libc::kill(*pid, libc::SIGKILL) };

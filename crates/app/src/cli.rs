@@ -517,6 +517,28 @@ pub struct SandboxArgs {
     /// read whatever its user may read (docs/grading.md, "The sandbox").
     #[arg(long)]
     pub unprotected: bool,
+    /// The uids (and gids) a root grader runs students as, one each, FIRST
+    /// to LAST: a range no account uses (an id that names a user or group
+    /// is skipped; graders running at once share the range by lock files).
+    #[arg(long, value_name = "FIRST-LAST", default_value = "60000-64999", value_parser = uid_range)]
+    pub uids: std::ops::RangeInclusive<u32>,
+}
+
+/// `FIRST-LAST`, ids from 1 to 4294967294 (never root's, nor the
+/// kernel's "no id", -1).
+fn uid_range(text: &str) -> Result<std::ops::RangeInclusive<u32>, String> {
+    let expected = || format!("expected a range of ids like `60000-64999`, found `{text}`");
+    let (first, last) = text.split_once('-').ok_or_else(expected)?;
+    let (first, last): (u32, u32) = (
+        first.parse().map_err(|_| expected())?,
+        last.parse().map_err(|_| expected())?,
+    );
+    if first == 0 || last == u32::MAX || first > last {
+        return Err(format!(
+            "expected ids from 1 to 4294967294 with FIRST at most LAST, found `{text}`"
+        ));
+    }
+    Ok(first..=last)
 }
 
 #[derive(Debug, Args)]
@@ -588,6 +610,15 @@ mod tests {
 
     fn parse(args: &[&str]) -> Result<Cli, clap::Error> {
         parse_args(args.iter().map(OsString::from))
+    }
+
+    #[test]
+    fn uid_ranges_are_first_to_last_and_never_root() {
+        assert_eq!(uid_range("65100-65109"), Ok(65_100..=65_109));
+        assert_eq!(uid_range("7-7"), Ok(7..=7));
+        for bad in ["0-10", "10-9", "60000", "1-4294967295", "a-b", "-5-6"] {
+            assert!(uid_range(bad).is_err(), "{bad}");
+        }
     }
 
     #[test]

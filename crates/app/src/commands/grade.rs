@@ -277,7 +277,13 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     // beside it has it.
     let leases = jobs
         .iter()
-        .map(|_| graded.confinement.root().then(Lease::take).transpose())
+        .map(|_| {
+            graded
+                .confinement
+                .root()
+                .then(|| Lease::take(&args.sandbox.uids))
+                .transpose()
+        })
         .collect::<Result<Vec<_>, _>>()
         .map_err(FileError::writing(Path::new(uids::FOLDER)))
         .map_err(GradeError::from)?;

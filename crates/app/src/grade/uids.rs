@@ -3,10 +3,14 @@
 //! at once on the machine (a Slurm node grading many students), after
 //! isolate's box ids.
 //!
-//! Each uid from [`FIRST_UID`] has a lock file in a folder only root may
-//! enter ([`FOLDER`], refused when it is a link or someone else's, its
-//! mode corrected when it is root's). A [`Lease`] is an open lock file
-//! held with `flock`: the lowest uid whose lock no one holds. The kernel
+//! Each uid of the range (`--uids`, 60000 to 64999 unless given: like
+//! isolate's boxes, ids that should belong to no one on the machine) has a
+//! lock file in a folder only root may enter ([`FOLDER`], refused when it
+//! is a link or someone else's, its mode corrected when it is root's). A
+//! [`Lease`] is an open lock file held with `flock`: the lowest uid of
+//! the range whose lock no one holds and which names no user or group in
+//! the password and group databases (a range may cross an account a
+//! package made, as Debian's `slurm` is 64030). The kernel
 //! releases a lock when the last descriptor of it closes, so a grader
 //! killed with SIGKILL frees its uids, and no grader can keep one it no
 //! longer runs. A grader keeps every lease of its run until it exits, so
@@ -16,16 +20,10 @@
 
 use std::fs::File;
 use std::io;
+use std::ops::RangeInclusive;
 use std::os::fd::AsRawFd;
 use std::os::unix::fs::{DirBuilderExt, MetadataExt, OpenOptionsExt, PermissionsExt};
 use std::path::Path;
-
-/// The first uid (and gid) of the range: like isolate's boxes, the range
-/// must belong to no one on the machine.
-pub const FIRST_UID: u32 = 60_000;
-
-/// How many uids the range holds (below `nobody`, 65534).
-pub const COUNT: u32 = 5_000;
 
 /// The folder of the lock files, root's and closed to everyone else.
 pub const FOLDER: &str = "/run/raytracer-grade/uids";
@@ -38,13 +36,13 @@ pub struct Lease {
 }
 
 impl Lease {
-    /// The lowest uid of the range no grader holds.
-    pub fn take() -> io::Result<Lease> {
+    /// The lowest uid of `range` that no grader holds and no account has.
+    pub fn take(range: &RangeInclusive<u32>) -> io::Result<Lease> {
         let folder = Path::new(FOLDER);
         for dir in [folder.parent().unwrap_or(folder), folder] {
             root_only(dir)?;
         }
-        for uid in FIRST_UID..FIRST_UID + COUNT {
+        for uid in range.clone().filter(|&uid| !has_account(uid)) {
             let lock = std::fs::OpenOptions::new()
                 .read(true)
                 .write(true)
@@ -63,13 +61,41 @@ impl Lease {
             }
         }
         Err(io::Error::other(format!(
-            "every uid from {FIRST_UID} to {} is in use",
-            FIRST_UID + COUNT - 1
+            "every uid from {} to {} is in use or names an account (`--uids` takes another range)",
+            range.start(),
+            range.end()
         )))
     }
 
     pub fn uid(&self) -> u32 {
         self.uid
+    }
+}
+
+/// Whether `id` names a user in the password database or a group in the
+/// group database (through NSS, so directory services count too): such
+/// an id is someone's, and a student run as it could reach their files.
+fn has_account(id: u32) -> bool {
+    let mut buffer = vec![0 as libc::c_char; 16 * 1024];
+    // SAFETY: `getpwuid_r` and `getgrgid_r` write into the records and
+    // the buffer we pass, whose lengths we give.
+    unsafe {
+        let mut user: libc::passwd = std::mem::zeroed();
+        let mut found: *mut libc::passwd = std::ptr::null_mut();
+        libc::getpwuid_r(id, &mut user, buffer.as_mut_ptr(), buffer.len(), &mut found);
+        if !found.is_null() {
+            return true;
+        }
+        let mut group: libc::group = std::mem::zeroed();
+        let mut found: *mut libc::group = std::ptr::null_mut();
+        libc::getgrgid_r(
+            id,
+            &mut group,
+            buffer.as_mut_ptr(),
+            buffer.len(),
+            &mut found,
+        );
+        !found.is_null()
     }
 }
 
@@ -123,4 +149,15 @@ fn root_only(dir: &Path) -> io::Result<()> {
         std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o700))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::has_account;
+
+    #[test]
+    fn root_has_an_account_and_an_unused_id_has_none() {
+        assert!(has_account(0));
+        assert!(!has_account(4_000_000_000));
+    }
 }
