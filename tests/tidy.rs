@@ -20,13 +20,14 @@ use std::process::Command;
 
 /// The workspace's crates, lowest first, with the `raytracer-*` crates
 /// each may depend on: a layer names only layers below it.
-const LAYERS: [(&str, &str, &[&str]); 5] = [
+const LAYERS: [(&str, &str, &[&str]); 6] = [
     ("raytracer-scene", "crates/scene", &[]),
     ("raytracer-render", "crates/render", &["raytracer-scene"]),
+    ("raytracer-box", "crates/box", &[]),
     (
         "raytracer-app",
         "crates/app",
-        &["raytracer-scene", "raytracer-render"],
+        &["raytracer-scene", "raytracer-render", "raytracer-box"],
     ),
     ("raytracer", ".", &["raytracer-app", "raytracer-scene"]),
     (
@@ -281,6 +282,37 @@ fn the_language_and_the_renderer_pull_in_no_application_crate() {
             leaked.is_empty(),
             "{layer} pulls in {leaked:?}, which only the applications may need"
         );
+    }
+}
+
+/// Where `unsafe` code may be: the box (`raytracer-box`, all of grading's
+/// system calls), the renderer's AVX2 kernels, and the playground's C ABI
+/// (whose `#[no_mangle]` the lint counts). The language and the
+/// applications forbid it in their crate roots, so the compiler holds them.
+#[test]
+fn unsafe_code_lives_in_the_box_and_the_kernels_alone() {
+    for root in ["crates/scene/src/lib.rs", "crates/app/src/lib.rs"] {
+        let text = std::fs::read_to_string(repository().join(root)).unwrap();
+        assert!(
+            text.contains("\n#![forbid(unsafe_code)]\n"),
+            "{root} does not forbid `unsafe` code"
+        );
+    }
+    let allowed = |file: &str| {
+        file.starts_with("crates/box/src/")
+            || file == "crates/render/src/render/sampling.rs"
+            || file == "crates/render/src/render/world.rs"
+    };
+    for (heading, dir) in crate_sources() {
+        for file in sources(&dir) {
+            let path = format!("{heading}/{file}");
+            let text = std::fs::read_to_string(dir.join(&file)).unwrap();
+            let uses = text.contains("unsafe {") || text.contains("unsafe fn ");
+            assert!(
+                !uses || allowed(&path),
+                "{path} holds `unsafe` code: grading's belongs in crates/box (docs/architecture.md)"
+            );
+        }
     }
 }
 

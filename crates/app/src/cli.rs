@@ -51,7 +51,7 @@ pub enum Command {
     Compare(CompareArgs),
     /// Grade a ray tracer: run it on a suite of scenes in a sandbox and
     /// compare each image with ours, into an HTML report.
-    Grade(GradeArgs),
+    Grade(Box<GradeArgs>),
     /// Print a completion script for SHELL to stdout, as in
     /// `raytracer completions bash > ~/.local/share/bash-completion/completions/raytracer`.
     Completions(CompletionsArgs),

@@ -8,6 +8,10 @@
 //!
 //! Only this crate depends on argument parsing, servers, terminals and
 //! the C++ of ꟻLIP; the `raytracer` binary is a thin `main` over it.
+//! Grading's system calls are the box's ([`raytracer_box`]): this crate
+//! has no `unsafe` code.
+
+#![forbid(unsafe_code)]
 
 pub mod accuracy;
 pub mod browser;

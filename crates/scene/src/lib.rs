@@ -27,6 +27,8 @@
 //! assert_eq!(fixed, "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\n");
 //! ```
 
+#![forbid(unsafe_code)]
+
 pub mod ast;
 pub mod check;
 pub mod convert;

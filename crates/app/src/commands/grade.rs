@@ -1,7 +1,7 @@
 //! `raytracer grade --tracer 'CMD {scene} {out}' [SUITE...] -o REPORT`:
 //! load the suite (the built-in one when none is given), render or find
 //! our reference of each scene, run the tracer on each scene in the
-//! sandbox of [`crate::grade::sandbox`] (`--jobs` at once, a progress bar
+//! box of [`raytracer_box`] (`--jobs` at once, a progress bar
 //! on a terminal), and write the report. Exit 0 when every scene matches,
 //! 1 otherwise, 2 for usage errors and a suite or report that cannot be
 //! read or written. `--student DIR` takes the command (and a build) from
@@ -26,12 +26,13 @@ use crate::grade::aspects::AspectThresholds;
 use crate::grade::class::{self, ClassError};
 use crate::grade::reference::{self, Cache};
 use crate::grade::report::{self, SandboxSummary, Summary};
-use crate::grade::sandbox::{self, Confinement, Limits};
 use crate::grade::student::{self, Student, StudentError};
 use crate::grade::suite::{self, SuiteError, SuiteScene};
-use crate::grade::uids::{self, Lease};
 use crate::grade::workdir::{Template, TemplateError};
 use crate::grade::{self, Plan, Programs};
+use raytracer_box::run::{become_subreaper, reap_orphans};
+use raytracer_box::uids::{self, Lease};
+use raytracer_box::{jail, Confinement, Limits};
 use raytracer_render::render::probe::{self, Buffers};
 use raytracer_scene::diagnostic::{io_reason, BoxedDiagnostic, FileError};
 
@@ -218,7 +219,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         }
         .into());
     }
-    sandbox::become_subreaper();
+    become_subreaper();
     let instructor = match &args.reference_tracer {
         Some(command) => Some((
             command,
@@ -294,7 +295,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
             ..graded
         };
         let summary = grade_job(job, &graded, &args);
-        crate::grade::jail::remove_staging_if(index + 1 == jobs.len());
+        jail::remove_staging_if(index + 1 == jobs.len());
         let summary = summary?;
         all_match &= summary.all_match();
         let matched = summary
@@ -383,7 +384,7 @@ fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, Gr
             })
             .collect::<Result<Vec<_>, _>>()
     });
-    sandbox::reap_orphans(None);
+    reap_orphans(None);
     progress.finish_and_clear();
     let results = results.map_err(FileError::writing(&job.report))?;
 

@@ -139,7 +139,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Completions(args) => print_bytes(&crate::cli::completions(args.shell)),
         Command::Man => print_bytes(&crate::cli::man_page()),
         #[cfg(unix)]
-        Command::Grade(args) => grade::run(args),
+        Command::Grade(args) => grade::run(*args),
         #[cfg(not(unix))]
         Command::Grade(_) => {
             Err(Box::new(GradeUnsupported) as raytracer_scene::diagnostic::BoxedDiagnostic)
@@ -195,7 +195,7 @@ pub fn interrupt_stops() {
 pub fn interrupt() -> ! {
     raytracer_render::output::abandon();
     #[cfg(unix)]
-    crate::grade::sandbox::kill_running();
+    raytracer_box::run::kill_running();
     if !INTERRUPT_STOPS.load(Ordering::SeqCst) {
         sayln!("\n{:?}", miette::Report::new(Interrupted));
     }

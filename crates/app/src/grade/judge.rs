@@ -10,9 +10,9 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::aspects::{self, AspectPoints, AspectThresholds, Judged};
-use super::sandbox::Ended;
 use super::student_image;
 use crate::compare::{self, Comparison, Picture, Thresholds, Verdict};
+use raytracer_box::Ended;
 use raytracer_render::render::probe::Buffers;
 
 /// Where a scene ended.

@@ -4,8 +4,8 @@
 //!
 //! [`suite`] gives the scenes; [`reference`] renders (or finds in its
 //! cache) our image of each; [`workdir`] prepares the folder and argument
-//! vector, copying a student's folder with [`copy`]; [`sandbox`] runs the program under limits, capturing its
-//! output with [`capture`]; [`judge`] turns the run and the image into a
+//! vector; the box of [`raytracer_box`] runs the program under limits and
+//! captures its output; [`judge`] turns the run and the image into a
 //! [`Status`], judging each aspect with [`aspects`] against what our
 //! renderer's probe sees at each pixel; [`student`] reads a student's folder (its command, its
 //! build) for `--student` and `--class`; [`class`] merges the students'
@@ -13,19 +13,13 @@
 //! Gradescope's results.json.
 
 pub mod aspects;
-pub mod capture;
 pub mod class;
-pub mod copy;
-pub mod fence;
-pub mod jail;
 pub mod judge;
 pub mod reference;
 pub mod report;
-pub mod sandbox;
 pub mod student;
 pub mod student_image;
 pub mod suite;
-pub mod uids;
 pub mod workdir;
 
 use std::path::{Path, PathBuf};
@@ -36,8 +30,8 @@ use serde::Serialize;
 use crate::compare::{self, heatmap, FlipStats, Picture, Thresholds};
 use aspects::{AspectResult, AspectThresholds};
 pub use judge::Status;
+use raytracer_box::{run::run, Confinement, Ended, Share};
 use raytracer_render::render::probe::Buffers;
-use sandbox::{Confinement, Ended};
 use suite::SuiteScene;
 use workdir::Template;
 
@@ -155,14 +149,14 @@ pub fn grade_scene(
         }
     };
     let argv = plan.template.argv(&dir.scene_file, workdir::OUT, cwd);
-    let share = sandbox::Share {
+    let share = Share {
         read_write: vec![dir.root.clone()],
         read_only: match &plan.programs {
             Programs::Here(_) => program_files(&argv),
             Programs::Folder(_) => Vec::new(),
         },
     };
-    let run = sandbox::run(&argv, &dir.start, &share, plan.confinement);
+    let run = run(&argv, &dir.start, &share, plan.confinement);
     let against = judge::Against {
         reference,
         buffers,

@@ -29,10 +29,11 @@ use std::path::{Path, PathBuf};
 use sha2::{Digest, Sha256};
 
 use super::judge;
-use super::sandbox::{self, Confinement};
 use super::suite::SuiteScene;
 use super::workdir::{self, Template};
 use crate::compare::{self, Picture};
+use raytracer_box::run::run;
+use raytracer_box::{Confinement, Share};
 use raytracer_render::render::Precision;
 use raytracer_render::render::{self, Model, Options};
 
@@ -118,8 +119,7 @@ impl Cache {
                 }
             })?;
         let meta = dir.metadata()?;
-        // SAFETY: `geteuid` has no preconditions.
-        if meta.uid() != unsafe { libc::geteuid() } {
+        if meta.uid() != raytracer_box::effective_uid() {
             return Err(std::io::Error::other(format!(
                 "the cache folder belongs to uid {}, not to the grader: refused",
                 meta.uid()
@@ -285,11 +285,11 @@ impl Cache {
         }
         let dir = workdir::prepare(scene, None, confinement.user)?;
         let argv = template.argv(&dir.scene_file, workdir::OUT, Some(cwd));
-        let share = sandbox::Share {
+        let share = Share {
             read_write: vec![dir.root.clone()],
             read_only: super::program_files(&argv),
         };
-        let run = sandbox::run(&argv, &dir.start, &share, confinement);
+        let run = run(&argv, &dir.start, &share, confinement);
         if let Some((_, reason)) = judge::failure(&run.ended) {
             return Err(std::io::Error::other(format!(
                 "the reference tracer failed on `{}`: {reason}",
@@ -310,20 +310,8 @@ impl Cache {
 /// The cached image at `path` when it is a regular file of the grader's,
 /// with one name, closed to everyone else, reached without a link.
 fn read_private(path: &Path) -> Option<Picture> {
-    use std::io::Read;
-    use std::os::unix::fs::MetadataExt;
-    let mut file = super::student_image::open_no_links(path).ok()?;
-    let meta = file.metadata().ok()?;
-    // SAFETY: `geteuid` has no preconditions.
-    let mine = meta.uid() == unsafe { libc::geteuid() };
-    if !meta.is_file() || !mine || meta.nlink() != 1 || meta.mode() & 0o077 != 0 {
-        return None;
-    }
-    let mut bytes = Vec::new();
-    file.by_ref()
-        .take(raytracer_scene::limits::MAX_TEXTURE_TEXELS * 4)
-        .read_to_end(&mut bytes)
-        .ok()?;
+    let bytes =
+        raytracer_box::output::read_private(path, raytracer_scene::limits::MAX_TEXTURE_TEXELS * 4)?;
     let (width, height, texels) = raytracer_scene::texture::decode(
         std::io::Cursor::new(bytes),
         raytracer_scene::limits::MAX_TEXTURE_TEXELS,

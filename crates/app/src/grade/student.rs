@@ -20,10 +20,12 @@ use miette::Diagnostic;
 
 use tempfile::TempDir;
 
-use super::copy::{copy_folder, STUDENT_FOLDER};
 use super::report::BuildSummary;
-use super::sandbox::{self, Confinement, Ended};
-use super::workdir::{self, Template, TemplateError};
+use super::workdir::{Template, TemplateError};
+use raytracer_box::copy::{copy_folder, STUDENT_FOLDER};
+use raytracer_box::folder::{give, private_folder};
+use raytracer_box::run::run;
+use raytracer_box::{Confinement, Ended, Share};
 use raytracer_scene::diagnostic::FileError;
 
 /// The file that names the tracer's command.
@@ -104,13 +106,13 @@ impl Student {
     /// The folder copied into a private one (given to the sandbox's user)
     /// and built there; the build's summary when there is `build.txt`.
     pub fn prepare(&self, confinement: Confinement) -> std::io::Result<Prepared> {
-        let folder = workdir::private_folder()?;
+        let folder = private_folder()?;
         // Canonical while the folder is still the grader's alone: a box
         // binds it by this path.
         let path = std::fs::canonicalize(folder.path())?;
         copy_folder(&self.folder, folder.path(), STUDENT_FOLDER)?;
         if let Some(id) = confinement.user {
-            workdir::give(folder.path(), id)?;
+            give(folder.path(), id)?;
         }
         let build = self.build(&path, confinement);
         Ok(Prepared { folder, build })
@@ -120,11 +122,11 @@ impl Student {
     fn build(&self, folder: &Path, confinement: Confinement) -> Option<BuildSummary> {
         let (command, template) = self.build.as_ref()?;
         let argv = template.argv_as_written();
-        let share = sandbox::Share {
+        let share = Share {
             read_write: vec![folder.to_path_buf()],
             read_only: Vec::new(),
         };
-        let run = sandbox::run(&argv, folder, &share, confinement);
+        let run = run(&argv, folder, &share, confinement);
         let (exit_code, signal) = match run.ended {
             Ended::Exited(code) => (Some(code), None),
             Ended::Signalled(signal) => (None, Some(signal)),

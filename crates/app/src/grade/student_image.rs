@@ -1,29 +1,22 @@
 //! Reading the image a student's program wrote (`{out}`) safely and within
 //! a budget.
 //!
-//! The file lies in a folder the student's program could write, so the
-//! grader never follows a link to it: the whole path is resolved with
-//! `openat2(RESOLVE_NO_SYMLINKS)` (a link in any component fails), the
-//! last component with `O_NOFOLLOW | O_NONBLOCK` (a FIFO cannot block),
-//! and what was opened must be a regular file with one name, owned by the
-//! owner of the folder it is in (the user the program ran as): a hard link
-//! to a file of someone else's is refused, not read. Before any pixel is
-//! allocated the file's size is checked against a byte budget and its
-//! header's size against the scene's camera: an image larger than the
+//! The file lies in a folder the student's program could write, so its
+//! bytes are read by the box's [`raytracer_box::output::read_output`]:
+//! no link followed, a regular file of the program's own, within a byte
+//! budget. Before any pixel is allocated the header's size is checked
+//! against the scene's camera: an image larger than the
 //! reference on either side is not decoded at all ([`Read::TooLarge`],
 //! judged `size`), so neither the grader's memory nor the report's copy of
 //! the image can grow past the camera's size.
 
-use std::fs::File;
-use std::io::{BufReader, Read as _, Seek};
-use std::os::fd::{FromRawFd, OwnedFd};
-use std::os::unix::ffi::OsStrExt;
-use std::os::unix::fs::MetadataExt;
+use std::io::{BufReader, Seek};
 use std::path::Path;
 
 use image::ImageReader;
 
 use crate::compare::Picture;
+use raytracer_box::output::{read_output, Refused};
 use raytracer_scene::diagnostic::io_reason;
 use raytracer_scene::texture;
 
@@ -46,87 +39,41 @@ fn byte_budget(pixels: u64) -> u64 {
     pixels * 3 * 12 + (1 << 20)
 }
 
-/// Open `path` for reading without following a link anywhere on it.
-pub fn open_no_links(path: &Path) -> std::io::Result<File> {
-    let name = std::ffi::CString::new(path.as_os_str().as_bytes())
-        .map_err(|_| std::io::Error::from(std::io::ErrorKind::InvalidInput))?;
-    // SAFETY: `open_how` is plain integers, for which zero is valid.
-    let mut how: libc::open_how = unsafe { std::mem::zeroed() };
-    how.flags = (libc::O_RDONLY | libc::O_NOFOLLOW | libc::O_NONBLOCK | libc::O_CLOEXEC) as u64;
-    how.resolve = libc::RESOLVE_NO_SYMLINKS | libc::RESOLVE_NO_MAGICLINKS;
-    // SAFETY: `name` is a NUL-terminated string and `how` a valid
-    // `open_how` of the size passed; the returned descriptor is ours.
-    let fd = unsafe {
-        libc::syscall(
-            libc::SYS_openat2,
-            libc::AT_FDCWD,
-            name.as_ptr(),
-            &how as *const libc::open_how,
-            std::mem::size_of::<libc::open_how>(),
-        )
-    };
-    if fd < 0 {
-        return Err(std::io::Error::last_os_error());
-    }
-    // SAFETY: a descriptor just opened, owned by nothing else.
-    Ok(File::from(unsafe { OwnedFd::from_raw_fd(fd as i32) }))
-}
-
 /// Read the image at `out`, compared with `reference`'s size.
 pub fn read(out: &Path, reference: &Picture) -> Read {
+    let pixels = u64::from(reference.width) * u64::from(reference.height);
+    let budget = byte_budget(pixels);
     let bad = |reason: String| Read::Bad(reason);
-    let folder_owner = match out.parent().map(open_no_links) {
-        Some(Ok(folder)) => match folder.metadata() {
-            Ok(m) => m.uid(),
-            Err(error) => return bad(io_reason(&error)),
-        },
-        Some(Err(error)) if error.raw_os_error() == Some(libc::ENOENT) => return Read::Missing,
-        Some(Err(error)) => {
+    let bytes = match read_output(out, budget) {
+        Ok(bytes) => bytes,
+        Err(Refused::Missing) => return Read::Missing,
+        Err(Refused::Folder(error)) => {
             return bad(format!(
                 "its folder cannot be opened: {}",
                 io_reason(&error)
             ))
         }
-        None => return Read::Missing,
-    };
-    let mut file = match open_no_links(out) {
-        Ok(file) => file,
-        Err(error) if error.raw_os_error() == Some(libc::ENOENT) => return Read::Missing,
-        Err(error) if error.raw_os_error() == Some(libc::ELOOP) => {
+        Err(Refused::Link) => {
             return bad("the image is a symbolic link, or is reached through one: not read".into())
         }
-        Err(error) => return bad(format!("cannot open the image: {}", io_reason(&error))),
+        Err(Refused::NotRegular) => return bad("the image is not a regular file: not read".into()),
+        Err(Refused::Foreign) => {
+            return bad(
+                "the image is a link to a file the program did not write (another owner, or more than one name): not read"
+                    .into(),
+            )
+        }
+        Err(Refused::TooLarge { bytes, budget }) => {
+            return bad(format!(
+                "the image file has {bytes} bytes, more than the {budget} a {} × {} image may take",
+                reference.width, reference.height
+            ))
+        }
+        Err(Refused::Grew) => {
+            return bad("the image file grew past its byte budget while it was read".into())
+        }
+        Err(Refused::Io(error)) => return bad(format!("cannot read the image: {}", io_reason(&error))),
     };
-    let meta = match file.metadata() {
-        Ok(meta) => meta,
-        Err(error) => return bad(io_reason(&error)),
-    };
-    if !meta.is_file() {
-        return bad("the image is not a regular file: not read".into());
-    }
-    if meta.nlink() != 1 || meta.uid() != folder_owner {
-        return bad(
-            "the image is a link to a file the program did not write (another owner, or more than one name): not read"
-                .into(),
-        );
-    }
-    let pixels = u64::from(reference.width) * u64::from(reference.height);
-    let budget = byte_budget(pixels);
-    if meta.len() > budget {
-        return bad(format!(
-            "the image file has {} bytes, more than the {budget} a {} × {} image may take",
-            meta.len(),
-            reference.width,
-            reference.height
-        ));
-    }
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    if let Err(error) = (&mut file).take(budget + 1).read_to_end(&mut bytes) {
-        return bad(io_reason(&error));
-    }
-    if bytes.len() as u64 > budget {
-        return bad("the image file grew past its byte budget while it was read".into());
-    }
     let header = ImageReader::new(std::io::Cursor::new(&bytes))
         .with_guessed_format()
         .map_err(image::ImageError::IoError)

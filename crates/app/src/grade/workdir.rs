@@ -5,7 +5,7 @@
 //! still resolves; the program starts in the scene's own folder there.
 //! A student's program (`--student`, `--class`) finds its own files there
 //! too: the scene's folder starts as a copy of the student's built folder
-//! ([`super::copy`]), so `python3 tracer.py {scene} {out}` and
+//! ([`raytracer_box::copy`]), so `python3 tracer.py {scene} {out}` and
 //! `./raytracer {scene} {out}` run as they do at home, beside the scene
 //! and its textures. Without a student folder (`--tracer`), a program
 //! named by a relative path is taken from the folder `grade` runs in.
@@ -20,14 +20,13 @@
 //! each word, so no file name can add a word or run a command.
 
 use std::ffi::OsString;
-use std::fs::Permissions;
-use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 
 use tempfile::TempDir;
 
-use super::copy::{copy_folder, STUDENT_FOLDER};
 use super::suite::SuiteScene;
+use raytracer_box::copy::{copy_folder, STUDENT_FOLDER};
+use raytracer_box::folder::{give, private_folder};
 
 /// The name of the image the program is asked to write.
 pub const OUT: &str = "out.ppm";
@@ -48,14 +47,6 @@ impl Workdir {
     pub fn out(&self) -> PathBuf {
         self.start.join(OUT)
     }
-}
-
-/// A fresh temporary folder that only the grader may enter (mode 0700).
-pub fn private_folder() -> std::io::Result<TempDir> {
-    tempfile::Builder::new()
-        .prefix("raytracer-grade-")
-        .permissions(Permissions::from_mode(0o700))
-        .tempdir()
 }
 
 /// Copy `scene`'s files into a fresh temporary folder, into the scene's
@@ -99,43 +90,6 @@ pub fn prepare(
             .into_owned(),
         temp,
     })
-}
-
-/// Give `dir`, and everything under it, to user and group `id`: the
-/// entries first, while `dir` is still the grader's own and closed to
-/// everyone else, and `dir` itself last. No link is followed: an entry is
-/// given as what it is, and a folder is walked only when it is one.
-pub fn give(dir: &Path, id: u32) -> std::io::Result<()> {
-    give_entries(dir, id)?;
-    std::os::unix::fs::lchown(dir, Some(id), Some(id))
-}
-
-/// Give everything under the folder `dir` to `id`, deepest first.
-fn give_entries(dir: &Path, id: u32) -> std::io::Result<()> {
-    for entry in std::fs::read_dir(dir)? {
-        let entry = entry?;
-        let path = entry.path();
-        if entry.file_type()?.is_dir() {
-            give_entries(&path, id)?;
-        }
-        std::os::unix::fs::lchown(&path, Some(id), Some(id))?;
-    }
-    Ok(())
-}
-
-/// Why `program` could not start, the same for whoever runs it: a missing
-/// program is `ENOENT` to one user and `EACCES` to another (the search
-/// met a folder of `PATH` that user may not enter), and a file without
-/// `chmod +x` is `EACCES` too, so both read as one reason that names the
-/// program and the three causes.
-pub fn start_failure(program: &std::ffi::OsStr, error: &std::io::Error) -> String {
-    match error.kind() {
-        std::io::ErrorKind::NotFound | std::io::ErrorKind::PermissionDenied => format!(
-            "no program `{}` it may run (it is missing, not executable: `chmod +x`, or in a folder its user may not enter)",
-            program.to_string_lossy()
-        ),
-        _ => raytracer_scene::diagnostic::io_reason(error),
-    }
 }
 
 /// Why a command template cannot be used.

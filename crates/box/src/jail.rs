@@ -10,7 +10,7 @@
 //! themselves (so the program has no capability once it runs). C0 dies
 //! with the grader's thread that forked it (`PR_SET_PDEATHSIG`, checked
 //! against a grader that died first), so a grader killed with SIGKILL
-//! still takes the whole box with it ([`die_with`]). Its first
+//! still takes the whole box with it (`die_with`). Its first
 //! child ("C1") is pid 1 of the new PID namespace, dies with C0
 //! (`PR_SET_PDEATHSIG`), and builds the root: a tmpfs holding read-only
 //! binds of `/usr`, `/bin`, `/sbin`, `/lib*` and `/etc` (links stay
@@ -41,10 +41,11 @@ use std::os::unix::ffi::OsStrExt;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use super::sandbox::{drop_to_user, Confinement, Share};
+use crate::child::{check, die_with, drop_to_user, sh_runs_after};
+use crate::confinement::{Confinement, Limits, Share, NOBODY};
 
 /// The system folders bound read-only (links among them stay links).
-pub(super) const SYSTEM: &[&str] = &[
+pub(crate) const SYSTEM: &[&str] = &[
     "/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32", "/etc",
 ];
 
@@ -55,7 +56,7 @@ pub(super) const SYSTEM: &[&str] = &[
 const NO_LINKS: libc::c_ulong = 1 << 40;
 
 /// The devices bound into the box's `/dev`.
-pub(super) const DEVICES: &[&str] = &["null", "zero", "full", "random", "urandom"];
+pub(crate) const DEVICES: &[&str] = &["null", "zero", "full", "random", "urandom"];
 
 /// One step of building the box's root, in C1.
 #[derive(Debug)]
@@ -266,14 +267,6 @@ fn arguments() -> Option<(usize, usize)> {
     (start < end).then_some((start, end))
 }
 
-fn check(result: libc::c_int) -> io::Result<()> {
-    if result == -1 {
-        Err(io::Error::last_os_error())
-    } else {
-        Ok(())
-    }
-}
-
 /// Write `bytes` to the file `path` (a `/proc` map).
 ///
 /// # Safety
@@ -364,23 +357,6 @@ pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
             }
         }
     }
-}
-
-/// Be killed when the thread that forked this process ends (the grader's
-/// thread waiting for the run, and so the grader, killed or not), and
-/// refuse to start if `grader` is no longer this process's parent: it
-/// died before the request was made.
-///
-/// # Safety
-/// Async-signal-safe: called between fork and exec.
-pub(super) unsafe fn die_with(grader: libc::pid_t) -> io::Result<()> {
-    unsafe {
-        check(libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL, 0, 0, 0))?;
-        if libc::getppid() != grader {
-            return Err(io::Error::from_raw_os_error(libc::ESRCH));
-        }
-    }
-    Ok(())
 }
 
 /// Close every descriptor from 3 on but `keep`.
@@ -590,7 +566,7 @@ unsafe fn build_root(plan: &Plan) -> io::Result<()> {
 /// Whether a box can be had here: run `sh -c :` in one.
 pub fn available(root: bool) -> bool {
     let confinement = Confinement {
-        limits: super::sandbox::Limits {
+        limits: Limits {
             timeout: std::time::Duration::from_secs(10),
             cpu_seconds: 10,
             address_space: 1 << 32,
@@ -599,7 +575,7 @@ pub fn available(root: bool) -> bool {
             output: 1024,
         },
         isolate_network: true,
-        user: root.then_some(super::sandbox::NOBODY),
+        user: root.then_some(NOBODY),
         boxed: true,
         cgroup: false,
         landlock: false,
@@ -609,5 +585,5 @@ pub fn available(root: bool) -> bool {
         return false;
     };
     // SAFETY: `enter` makes only async-signal-safe calls on the plan.
-    unsafe { super::sandbox::sh_runs_after(move || enter(&plan, &confinement)) }
+    unsafe { sh_runs_after(move || enter(&plan, &confinement)) }
 }

@@ -152,7 +152,7 @@ impl Walk {
                 self.copy_entries(&inner, &target)?;
             } else if kind == libc::S_IFREG {
                 // No program starts while the copy is open for writing.
-                let _writing = super::sandbox::SPAWNING
+                let _writing = crate::spawning::SPAWNING
                     .read()
                     .unwrap_or_else(|poisoned| poisoned.into_inner());
                 let mut source = File::from(open_at(Some(dir), os_name, 0)?);

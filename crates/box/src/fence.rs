@@ -31,7 +31,9 @@ use landlock::{
 };
 use seccompiler::{BpfProgram, SeccompAction, SeccompFilter};
 
-use super::sandbox::{self, Share};
+use crate::child::sh_runs_after;
+use crate::confinement::Share;
+use crate::jail::{DEVICES, SYSTEM};
 
 /// The Landlock ABI whose rights the fence handles: 6 adds the scopes.
 const LANDLOCK_ABI: ABI = ABI::V6;
@@ -54,7 +56,7 @@ pub fn available() -> (bool, bool) {
     let works = |fence: Fence| {
         // SAFETY: `Fence::enter` makes only async-signal-safe calls.
         unsafe {
-            sandbox::sh_runs_after(move || {
+            sh_runs_after(move || {
                 libc::prctl(libc::PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0);
                 fence.enter()
             })
@@ -127,11 +129,9 @@ fn ruleset(share: &Share) -> Option<OwnedFd> {
     let read = AccessFs::from_read(LANDLOCK_ABI);
     let all = AccessFs::from_all(LANDLOCK_ABI);
     let read_write_file = AccessFs::from_file(LANDLOCK_ABI) & !AccessFs::Execute;
-    // The box's system folders and devices ([`super::jail`]).
-    let system = super::jail::SYSTEM.iter().map(Path::new);
-    let devices = super::jail::DEVICES
-        .iter()
-        .map(|device| Path::new("/dev").join(device));
+    // The box's system folders and devices ([`crate::jail`]).
+    let system = SYSTEM.iter().map(Path::new);
+    let devices = DEVICES.iter().map(|device| Path::new("/dev").join(device));
     let created = (|| -> Result<_, landlock::RulesetError> {
         Ruleset::default()
             .set_compatibility(CompatLevel::HardRequirement)

@@ -1,0 +1,43 @@
+//! The box a student's program runs in, after IOI's isolate: limits,
+//! what of the grader's file system is shared, and how a run ended.
+//!
+//! A grader decides once what this machine allows ([`Confinement::new`],
+//! [`probe`]): a box of namespaces and a root of our making ([`jail`]),
+//! else, with `--unprotected`, a network namespace and a fence of
+//! Landlock and seccomp ([`fence`]); control groups where they can be
+//! made ([`cgroup`]); as root, a uid of the student's own ([`uids`]).
+//! Then each command runs under it ([`run::run`]) from a folder closed to
+//! everyone but the grader and given to the run's user ([`folder`]),
+//! with its output captured within a bound ([`capture`]); the grader
+//! copies what a program may write without following a link ([`copy`])
+//! and reads what it wrote the same way ([`output`]).
+//!
+//! The crate knows nothing of scenes or images: it runs argument vectors
+//! and moves bytes. All of grading's `unsafe` code lives here, each use
+//! with its reason: the steps between fork and exec (`child.rs`), the
+//! system calls std does not wrap (`openat2`, `close_range`, `flock`,
+//! `pivot_root`, `mount`, …). The crates above it forbid `unsafe`.
+
+pub mod capture;
+pub mod cgroup;
+mod child;
+pub mod confinement;
+pub mod copy;
+pub mod fence;
+pub mod folder;
+pub mod jail;
+pub mod output;
+pub mod probe;
+mod reason;
+pub mod run;
+mod spawning;
+pub mod uids;
+
+pub use confinement::{Confinement, Limits, Share};
+pub use run::{Ended, Run};
+
+/// This process's effective uid.
+pub fn effective_uid() -> u32 {
+    // SAFETY: `geteuid` has no preconditions.
+    unsafe { libc::geteuid() }
+}
