@@ -1,0 +1,114 @@
+//! What every aspect reads: the student's image, ours, and what our
+//! renderer sees at each pixel (its probes), with the pixel-level
+//! measures the aspects share (luminance, chromaticity, clipping, where
+//! a highlight may lie) and the objects they judge.
+
+use crate::compare::Picture;
+use raytracer_render::render::probe::{Buffers, Probe};
+
+/// The cosine between the mirror direction and a light's direction above
+/// which a pixel may hold a specular highlight the tracer chose to draw: a
+/// Phong highlight `k_s·(R·V)^n` is below 0.04 out of this cone (60°) for
+/// any `k_s ≤ 1` and `n ≥ 5`. A highlight only ever brightens.
+pub(super) const HIGHLIGHT_CONE: f64 = 0.5;
+
+/// One scene's evidence: the two images (of one size) and the probes.
+pub(super) struct Evidence<'a> {
+    pub buffers: &'a Buffers,
+    pub reference: &'a Picture,
+    pub student: &'a Picture,
+    /// The side of the (square) images.
+    pub size: u32,
+    /// Pixels in an image.
+    pub n: usize,
+    /// Every object some pixel's centre sees, by id.
+    pub objects: Vec<u32>,
+    /// The objects that neither reflect nor are textured: where shadows
+    /// and shading are judged.
+    pub plain: Vec<u32>,
+}
+
+impl<'a> Evidence<'a> {
+    pub fn new(buffers: &'a Buffers, reference: &'a Picture, student: &'a Picture) -> Self {
+        let size = buffers.size;
+        let mut objects: Vec<u32> = buffers.centres.iter().filter_map(|p| p.object).collect();
+        objects.sort_unstable();
+        objects.dedup();
+        let mut evidence = Evidence {
+            buffers,
+            reference,
+            student,
+            size,
+            n: (size * size) as usize,
+            objects,
+            plain: Vec::new(),
+        };
+        evidence.plain = evidence
+            .objects
+            .iter()
+            .copied()
+            .filter(|&object| {
+                let first = evidence.first_probe(object);
+                first.reflectivity <= 0.0 && first.uv.is_none()
+            })
+            .collect();
+        evidence
+    }
+
+    /// Pixel `k` of `picture`.
+    pub fn px(&self, picture: &Picture, k: usize) -> [u8; 3] {
+        [
+            picture.rgb[3 * k],
+            picture.rgb[3 * k + 1],
+            picture.rgb[3 * k + 2],
+        ]
+    }
+
+    /// Pixel `k` of the student's image.
+    pub fn student_px(&self, k: usize) -> [u8; 3] {
+        self.px(self.student, k)
+    }
+
+    /// The column and row of pixel `k`.
+    pub fn xy(&self, k: usize) -> (u32, u32) {
+        (k as u32 % self.size, k as u32 / self.size)
+    }
+
+    /// The probe at the centre of the first pixel that sees `object`.
+    pub fn first_probe(&self, object: u32) -> &Probe {
+        self.buffers
+            .centres
+            .iter()
+            .find(|p| p.object == Some(object))
+            .expect("an object of the list is seen by some pixel")
+    }
+
+    /// The pixels whose centre sees `object`, stable (the same at the
+    /// centre and the four corners) for the object and for what `key`
+    /// reads of the probe.
+    pub fn pixels_of(&self, object: u32, key: &dyn Fn(&Probe) -> u64) -> Vec<usize> {
+        (0..self.n)
+            .filter(|&k| {
+                let (x, y) = self.xy(k);
+                self.buffers.centres[k].object == Some(object)
+                    && self.buffers.stable(x, y, |p| (p.object, key(p)))
+            })
+            .collect()
+    }
+}
+
+/// Luminance of an 8-bit pixel, in [0, 1].
+pub(super) fn luminance(p: &[u8]) -> f64 {
+    (0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])) / 255.0
+}
+
+/// Chromaticity of a pixel: each channel over their sum.
+pub(super) fn chroma(p: &[u8]) -> Option<[f64; 3]> {
+    let sum = f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2]);
+    (sum > 15.0).then(|| [0, 1, 2].map(|c| f64::from(p[c]) / sum))
+}
+
+/// A channel at the top of its range: the tracer may have clamped it.
+pub(super) fn clipped(p: &[u8]) -> bool {
+    p.iter().any(|&c| c >= 250)
+}

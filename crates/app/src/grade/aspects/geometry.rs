@@ -1,0 +1,120 @@
+//! Geometry: the camera and the intersections, judged by which pixels
+//! show an object. Background where ours sees nothing, an object where
+//! ours sees a lit one; the student's background colour is theirs to
+//! choose (the median of the pixels that are surely background). Only
+//! pixels stable for the object they see are judged, so rays through
+//! pixel centres or corners both pass; which of the two the image fits
+//! is told as the image's pixel reading.
+
+use super::evidence::Evidence;
+use super::{ratio, verdict, Aspect, AspectResult, AspectThresholds};
+use raytracer_render::render::probe::Probe;
+
+/// How far a channel may be from the background colour and still be
+/// background.
+const BACKGROUND_TOLERANCE: u8 = 6;
+
+/// Whether ours surely shows an object at a probe (`Some(true)`), surely
+/// shows nothing (`Some(false)`), or shows too dark an object to tell.
+fn expect(probe: &Probe) -> Option<bool> {
+    match probe.object {
+        None => Some(false),
+        // A mirror's own light counts at its weight when blended,
+        // `1 − k`, the least either reading gives it.
+        Some(_)
+            if (1.0 - probe.reflectivity) * probe.lit > 0.01
+                || probe.reflectivity * probe.reflected_radiance > 0.02 =>
+        {
+            Some(true)
+        }
+        Some(_) => None,
+    }
+}
+
+/// The student's background colour: the per-channel median of the pixels
+/// that surely see nothing.
+fn background(e: &Evidence) -> [u8; 3] {
+    let pixels: Vec<[u8; 3]> = (0..e.n)
+        .filter(|&k| {
+            let (x, y) = e.xy(k);
+            e.buffers.centre(x, y).object.is_none() && e.buffers.stable(x, y, |p| p.object)
+        })
+        .map(|k| e.student_px(k))
+        .collect();
+    if pixels.is_empty() {
+        return [0; 3];
+    }
+    [0, 1, 2].map(|c| {
+        let mut v: Vec<u8> = pixels.iter().map(|p| p[c]).collect();
+        v.sort_unstable();
+        v[v.len() / 2]
+    })
+}
+
+/// Whether ours surely shows an object at pixel `k`'s centre and corner,
+/// where both tell.
+fn expected(e: &Evidence, k: usize) -> (Option<bool>, Option<bool>) {
+    let (x, y) = e.xy(k);
+    (
+        expect(e.buffers.centre(x, y)),
+        expect(e.buffers.corner(x, y)),
+    )
+}
+
+/// Which pixel the student's rays go through, when the image tells:
+/// the centres and the corners each miss some pixels ours surely covers
+/// or surely leaves empty, and one misses markedly fewer.
+pub(super) fn pixel_reading(e: &Evidence) -> Option<String> {
+    let bg = background(e);
+    let (mut centre_miss, mut corner_miss, mut total) = (0usize, 0usize, 0usize);
+    for k in 0..e.n {
+        let seen = covered(e.student_px(k), bg);
+        if let (Some(a), Some(b)) = expected(e, k) {
+            total += 1;
+            centre_miss += usize::from(a != seen);
+            corner_miss += usize::from(b != seen);
+        }
+    }
+    (total > 0 && centre_miss.abs_diff(corner_miss) * 500 >= total).then(|| {
+        if corner_miss < centre_miss {
+            "your image fits rays through pixel corners (the assignment's \"usually the centre\" allows it)".to_string()
+        } else {
+            "your image fits rays through pixel centres".to_string()
+        }
+    })
+}
+
+/// Whether pixel colour `p` is not the background `bg`.
+fn covered(p: [u8; 3], bg: [u8; 3]) -> bool {
+    (0..3).any(|c| p[c].abs_diff(bg[c]) > BACKGROUND_TOLERANCE)
+}
+
+/// Judge geometry, marking `map`.
+pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
+    let bg = background(e);
+    let (mut judged, mut differ) = (0usize, 0usize);
+    for (k, state) in map.iter_mut().enumerate() {
+        let (x, y) = e.xy(k);
+        if !e.buffers.stable(x, y, |p| p.object) {
+            continue;
+        }
+        if let (Some(want), _) = expected(e, k) {
+            judged += 1;
+            let bad = want != covered(e.student_px(k), bg);
+            differ += usize::from(bad);
+            *state = 1 + u8::from(bad);
+        }
+    }
+    let fraction = ratio(differ, judged);
+    verdict(
+        Aspect::Geometry,
+        judged >= 100,
+        fraction,
+        thresholds.geometry,
+        judged,
+        format!(
+            "{differ} of {judged} pixels that are surely background or a lit object differ ({:.2} %)",
+            100.0 * fraction
+        ),
+    )
+}

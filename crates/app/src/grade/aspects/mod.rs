@@ -1,0 +1,270 @@
+//! A student's image judged aspect by aspect against what our reference
+//! sees at each pixel ([`raytracer_render::render::probe`]): geometry
+//! (which pixels see an object), shadows, reflection, textures and shading.
+//!
+//! Each measure is chosen to stay the same under the readings the course's
+//! assignment leaves open (docs/grading.md, "Readings the assignment
+//! allows") and to change under the bugs students make:
+//!
+//! - only pixels *stable* for what a measure reads (the same at the
+//!   pixel's centre and its four corners) are judged, so rays through
+//!   pixel centres or corners are both fine;
+//! - brightness is fitted per object, `s ≈ a + b·lit` (and `+ c·reflected`
+//!   on a mirror) by least squares on the student's own pixels, so any
+//!   ambient and diffuse constants, and reflection added or blended, fit;
+//! - textures are judged by their contrast and mean colour over the
+//!   object, which no mapping changes.
+//!
+//! Each aspect is a file of its own, with its measure, the map of where it
+//! differs and its words in the report, over one [`evidence::Evidence`];
+//! [`REGISTRY`] runs them in order. Adding an aspect is a new file, its
+//! variant of [`Aspect`] and a registry line.
+//!
+//! Every measure is a fraction of the judged pixels that disagree (or, for
+//! textures and shading, a ratio or a distance), with a bound in
+//! [`AspectThresholds`]. A mirror must also show what ours shows (its fit's
+//! gain on it), and a pixel a highlight may brighten is not held against a
+//! mirror or a texture's colour. The class of test tracers in
+//! tests/students/tune chose the bounds; tests/students/judge, graded by
+//! them, found two misses, which these two mechanisms fixed, chosen on both
+//! classes; tests/students/held_out judged them (docs/grading.md).
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+use crate::compare::Picture;
+use evidence::Evidence;
+use raytracer_render::render::probe::Buffers;
+
+mod evidence;
+mod fit;
+mod geometry;
+mod reflection;
+mod shading;
+mod shadows;
+mod textures;
+
+/// What a scene's image is judged on.
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum Aspect {
+    /// The camera and the intersections: which pixels see an object.
+    Geometry,
+    /// Which lit points are shadowed.
+    Shadows,
+    /// What mirrors show.
+    Reflection,
+    /// That a textured object shows its texture.
+    Textures,
+    /// The colours of lit objects.
+    Shading,
+}
+
+impl Aspect {
+    pub const ALL: [Aspect; 5] = [
+        Aspect::Geometry,
+        Aspect::Shadows,
+        Aspect::Reflection,
+        Aspect::Textures,
+        Aspect::Shading,
+    ];
+
+    /// Its name, as suite.json and summary.json spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Aspect::Geometry => "geometry",
+            Aspect::Shadows => "shadows",
+            Aspect::Reflection => "reflection",
+            Aspect::Textures => "textures",
+            Aspect::Shading => "shading",
+        }
+    }
+}
+
+/// The bounds of each aspect's measure.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, JsonSchema)]
+pub struct AspectThresholds {
+    /// The largest fraction of stable pixels whose coverage differs.
+    pub geometry: f64,
+    /// The largest fraction of shadowed (or of fully lit) pixels that
+    /// look the other way.
+    pub shadows: f64,
+    /// The largest fraction, over the mirror pixels that show something,
+    /// of mirror pixels the fit of what ours shows does not explain.
+    pub reflection: f64,
+    /// The least gain of what ours shows in a mirror, in the fit of the
+    /// student's mirror, over the mirror's reflectivity: below it, the
+    /// mirror does not show what ours shows, and all of its pixels that
+    /// show something count as differing.
+    pub reflection_gain: f64,
+    /// The least ratio of the student's texture contrast to ours.
+    pub texture_contrast: f64,
+    /// The largest distance between the mean chromaticities of a
+    /// textured object, the student's and ours.
+    pub texture_colour: f64,
+    /// The largest distance between the median chromaticities of a lit
+    /// object, the student's and ours.
+    pub shading: f64,
+}
+
+/// The bounds chosen on tests/students/tune (docs/grading.md says how).
+impl Default for AspectThresholds {
+    fn default() -> Self {
+        AspectThresholds {
+            geometry: 0.02,
+            shadows: 0.2,
+            reflection: 0.25,
+            reflection_gain: 0.25,
+            texture_contrast: 0.5,
+            texture_colour: 0.08,
+            shading: 0.1,
+        }
+    }
+}
+
+/// One aspect's verdict on one scene: summary.json's `aspects`.
+#[derive(Clone, Debug, Serialize, JsonSchema)]
+pub struct AspectResult {
+    pub aspect: Aspect,
+    /// False when the scene has too few pixels that tell this aspect
+    /// (the aspect is then passed).
+    pub judged: bool,
+    pub pass: bool,
+    /// The measure (see [`AspectThresholds`]), `null` when not judged.
+    pub measure: Option<f64>,
+    /// Its bound.
+    pub threshold: f64,
+    /// How many pixels were judged.
+    pub pixels: usize,
+    /// The points the aspect is worth on this scene, and those earned.
+    pub points: f64,
+    pub score: f64,
+    /// The measure in words.
+    pub detail: String,
+    /// The picture of where it differs, relative to the report folder.
+    pub image: Option<String>,
+}
+
+/// What [`judge`] found: each aspect, a map per aspect, and the pixel
+/// reading the image fits, when it tells.
+pub struct Judged {
+    pub results: Vec<AspectResult>,
+    /// Per aspect, per pixel: 0 not judged, 1 agrees, 2 differs.
+    pub maps: Vec<Vec<u8>>,
+    pub reading: Option<String>,
+}
+
+/// The points of each aspect on a scene.
+pub type AspectPoints = Vec<(Aspect, f64)>;
+
+/// An aspect's judge: its verdict over the evidence, marking the map of
+/// where it differs (0 not judged, 1 agrees, 2 differs).
+type Judge = fn(&Evidence, &AspectThresholds, &mut [u8]) -> AspectResult;
+
+/// Every aspect's judge, in [`Aspect::ALL`]'s order.
+const REGISTRY: [(Aspect, Judge); 5] = [
+    (Aspect::Geometry, geometry::judge),
+    (Aspect::Shadows, shadows::judge),
+    (Aspect::Reflection, reflection::judge),
+    (Aspect::Textures, textures::judge),
+    (Aspect::Shading, shading::judge),
+];
+
+/// Judge `student` (of the reference's size) aspect by aspect.
+pub fn judge(
+    buffers: &Buffers,
+    reference: &Picture,
+    student: &Picture,
+    thresholds: &AspectThresholds,
+    points: &AspectPoints,
+) -> Judged {
+    let evidence = Evidence::new(buffers, reference, student);
+    let mut maps = vec![vec![0u8; evidence.n]; Aspect::ALL.len()];
+    let mut results: Vec<AspectResult> = REGISTRY
+        .iter()
+        .zip(&mut maps)
+        .map(|((_, judge), map)| judge(&evidence, thresholds, map))
+        .collect();
+    for result in &mut results {
+        result.points = points
+            .iter()
+            .filter(|(a, _)| *a == result.aspect)
+            .map(|(_, p)| p)
+            .sum::<f64>()
+            + 0.0;
+        result.score = if result.pass { result.points } else { 0.0 };
+    }
+    Judged {
+        results,
+        maps,
+        reading: geometry::pixel_reading(&evidence),
+    }
+}
+
+fn ratio(a: usize, b: usize) -> f64 {
+    if b == 0 {
+        0.0
+    } else {
+        a as f64 / b as f64
+    }
+}
+
+/// A verdict whose measure must not exceed `threshold`.
+fn verdict(
+    aspect: Aspect,
+    judged: bool,
+    measure: f64,
+    threshold: f64,
+    pixels: usize,
+    detail: String,
+) -> AspectResult {
+    AspectResult {
+        aspect,
+        judged,
+        pass: !judged || measure <= threshold,
+        measure: judged.then_some(measure),
+        threshold,
+        pixels,
+        points: 0.0,
+        score: 0.0,
+        detail: if judged {
+            detail
+        } else {
+            "too few pixels tell this aspect on this scene".into()
+        },
+        image: None,
+    }
+}
+
+/// The picture of where an aspect differs: our image dimmed, the judged
+/// pixels that agree tinted blue, those that differ red.
+pub fn map_picture(reference: &Picture, map: &[u8]) -> Picture {
+    let mut rgb = Vec::with_capacity(reference.rgb.len());
+    for (k, state) in map.iter().enumerate() {
+        let p = &reference.rgb[3 * k..3 * k + 3];
+        let dim = |c: u8| c / 4;
+        rgb.extend_from_slice(&match state {
+            0 => [dim(p[0]), dim(p[1]), dim(p[2])],
+            1 => [dim(p[0]), dim(p[1]), dim(p[2]).saturating_add(70)],
+            _ => [255, 40, 40],
+        });
+    }
+    Picture {
+        width: reference.width,
+        height: reference.height,
+        rgb,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Aspect, REGISTRY};
+
+    #[test]
+    fn the_registry_judges_every_aspect_once_in_order() {
+        let registered: Vec<Aspect> = REGISTRY.iter().map(|(aspect, _)| *aspect).collect();
+        assert_eq!(registered, Aspect::ALL);
+    }
+}
