@@ -111,6 +111,30 @@ pub enum Programs<'a> {
     Folder(&'a Path),
 }
 
+/// Each aspect's result, with the picture of where it differs (written
+/// by `write_png` at `image(aspect)`) for those that failed; and the
+/// pixel reading the image fits.
+fn aspect_pictures(
+    judged: Option<aspects::Judged>,
+    reference: &Picture,
+    image: &dyn Fn(&str) -> String,
+    write_png: &dyn Fn(&str, &Picture) -> std::io::Result<()>,
+) -> std::io::Result<(Vec<AspectResult>, Option<String>)> {
+    let Some(found) = judged else {
+        return Ok((Vec::new(), None));
+    };
+    let mut results = Vec::with_capacity(found.results.len());
+    for (mut result, map) in found.results.into_iter().zip(found.maps) {
+        if result.judged && !result.pass {
+            let relative = image(result.aspect.name());
+            write_png(&relative, &aspects::map_picture(reference, &map))?;
+            result.image = Some(relative);
+        }
+        results.push(result);
+    }
+    Ok((results, found.reading))
+}
+
 /// Grade one scene against its `reference`; `index` names its images.
 pub fn grade_scene(
     plan: &Plan,
@@ -189,25 +213,8 @@ pub fn grade_scene(
         }
         None => None,
     };
-    let (mut aspect_results, reading) = match judged.aspects.take() {
-        Some(found) => (
-            found
-                .results
-                .into_iter()
-                .zip(found.maps)
-                .collect::<Vec<_>>(),
-            found.reading,
-        ),
-        None => (Vec::new(), None),
-    };
-    for (result, map) in &mut aspect_results {
-        if result.judged && !result.pass {
-            let relative = image(result.aspect.name());
-            write_png(&relative, &aspects::map_picture(reference, map))?;
-            result.image = Some(relative);
-        }
-    }
-    let aspect_results: Vec<AspectResult> = aspect_results.into_iter().map(|(r, _)| r).collect();
+    let (aspect_results, reading) =
+        aspect_pictures(judged.aspects.take(), reference, &image, &write_png)?;
     let score = suite::round_points(aspect_results.iter().map(|r| r.score).sum());
     let (exit_code, signal) = match run.ended {
         Ended::Exited(code) => (Some(code), None),
