@@ -22,8 +22,9 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use raytracer_render::ir::{self, Shape};
 use raytracer_render::render::geometry::{self, Ray};
+use raytracer_render::render::model::AMBIENT;
 use raytracer_render::render::real::{Real, Vector};
-use raytracer_render::render::trace::{sphere_uv, texel, AMBIENT};
+use raytracer_render::render::trace::{sphere_uv, texel};
 use raytracer_render::render::Precision;
 use raytracer_render::render::{camera_ray, render, Image, Options};
 

@@ -335,46 +335,116 @@ fn the_binary_holds_no_path_of_its_build_folder() {
     );
 }
 
-/// The top-level modules each module of the crate in `src` names, in code
-/// outside unit tests: `crate::NAME` and `crate::{NAME, …}`.
+/// The module path of a source file: `grade/aspects/mod.rs` is
+/// `grade::aspects`, `lib.rs` the crate root (empty).
+fn module_path(file: &str) -> Vec<String> {
+    let mut parts: Vec<String> = file
+        .trim_end_matches(".rs")
+        .split('/')
+        .map(str::to_string)
+        .collect();
+    if matches!(
+        parts.last().map(String::as_str),
+        Some("mod" | "lib" | "main")
+    ) {
+        parts.pop();
+    }
+    parts
+}
+
+/// The paths a piece of code names after `prefix` (`crate::`, `super::`,
+/// `self::`, a child module's `name::`): each path's segments, with one
+/// path per item of a `{…}` group.
+fn paths_after(code: &str, prefix: &str) -> Vec<Vec<String>> {
+    fn ident(text: &str) -> String {
+        text.chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect()
+    }
+    fn walk(rest: &str, so_far: Vec<String>, found: &mut Vec<Vec<String>>) {
+        let rest = rest.trim_start();
+        if let Some(group) = rest.strip_prefix('{') {
+            let mut depth = 0;
+            let mut start = 0;
+            for (i, c) in group.char_indices() {
+                match c {
+                    '{' => depth += 1,
+                    '}' if depth == 0 => {
+                        walk(&group[start..i], so_far.clone(), found);
+                        return;
+                    }
+                    '}' => depth -= 1,
+                    ',' if depth == 0 => {
+                        walk(&group[start..i], so_far.clone(), found);
+                        start = i + 1;
+                    }
+                    _ => {}
+                }
+            }
+            return;
+        }
+        let name = ident(rest);
+        if name.is_empty() {
+            found.push(so_far);
+            return;
+        }
+        let mut path = so_far;
+        path.push(name.clone());
+        match rest[name.len()..].strip_prefix("::") {
+            Some(more) => walk(more, path, found),
+            None => found.push(path),
+        }
+    }
+    let mut found = Vec::new();
+    for (i, _) in code.match_indices(prefix) {
+        let before = code[..i].chars().next_back();
+        if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
+            continue;
+        }
+        walk(&code[i + prefix.len()..], Vec::new(), &mut found);
+    }
+    found
+}
+
+/// Which source files of the crate in `src` each file imports, in code
+/// outside unit tests: every `crate::`, `super::` and `self::` path and
+/// every path through a child module the file declares, resolved to the
+/// deepest module it names. A file's `mod child;` declaration is not an
+/// import, nor is a path between a module and one of its ancestors: a
+/// folder's root module holds the vocabulary its children share and
+/// dispatches to them, as a crate root does. Every other path counts, so
+/// siblings or cousins that name each other are a cycle.
 fn module_graph(src: &Path) -> std::collections::BTreeMap<String, BTreeSet<String>> {
     let mut graph: std::collections::BTreeMap<String, BTreeSet<String>> = Default::default();
     let files = sources(src);
+    let modules: std::collections::BTreeMap<Vec<String>, String> = files
+        .iter()
+        .map(|file| (module_path(file), file.clone()))
+        .collect();
     // Files compiled only for tests: `tests.rs`, and those declared under
     // `#[cfg(test)]` by their parent.
-    let test_only: BTreeSet<String> = files
+    let test_only: BTreeSet<Vec<String>> = files
         .iter()
         .flat_map(|file| {
             let text = std::fs::read_to_string(src.join(file)).unwrap();
-            let folder = Path::new(file).parent().unwrap().to_path_buf();
-            let folder = if file.ends_with("mod.rs") || file == "lib.rs" {
-                folder
-            } else {
-                folder.join(Path::new(file).file_stem().unwrap())
-            };
+            let parent = module_path(file);
             text.split("#[cfg(test)]\nmod ")
                 .skip(1)
                 .filter_map(|rest| rest.split_once(';').map(|(name, _)| name.to_string()))
                 .filter(|name| !name.contains(char::is_whitespace))
                 .map(move |name| {
-                    folder
-                        .join(format!("{name}.rs"))
-                        .to_string_lossy()
-                        .into_owned()
+                    let mut path = parent.clone();
+                    path.push(name);
+                    path
                 })
                 .collect::<Vec<_>>()
         })
         .collect();
     for file in files
         .iter()
-        .filter(|f| !f.ends_with("tests.rs") && !test_only.contains(*f))
+        .filter(|f| !f.ends_with("tests.rs") && !test_only.contains(&module_path(f)))
     {
-        let module = file
-            .split('/')
-            .next()
-            .unwrap()
-            .trim_end_matches(".rs")
-            .to_string();
+        let me = module_path(file);
         let text = std::fs::read_to_string(src.join(file)).unwrap();
         let code = text.split("#[cfg(test)]\nmod tests").next().unwrap();
         let code: String = code
@@ -382,79 +452,125 @@ fn module_graph(src: &Path) -> std::collections::BTreeMap<String, BTreeSet<Strin
             .map(|line| line.split("//").next().unwrap())
             .collect::<Vec<_>>()
             .join("\n");
-        let mut named = BTreeSet::new();
-        for (i, _) in code.match_indices("crate::") {
-            let rest = &code[i + 7..];
-            if let Some(group) = rest.strip_prefix('{') {
-                let group = &group[..group.find('}').unwrap_or(group.len())];
-                for item in group.split(',') {
-                    let name: String = item
-                        .trim()
-                        .chars()
-                        .take_while(|c| c.is_alphanumeric() || *c == '_')
-                        .collect();
-                    named.insert(name);
-                }
-            } else {
-                named.insert(
-                    rest.chars()
-                        .take_while(|c| c.is_alphanumeric() || *c == '_')
-                        .collect(),
-                );
+        let children: Vec<String> = code
+            .lines()
+            .filter_map(|line| {
+                let line = line.trim();
+                let line = line.strip_prefix("pub ").unwrap_or(line);
+                let line = line.strip_prefix("pub(crate) ").unwrap_or(line);
+                line.strip_prefix("mod ")?
+                    .strip_suffix(';')
+                    .map(str::to_string)
+            })
+            .collect();
+        let mut named: Vec<Vec<String>> = Vec::new();
+        named.extend(paths_after(&code, "crate::"));
+        for path in paths_after(&code, "self::") {
+            named.push(me.iter().cloned().chain(path).collect());
+        }
+        for path in paths_after(&code, "super::") {
+            let mut base = me.clone();
+            let mut rest = path.as_slice();
+            base.pop();
+            while rest.first().is_some_and(|s| s == "super") {
+                base.pop();
+                rest = &rest[1..];
+            }
+            named.push(base.into_iter().chain(rest.iter().cloned()).collect());
+        }
+        for child in &children {
+            for path in paths_after(&code, &format!("{child}::")) {
+                let mut full = me.clone();
+                full.push(child.clone());
+                full.extend(path);
+                named.push(full);
             }
         }
-        named.retain(|name| !name.is_empty() && *name != module);
-        graph.entry(module).or_default().extend(named);
+        let imports = graph.entry(file.clone()).or_default();
+        for path in named {
+            let target = (0..=path.len())
+                .rev()
+                .find_map(|len| modules.get(&path[..len]))
+                .expect("the crate root is a module");
+            let there = module_path(target);
+            let related = there.starts_with(&me) || me.starts_with(&there);
+            if !related && !test_only.contains(&there) {
+                imports.insert(target.clone());
+            }
+        }
     }
     graph
 }
 
-/// A cycle in `graph`, if there is one, as the modules along it.
-fn cycle(graph: &std::collections::BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
-    fn visit(
-        node: &str,
-        graph: &std::collections::BTreeMap<String, BTreeSet<String>>,
-        path: &mut Vec<String>,
-        done: &mut BTreeSet<String>,
-    ) -> Option<Vec<String>> {
-        if let Some(start) = path.iter().position(|n| n == node) {
-            let mut found = path[start..].to_vec();
-            found.push(node.to_string());
-            return Some(found);
-        }
-        if done.contains(node) {
-            return None;
-        }
-        path.push(node.to_string());
-        for next in graph.get(node).into_iter().flatten() {
-            if let Some(found) = visit(next, graph, path, done) {
-                return Some(found);
+/// The cycles of `graph`: its strongly connected components of more than
+/// one module (Tarjan's algorithm), each sorted.
+fn cycles(graph: &std::collections::BTreeMap<String, BTreeSet<String>>) -> Vec<Vec<String>> {
+    struct Walk<'a> {
+        graph: &'a std::collections::BTreeMap<String, BTreeSet<String>>,
+        index: std::collections::BTreeMap<&'a str, usize>,
+        low: std::collections::BTreeMap<&'a str, usize>,
+        stack: Vec<&'a str>,
+        found: Vec<Vec<String>>,
+    }
+    impl<'a> Walk<'a> {
+        fn visit(&mut self, node: &'a str) {
+            let at = self.index.len();
+            self.index.insert(node, at);
+            self.low.insert(node, at);
+            self.stack.push(node);
+            for next in self.graph.get(node).into_iter().flatten() {
+                if !self.index.contains_key(next.as_str()) {
+                    self.visit(next);
+                    let low = self.low[node].min(self.low[next.as_str()]);
+                    self.low.insert(node, low);
+                } else if self.stack.contains(&next.as_str()) {
+                    let low = self.low[node].min(self.index[next.as_str()]);
+                    self.low.insert(node, low);
+                }
+            }
+            if self.low[node] == self.index[node] {
+                let start = self.stack.iter().rposition(|n| *n == node).unwrap();
+                let mut component: Vec<String> =
+                    self.stack.drain(start..).map(str::to_string).collect();
+                if component.len() > 1 {
+                    component.sort();
+                    self.found.push(component);
+                }
             }
         }
-        path.pop();
-        done.insert(node.to_string());
-        None
     }
-    let mut done = BTreeSet::new();
-    graph
-        .keys()
-        .find_map(|node| visit(node, graph, &mut Vec::new(), &mut done))
+    let mut walk = Walk {
+        graph,
+        index: Default::default(),
+        low: Default::default(),
+        stack: Vec::new(),
+        found: Vec::new(),
+    };
+    for node in graph.keys() {
+        if !walk.index.contains_key(node.as_str()) {
+            walk.visit(node);
+        }
+    }
+    walk.found
 }
 
 #[test]
 fn no_crate_has_a_module_cycle() {
     // The binary and the playground's module are one file each.
     let one_file = |folder: &str| matches!(folder, "." | "crates/web");
+    let mut found = Vec::new();
     for (_, folder, _) in LAYERS.iter().filter(|(_, folder, _)| !one_file(folder)) {
         let graph = module_graph(&repository().join(folder).join("src"));
         assert!(graph.len() > 3, "{folder}: no modules found");
-        if let Some(cycle) = cycle(&graph) {
-            panic!(
-                "{folder}: the modules {} import each other in a cycle (docs/architecture.md, Invariants)",
-                cycle.join(" → ")
-            );
+        for cycle in cycles(&graph) {
+            found.push(format!("{folder}: {}", cycle.join(", ")));
         }
     }
+    assert!(
+        found.is_empty(),
+        "these modules import each other in a cycle (docs/architecture.md, Invariants):\n{}",
+        found.join("\n")
+    );
 }
 
 /// A page's `## ` headings, outside code blocks.

@@ -13,7 +13,8 @@
 
 use glam::DVec3;
 use raytracer_render::ir::{self, Shape};
-use raytracer_render::render::trace::{texel, Counters, AMBIENT};
+use raytracer_render::render::model::AMBIENT;
+use raytracer_render::render::trace::{texel, Counters};
 use raytracer_render::render::{Image, Options};
 
 /// What the reference expects of a pixel.

@@ -173,11 +173,12 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
             let text = std::fs::read_to_string(path)
                 .map_err(FileError::reading(path))
                 .map_err(GradeError::from)?;
-            let options =
-                reference::read_options(&text).map_err(|reason| GradeError::ReferenceOptions {
+            let options = crate::grade::options::read_options(&text).map_err(|reason| {
+                GradeError::ReferenceOptions {
                     path: path.display().to_string(),
                     reason,
-                })?;
+                }
+            })?;
             Some(options)
         }
         None => None,

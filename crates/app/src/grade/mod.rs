@@ -15,6 +15,7 @@
 pub mod aspects;
 pub mod class;
 pub mod judge;
+pub mod options;
 pub mod reference;
 pub mod report;
 pub mod student;

@@ -6,7 +6,7 @@
 //! nothing.
 //!
 //! Our renderer can render with a course's constants instead of its own
-//! ([`read_options`], `--reference-options`): the ambient share, diffuse
+//! ([`super::options`], `--reference-options` or suite.json's): the ambient share, diffuse
 //! and specular weights, pixel point, reflection mode and depth; the key
 //! then hashes them too.
 //!
@@ -22,7 +22,7 @@
 //! image is read without following a link and only when it is a regular
 //! file of the grader's, with one name and no permission for anyone else
 //! (mode 0600, as written); anything else is rendered again and replaced.
-//! No box ever sees the cache ([`super::sandbox`]).
+//! No box ever sees the cache ([`raytracer_box`]).
 
 use std::path::{Path, PathBuf};
 
@@ -35,7 +35,7 @@ use crate::compare::{self, Picture};
 use raytracer_box::run::run;
 use raytracer_box::{Confinement, Share};
 use raytracer_render::render::Precision;
-use raytracer_render::render::{self, Model, Options};
+use raytracer_render::render::{self, Options};
 
 /// The reference cache.
 pub struct Cache {
@@ -44,44 +44,6 @@ pub struct Cache {
     renderer: [u8; 32],
     /// How our references are rendered.
     options: Options,
-}
-
-/// The keys of `--reference-options`: the [`Model`]'s and `depth`.
-const DEPTH: &str = "depth";
-
-/// The most reflections `depth` may ask for.
-const MAX_DEPTH: u64 = 64;
-
-/// Our renderer's options as a `--reference-options` file gives them: a
-/// JSON object with any of the [`Model`]'s keys and `depth`, the others
-/// left at our renderer's own; a message in words for anything else.
-pub fn read_options(text: &str) -> Result<Options, String> {
-    let mut object = match serde_json::from_str::<serde_json::Value>(text) {
-        Ok(serde_json::Value::Object(object)) => object,
-        Ok(other) => {
-            return Err(format!(
-                "expected a JSON object, found {}",
-                match other {
-                    serde_json::Value::Array(_) => "an array",
-                    serde_json::Value::String(_) => "a string",
-                    serde_json::Value::Number(_) => "a number",
-                    serde_json::Value::Bool(_) => "a boolean",
-                    _ => "null",
-                }
-            ))
-        }
-        Err(error) => return Err(format!("not JSON: {error}")),
-    };
-    let mut options = Options::default();
-    if let Some(depth) = object.remove(DEPTH) {
-        options.max_depth = depth.as_u64().filter(|d| *d <= MAX_DEPTH).ok_or_else(|| {
-            format!("expected a whole number from 0 to {MAX_DEPTH} for `{DEPTH}`, found {depth}")
-        })? as u32;
-    }
-    options.model = serde_json::from_value::<Model>(serde_json::Value::Object(object))
-        .map_err(|error| error.to_string())?;
-    options.model.validate()?;
-    Ok(options)
 }
 
 /// The default cache folder: `$XDG_CACHE_HOME/raytracer/references`, else

@@ -294,7 +294,7 @@ impl Suite {
                 path: manifest_path.display().to_string(),
                 reason,
             };
-            let options = super::reference::read_options(&reference.to_string())
+            let options = super::options::read_options(&reference.to_string())
                 .map_err(|reason| invalid(format!("its `reference`: {reason}")))?;
             if let Some((first, other)) = &found {
                 if *other != options {

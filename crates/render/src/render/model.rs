@@ -13,6 +13,10 @@
 
 use serde::{Deserialize, Serialize};
 
+/// The share of a surface's colour that is lit without any light, in
+/// the default model.
+pub const AMBIENT: f64 = 0.1;
+
 /// The open constants of the illumination model.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -59,7 +63,7 @@ impl Default for Model {
     /// The renderer's model (docs/rendering.md).
     fn default() -> Self {
         Model {
-            ambient: super::trace::AMBIENT,
+            ambient: AMBIENT,
             diffuse: 1.0,
             specular: 0.0,
             exponent: 20.0,

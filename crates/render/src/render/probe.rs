@@ -12,7 +12,11 @@
 
 use rayon::prelude::*;
 
-use super::trace::Tracer;
+use glam::DVec3;
+
+use super::geometry::{offset_origin, Ray};
+use super::real::Real;
+use super::trace::{Counters, Tracer};
 use super::{camera_ray, Accel, Model};
 use crate::ir;
 
@@ -126,6 +130,76 @@ pub fn swapped_planes(scene: &ir::Scene) -> Option<ir::Scene> {
     any.then_some(other)
 }
 
+/// What camera ray `ray` meets: a caller of the tracer's parts, apart
+/// from the integrator, so the render path is unchanged.
+fn probe(tracer: &Tracer<f64>, ray: Ray<f64>) -> Probe {
+    let luminance = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+    let Some(hit) = tracer.world.closest(&ray, f64::INFINITY) else {
+        return Probe::default();
+    };
+    let mut counters = Counters::default();
+    let prim = &tracer.world.prims[hit.slot as usize];
+    let material = &tracer.world.materials[prim.material as usize];
+    let surface = tracer.surface(&ray, hit.t, prim, material);
+    let albedo = tracer.albedo(material, surface.uv, &mut counters);
+    let d = ray.dir;
+    let n = surface.normal;
+    let mirror = (d - n * (2.0 * d.dot(n))).normalize();
+    let mut probe = Probe {
+        object: Some(prim.id),
+        reflectivity: material.reflectivity,
+        uv: surface.uv,
+        ..Probe::default()
+    };
+    let origin = offset_origin::<f64>(surface.point, n, surface.error_scale);
+    for (i, light) in tracer.lights.iter().enumerate() {
+        let to_light = light.position - surface.point;
+        let length = to_light.length();
+        if length == 0.0 {
+            continue;
+        }
+        let towards = to_light * length.recip();
+        let cos = n.dot(towards).wide();
+        if cos <= 0.0 {
+            continue;
+        }
+        let lit = luminance(albedo * light.color) * cos;
+        probe.unshadowed += lit;
+        let to_light = light.position - origin;
+        let distance = to_light.length();
+        let shadow = Ray {
+            origin,
+            dir: to_light * distance.recip(),
+            from: hit.slot,
+        };
+        if distance == 0.0
+            || !tracer
+                .world
+                .occluded(&shadow, distance * <f64 as Real>::SHADOW_REACH)
+        {
+            probe.lit += lit;
+            if i < MAX_PROBED_LIGHTS {
+                probe.visible |= 1 << i;
+            }
+            probe.highlight = probe.highlight.max(mirror.dot(towards).wide());
+        }
+    }
+    if material.reflectivity > 0.0 {
+        let reflected = Ray {
+            origin,
+            dir: mirror,
+            from: hit.slot,
+        };
+        probe.reflected = tracer
+            .world
+            .closest(&reflected, f64::INFINITY)
+            .map(|h| tracer.world.prims[h.slot as usize].id);
+        let c = tracer.radiance(reflected, &mut counters).min(DVec3::ONE);
+        probe.reflected_radiance = luminance(c);
+    }
+    probe
+}
+
 /// [`buffers`] of one reading.
 fn probe_all(scene: &ir::Scene, max_depth: u32, model: Model) -> Buffers {
     let size = scene.resolution;
@@ -136,7 +210,7 @@ fn probe_all(scene: &ir::Scene, max_depth: u32, model: Model) -> Buffers {
             .map(|k| {
                 let (x, y) = (k % n, k / n);
                 let ray = camera_ray::<f64>(size, f64::from(x) + offset, f64::from(y) + offset);
-                tracer.probe(ray)
+                probe(&tracer, ray)
             })
             .collect()
     };

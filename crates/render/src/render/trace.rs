@@ -21,6 +21,8 @@ use serde::{Deserialize, Serialize};
 
 use super::geometry::{error_scale, offset_origin, Ray, Rect, Shape, Sphere};
 use super::model::Model;
+#[cfg(test)]
+use super::model::AMBIENT;
 use super::real::{Real, Vector};
 use super::world::{Accel, Fan, Hit, Prim, World};
 use crate::ir;
@@ -33,9 +35,6 @@ pub struct FirstHits<'a, R: Real> {
     pub distances: &'a [R],
     pub slots: &'a [u32],
 }
-
-/// The share of a surface's colour that is lit without any light.
-pub const AMBIENT: f64 = 0.1;
 
 /// What a render did, summed over every pixel.
 #[derive(
@@ -70,27 +69,30 @@ pub struct Counters {
 }
 
 /// A light in the tracer's precision.
-struct Light<R: Real> {
-    position: R::Vec,
-    color: DVec3,
+pub(super) struct Light<R: Real> {
+    pub(super) position: R::Vec,
+    pub(super) color: DVec3,
 }
 
 /// Where a ray met a surface.
-struct Surface<R: Real> {
-    point: R::Vec,
+pub(super) struct Surface<R: Real> {
+    pub(super) point: R::Vec,
     /// Unit normal facing the incoming ray.
-    normal: R::Vec,
+    pub(super) normal: R::Vec,
     /// Texture coordinates, computed only for textured objects.
-    uv: Option<(f64, f64)>,
+    pub(super) uv: Option<(f64, f64)>,
     /// The magnitude the point's rounding error is relative to.
-    error_scale: R,
+    pub(super) error_scale: R,
 }
 
-/// Traces rays through one scene in precision `R`.
+/// Traces rays through one scene in precision `R`. What the renderer's
+/// other passes read of a scene (the probes of [`super::probe`]) they ask
+/// of its world, lights, surfaces and albedo, which are the module's
+/// parent's to see.
 pub struct Tracer<'a, R: Real> {
     scene: &'a ir::Scene,
-    world: World<R>,
-    lights: Vec<Light<R>>,
+    pub(super) world: World<R>,
+    pub(super) lights: Vec<Light<R>>,
     max_depth: u32,
     skip: bool,
     model: Model,
@@ -279,73 +281,6 @@ impl<'a, R: Real> Tracer<'a, R> {
         color
     }
 
-    /// What camera ray `ray` meets, for [`super::probe`]: a separate
-    /// function from the integrator's, so the render path is unchanged.
-    pub fn probe(&self, ray: Ray<R>) -> super::probe::Probe {
-        use super::probe::{Probe, MAX_PROBED_LIGHTS};
-        let luminance = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
-        let Some(hit) = self.world.closest(&ray, R::infinity()) else {
-            return Probe::default();
-        };
-        let mut counters = Counters::default();
-        let prim = &self.world.prims[hit.slot as usize];
-        let material = &self.world.materials[prim.material as usize];
-        let surface = self.surface(&ray, hit.t, prim, material);
-        let albedo = self.albedo(material, surface.uv, &mut counters);
-        let d = ray.dir;
-        let n = surface.normal;
-        let mirror = (d - n * (R::of(2.0) * d.dot(n))).normalize();
-        let mut probe = Probe {
-            object: Some(prim.id),
-            reflectivity: material.reflectivity,
-            uv: surface.uv,
-            ..Probe::default()
-        };
-        let origin = offset_origin::<R>(surface.point, n, surface.error_scale);
-        for (i, light) in self.lights.iter().enumerate() {
-            let to_light = light.position - surface.point;
-            let length = to_light.length();
-            if length.is_zero() {
-                continue;
-            }
-            let towards = to_light * length.recip();
-            let cos = n.dot(towards).wide();
-            if cos <= 0.0 {
-                continue;
-            }
-            let lit = luminance(albedo * light.color) * cos;
-            probe.unshadowed += lit;
-            let to_light = light.position - origin;
-            let distance = to_light.length();
-            let shadow = Ray {
-                origin,
-                dir: to_light * distance.recip(),
-                from: hit.slot,
-            };
-            if distance.is_zero() || !self.world.occluded(&shadow, distance * R::SHADOW_REACH) {
-                probe.lit += lit;
-                if i < MAX_PROBED_LIGHTS {
-                    probe.visible |= 1 << i;
-                }
-                probe.highlight = probe.highlight.max(mirror.dot(towards).wide());
-            }
-        }
-        if material.reflectivity > 0.0 {
-            let reflected = Ray {
-                origin,
-                dir: mirror,
-                from: hit.slot,
-            };
-            probe.reflected = self
-                .world
-                .closest(&reflected, R::infinity())
-                .map(|h| self.world.prims[h.slot as usize].id);
-            let c = self.radiance(reflected, &mut counters).min(DVec3::ONE);
-            probe.reflected_radiance = luminance(c);
-        }
-        probe
-    }
-
     /// The wide nodes of the hierarchy this tracer walks (0: brute force).
     pub fn bvh_nodes(&self) -> u64 {
         self.world.bvh_nodes()
@@ -354,7 +289,13 @@ impl<'a, R: Real> Tracer<'a, R> {
     /// The hit point (on the surface to rounding), the face-forward normal
     /// and, for textured objects, the texture coordinates.
     #[inline(always)]
-    fn surface(&self, ray: &Ray<R>, t: R, prim: &Prim<R>, material: &ir::Material) -> Surface<R> {
+    pub(super) fn surface(
+        &self,
+        ray: &Ray<R>,
+        t: R,
+        prim: &Prim<R>,
+        material: &ir::Material,
+    ) -> Surface<R> {
         let textured = material.texture.is_some();
         match &prim.shape {
             Shape::Sphere(s) => sphere_surface(s, ray, t, textured),
@@ -364,7 +305,7 @@ impl<'a, R: Real> Tracer<'a, R> {
 
     /// The surface colour: the texel at `uv`, or the material colour.
     #[inline(always)]
-    fn albedo(
+    pub(super) fn albedo(
         &self,
         material: &ir::Material,
         uv: Option<(f64, f64)>,
