@@ -49,5 +49,6 @@ mod textures;
 mod tidy;
 mod tile_cli;
 mod ui;
+mod version;
 mod vim_syntax;
 mod vscode;
