@@ -19,6 +19,7 @@ mod cli;
 mod compare_cli;
 mod convert_cli;
 mod distributed;
+mod docs;
 mod fix_never_worse;
 mod format;
 mod grade_browser;
