@@ -30,6 +30,7 @@ mod grade_students;
 mod grade_suite_format;
 mod hostile_inputs;
 mod hostile_text;
+mod install;
 mod intersection;
 mod language_table;
 mod lsp;
