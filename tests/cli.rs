@@ -629,11 +629,18 @@ fn the_man_pages_are_one_per_command_with_its_options() {
         .collect();
     assert!(references.len() >= 12, "{page}");
     for name in references {
-        assert!(written.contains(&name), "{name} is named but not written: {written:?}");
+        assert!(
+            written.contains(&name),
+            "{name} is named but not written: {written:?}"
+        );
     }
     assert!(written.contains(&"raytracer-grade.1".to_string()));
     let output = run(&["man", "frobnicate"]);
-    assert_fails(&output, 2, &["unknown command `frobnicate`: expected one of"]);
+    assert_fails(
+        &output,
+        2,
+        &["unknown command `frobnicate`: expected one of"],
+    );
 }
 
 /// `make man` writes the pages to target/man/: its command, run here.
@@ -654,7 +661,10 @@ fn make_man_writes_every_page() {
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let written = listing(&dir.path().join("target/man"));
     assert!(written.contains(&"raytracer.1".to_string()), "{written:?}");
-    assert!(written.contains(&"raytracer-grade.1".to_string()), "{written:?}");
+    assert!(
+        written.contains(&"raytracer-grade.1".to_string()),
+        "{written:?}"
+    );
 }
 
 /// The shipped scenes are laid out as `fmt` lays them out, so the README's

@@ -123,12 +123,18 @@ fn every_page_with_examples_runs_them() {
         let runs = PAGES.contains(&page.as_str());
         if text.lines().any(|line| line.starts_with("```console")) {
             with_examples += 1;
-            assert!(runs, "{page} has console examples but is not in tests/docs.rs's PAGES");
+            assert!(
+                runs,
+                "{page} has console examples but is not in tests/docs.rs's PAGES"
+            );
         }
         if !runs {
             continue;
         }
-        assert!(!text.contains("```console,ignore"), "{page}: an example that does not run");
+        assert!(
+            !text.contains("```console,ignore"),
+            "{page}: an example that does not run"
+        );
         let programs: Vec<&str> = programs().iter().map(|(name, _)| *name).collect();
         let mut fence: Option<&str> = None;
         for (number, line) in text.lines().enumerate() {
@@ -154,7 +160,10 @@ fn every_page_with_examples_runs_them() {
             }
         }
     }
-    assert!(with_examples >= 3, "only {with_examples} pages have console examples");
+    assert!(
+        with_examples >= 3,
+        "only {with_examples} pages have console examples"
+    );
 }
 
 /// docs/README.md, the index, links every page of docs/, and README.md
@@ -164,7 +173,11 @@ fn the_index_links_every_page() {
     let index = std::fs::read_to_string(repo().join("docs/README.md")).expect("docs/README.md");
     let mut pages = 0;
     for entry in std::fs::read_dir(repo().join("docs")).expect("docs/") {
-        let name = entry.expect("entry").file_name().to_string_lossy().into_owned();
+        let name = entry
+            .expect("entry")
+            .file_name()
+            .to_string_lossy()
+            .into_owned();
         if name.ends_with(".md") && name != "README.md" {
             pages += 1;
             assert!(
@@ -175,5 +188,8 @@ fn the_index_links_every_page() {
     }
     assert!(pages >= 15, "only {pages} pages in docs/");
     let readme = std::fs::read_to_string(repo().join("README.md")).expect("README.md");
-    assert!(readme.contains("](docs/README.md)"), "README.md does not link the index");
+    assert!(
+        readme.contains("](docs/README.md)"),
+        "README.md does not link the index"
+    );
 }

@@ -22,7 +22,10 @@ fn in_home(home: &Path, program: &str, args: &[&str]) -> Command {
         .env("HOME", home)
         .env(
             "PATH",
-            format!("{}:/usr/local/bin:/usr/bin:/bin", home.join(".cargo/bin").display()),
+            format!(
+                "{}:/usr/local/bin:/usr/bin:/bin",
+                home.join(".cargo/bin").display()
+            ),
         )
         .env("LC_ALL", "C.UTF-8")
         .current_dir(home);
@@ -98,7 +101,11 @@ fn a_fresh_home_follows_the_install_section_to_completions_and_man_pages() {
          printf '%s\\n' \"${{COMPREPLY[@]}}\""
     );
     let bash = stdout(&in_home(home, "bash", &["-c", &script]).output().unwrap());
-    assert_eq!(bash.trim(), "grade", "bash completes `raytracer gr` as: {bash}");
+    assert_eq!(
+        bash.trim(),
+        "grade",
+        "bash completes `raytracer gr` as: {bash}"
+    );
 
     // fish: ~/.config/fish/completions is read as it is.
     let fish = stdout(
@@ -106,7 +113,10 @@ fn a_fresh_home_follows_the_install_section_to_completions_and_man_pages() {
             .output()
             .unwrap(),
     );
-    assert!(fish.starts_with("grade\t"), "fish completes `raytracer gr` as: {fish}");
+    assert!(
+        fish.starts_with("grade\t"),
+        "fish completes `raytracer gr` as: {fish}"
+    );
     let fish = stdout(
         &in_home(home, "fish", &["-c", "complete -C 'raytracer grade --exp'"])
             .output()
@@ -125,7 +135,11 @@ fn a_fresh_home_follows_the_install_section_to_completions_and_man_pages() {
     assert_eq!(zsh.trim(), "_raytracer");
 
     // man: the pages beside the program are found through PATH.
-    let path = stdout(&in_home(home, "man", &["-w", "raytracer-grade"]).output().unwrap());
+    let path = stdout(
+        &in_home(home, "man", &["-w", "raytracer-grade"])
+            .output()
+            .unwrap(),
+    );
     assert_eq!(
         Path::new(path.trim()),
         home.join(".cargo/share/man/man1/raytracer-grade.1")
@@ -138,7 +152,15 @@ fn a_fresh_home_follows_the_install_section_to_completions_and_man_pages() {
             .unwrap(),
     );
     let page = page.split_whitespace().collect::<Vec<_>>().join(" ");
-    for part in ["raytracer-grade", "--timeout <SECONDS>", "--export-suite <DIR>", "Exit codes: 0 every scene matches"] {
-        assert!(page.contains(part), "`man raytracer-grade` lacks `{part}`: {page}");
+    for part in [
+        "raytracer-grade",
+        "--timeout <SECONDS>",
+        "--export-suite <DIR>",
+        "Exit codes: 0 every scene matches",
+    ] {
+        assert!(
+            page.contains(part),
+            "`man raytracer-grade` lacks `{part}`: {page}"
+        );
     }
 }

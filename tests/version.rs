@@ -31,7 +31,11 @@ fn the_version_names_the_commit_of_this_checkout() {
     let build = build_script::describe(repo);
     assert_eq!(
         version,
-        format!("raytracer {} ({})\n", env!("CARGO_PKG_VERSION"), build.text())
+        format!(
+            "raytracer {} ({})\n",
+            env!("CARGO_PKG_VERSION"),
+            build.text()
+        )
     );
     // In a checkout, the commit is HEAD's, as git itself says.
     if let Some(commit) = &build.commit {

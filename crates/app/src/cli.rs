@@ -17,12 +17,14 @@ use raytracer_render::tile::Band;
 #[derive(Debug, Parser)]
 #[command(name = "raytracer", long_about = None)]
 #[command(override_usage = "raytracer SCENE OUT [OPTIONS]\n       raytracer <COMMAND>")]
-#[command(after_help = "`raytracer SCENE OUT` is short for `raytracer render SCENE OUT` \
+#[command(
+    after_help = "`raytracer SCENE OUT` is short for `raytracer render SCENE OUT` \
 (the course's form).\n\n\
 Exit codes: 0 success; 1 the command's own failure (a scene with errors, images that \
 differ, files that would change: each command's --help says which); 2 a usage error, a \
 file that cannot be read or written, or an internal error; 130 interrupted (Ctrl-C; no \
-output file is left half-written).")]
+output file is left half-written)."
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -69,6 +71,9 @@ without --unprotected.";
 be written.";
 }
 
+// One value per run, parsed once and moved into its command: boxing the
+// larger argument structs would save nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Render a scene to an image (.ppm or .png, by OUT's extension).
@@ -104,11 +109,13 @@ pub enum Command {
     /// Grade a ray tracer: run it on a suite of scenes in a sandbox and
     /// judge each image against ours, into an HTML report.
     #[command(after_help = exit::GRADE, arg_required_else_help = true)]
-    #[command(override_usage = "raytracer grade --tracer COMMAND [SUITE]... -o REPORT [OPTIONS]\n       \
+    #[command(
+        override_usage = "raytracer grade --tracer COMMAND [SUITE]... -o REPORT [OPTIONS]\n       \
 raytracer grade --student DIR [SUITE]... -o REPORT [OPTIONS]\n       \
 raytracer grade --class DIR [SUITE]... -o REPORT [OPTIONS]\n       \
 raytracer grade --merge REPORT\n       \
-raytracer grade --export-suite DIR")]
+raytracer grade --export-suite DIR"
+    )]
     Grade(GradeArgs),
     /// Print a completion script for SHELL to stdout (docs/cli.md says
     /// where each shell looks for it).
@@ -917,7 +924,10 @@ mod tests {
                 checked += 1;
             }
         }
-        assert!(checked > 100, "only {checked} flags were found in the help texts");
+        assert!(
+            checked > 100,
+            "only {checked} flags were found in the help texts"
+        );
     }
 
     #[test]
@@ -962,11 +972,19 @@ mod tests {
                 .map(|c| format!("raytracer-{}.1", c.get_name())),
         );
         assert_eq!(names, expected);
-        let grade = &pages.iter().find(|(n, _)| n == "raytracer-grade.1").unwrap().1;
+        let grade = &pages
+            .iter()
+            .find(|(n, _)| n == "raytracer-grade.1")
+            .unwrap()
+            .1;
         let grade = String::from_utf8_lossy(grade);
         assert!(grade.contains(".TH raytracer-grade 1"), "{grade}");
         assert!(grade.contains("1.2.3 (commit abc)"), "{grade}");
-        for option in command("0").find_subcommand("grade").unwrap().get_arguments() {
+        for option in command("0")
+            .find_subcommand("grade")
+            .unwrap()
+            .get_arguments()
+        {
             if let Some(long) = option.get_long() {
                 let roff = format!("\\fB\\-\\-{}\\fR", long.replace('-', "\\-"));
                 assert!(grade.contains(&roff), "raytracer-grade.1 lacks {roff}");
