@@ -12,6 +12,7 @@
 //! 80 columns. A page's blocks run in order in that one folder, so a later
 //! example sees the files an earlier one wrote.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::support::bin;
@@ -23,6 +24,7 @@ const PAGES: &[&str] = &[
     "README.md",
     "docs/README.md",
     "docs/cli.md",
+    "docs/distributed.md",
     "docs/language.md",
 ];
 
@@ -55,16 +57,22 @@ fn fixture_name(page: &str) -> String {
     }
 }
 
-/// The programs the examples may run: this build of `raytracer`, and
-/// `cat` to show a fixture. trycmd skips, without failing, a command whose
+/// The programs the examples may run: this build of `raytracer`, `cat`
+/// to show a fixture, and `cmp` to show two files are the same. trycmd skips, without failing, a command whose
 /// program it was not given, so [`every_page_with_examples_runs_them`]
 /// holds each example to these.
 fn programs() -> Vec<(&'static str, PathBuf)> {
-    let cat = std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default())
-        .map(|dir| dir.join("cat"))
-        .find(|path| path.is_file())
-        .expect("`cat` on PATH");
-    vec![("raytracer", PathBuf::from(bin())), ("cat", cat)]
+    let on_path = |name: &str| {
+        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default())
+            .map(|dir| dir.join(name))
+            .find(|path| path.is_file())
+            .unwrap_or_else(|| panic!("`{name}` on PATH"))
+    };
+    vec![
+        ("raytracer", PathBuf::from(bin())),
+        ("cat", on_path("cat")),
+        ("cmp", on_path("cmp")),
+    ]
 }
 
 #[test]
@@ -90,6 +98,10 @@ fn the_examples_in_the_docs_run_as_written() {
         std::fs::create_dir(copy.with_extension("out")).expect("out folder");
         cases.case(&copy);
         copies.push((copy, page));
+    }
+    // trycmd names the copies in what it prints: say which page each is.
+    for (copy, page) in &copies {
+        let _ = writeln!(std::io::stderr(), "{page} runs as {}", copy.display());
     }
     cases.run();
     // Under `TRYCMD=overwrite`, trycmd rewrote the copies: carry them back.
