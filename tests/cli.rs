@@ -680,3 +680,41 @@ fn the_shipped_scenes_pass_fmt_check() {
         String::from_utf8_lossy(&output.stdout)
     );
 }
+
+/// Help wraps to the terminal: at 80 columns no line of the top help or
+/// of any command's is wider (issue 56 counted 22 in `grade --help`).
+#[test]
+fn help_fits_80_columns() {
+    let top = run(&["--help"]);
+    let mut pages = vec![(String::from("raytracer"), top.stdout)];
+    let commands: Vec<String> = String::from_utf8_lossy(&pages[0].1)
+        .lines()
+        .skip_while(|line| *line != "Commands:")
+        .skip(1)
+        .take_while(|line| !line.is_empty())
+        .filter(|line| line.starts_with("  ") && !line.starts_with("   "))
+        .filter_map(|line| line.split_whitespace().next().map(str::to_string))
+        .filter(|name| name != "help")
+        .collect();
+    assert!(commands.len() >= 12, "{commands:?}");
+    for name in commands {
+        let output = command(&[&name, "--help"])
+            .env("COLUMNS", "80")
+            .output()
+            .unwrap();
+        assert_eq!(output.status.code(), Some(0), "{name}");
+        pages.push((name, output.stdout));
+    }
+    let output = command(&["--help"]).env("COLUMNS", "80").output().unwrap();
+    pages[0].1 = output.stdout;
+    for (name, help) in pages {
+        let help = String::from_utf8(help).expect("UTF-8");
+        for line in help.lines() {
+            assert!(
+                line.chars().count() <= 80,
+                "`{name} --help` at 80 columns has a line of {}: {line}",
+                line.chars().count()
+            );
+        }
+    }
+}
