@@ -25,6 +25,7 @@ const PAGES: &[&str] = &[
     "docs/README.md",
     "docs/cli.md",
     "docs/distributed.md",
+    "docs/formats.md",
     "docs/language.md",
 ];
 
