@@ -27,6 +27,7 @@ const PAGES: &[&str] = &[
     "docs/distributed.md",
     "docs/formats.md",
     "docs/language.md",
+    "docs/preview.md",
 ];
 
 fn repo() -> &'static Path {
@@ -83,7 +84,13 @@ fn the_examples_in_the_docs_run_as_written() {
     for (name, path) in programs() {
         cases.register_bin(name, path);
     }
-    cases.env("COLUMNS", "80").env("NO_COLOR", "1");
+    // Every example ends well within the timeout but `preview`, a server
+    // that runs until it is stopped: its example expects the stop
+    // (`? interrupted`) after the line it printed.
+    cases
+        .env("COLUMNS", "80")
+        .env("NO_COLOR", "1")
+        .timeout(std::time::Duration::from_secs(10));
     let mut copies = Vec::new();
     for page in PAGES {
         // trycmd runs `X.md` in `X.in` (copied to a fresh folder when `X.out`
