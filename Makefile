@@ -121,7 +121,7 @@ accuracy: raytracer
 # CPU seconds, executions, crashes) to the run log at the end of
 # docs/reliability.md (scripts/fuzz.sh); a crash lands in
 # fuzz/artifacts/TARGET and fails the target. Needs cargo-fuzz
-# (`cargo install cargo-fuzz`). libFuzzer's instrumentation and ASan use
+# (`cargo install --locked cargo-fuzz`). libFuzzer's instrumentation and ASan use
 # nightly-only rustc flags: RUSTC_BOOTSTRAP=1 allows them on the stable
 # toolchain (use FUZZ_FLAGS="--sanitizer none" to fuzz without ASan).
 FUZZ_SECONDS ?= 600
