@@ -44,18 +44,93 @@ fn stdout(output: &Output) -> String {
 
 /// bash-completion's loader, or `None` (a failure under CI) when the
 /// package is missing.
-fn bash_completion() -> Option<&'static str> {
+fn bash_completion(test: &str) -> Option<&'static str> {
     let loader = "/usr/share/bash-completion/bash_completion";
     if Path::new(loader).is_file() {
         return Some(loader);
     }
     assert!(
         !under_ci(),
-        "bash-completion is not installed, and CI must run {TEST}: .ci/run installs it \
+        "bash-completion is not installed, and CI must run {test}: .ci/run installs it \
          (apt-get install bash-completion)"
     );
-    support::skipped(&format!("{TEST}: bash-completion is not installed"));
+    support::skipped(&format!("{test}: bash-completion is not installed"));
     None
+}
+
+/// A fresh home with the binary under test where `cargo install` puts it.
+fn fresh_home() -> tempfile::TempDir {
+    let home = tempfile::tempdir().expect("temp dir");
+    let installed = home.path().join(".cargo/bin/raytracer");
+    std::fs::create_dir_all(installed.parent().unwrap()).unwrap();
+    std::fs::copy(bin(), &installed).expect("install the binary");
+    home
+}
+
+/// bash (through bash-completion's `loader`) and fish complete
+/// `raytracer gr` in `home`.
+fn bash_and_fish_complete(home: &Path, loader: &str) {
+    let script = format!(
+        "source {loader}; _comp_load raytracer 2>/dev/null || __load_completion raytracer; \
+         function=$(complete -p raytracer | sed 's/.* -F \\([^ ]*\\) .*/\\1/'); \
+         COMP_WORDS=(raytracer gr); COMP_CWORD=1; COMP_LINE='raytracer gr'; \
+         COMP_POINT=${{#COMP_LINE}}; \"$function\" raytracer gr raytracer; \
+         printf '%s\\n' \"${{COMPREPLY[@]}}\""
+    );
+    let bash = stdout(&in_home(home, "bash", &["-c", &script]).output().unwrap());
+    assert_eq!(
+        bash.trim(),
+        "grade",
+        "bash completes `raytracer gr` as: {bash}"
+    );
+    let fish = stdout(
+        &in_home(home, "fish", &["-c", "complete -C 'raytracer gr'"])
+            .output()
+            .unwrap(),
+    );
+    assert!(
+        fish.starts_with("grade\t"),
+        "fish completes `raytracer gr` as: {fish}"
+    );
+}
+
+/// The commands `raytracer completions --help` gives for each shell work
+/// in a fresh home too.
+#[test]
+fn the_completions_help_works_in_a_fresh_home() {
+    const TEST: &str = "the_completions_help_works_in_a_fresh_home";
+    let mut available = true;
+    for (tool, install) in [
+        ("bash", "apt-get install bash"),
+        ("fish", "apt-get install fish"),
+    ] {
+        available &= support::tool_available(tool, TEST, install);
+    }
+    let Some(loader) = bash_completion(TEST) else {
+        return;
+    };
+    if !available {
+        return;
+    }
+    let help = stdout(&crate::support::run(&["completions", "--help"]));
+    let commands: Vec<&str> = help
+        .lines()
+        .skip_while(|line| !line.starts_with("Where each shell"))
+        .take_while(|line| !line.is_empty())
+        .filter_map(|line| line.strip_prefix("    "))
+        .collect();
+    assert_eq!(commands.len(), 5, "{help}");
+    let home = fresh_home();
+    let output = in_home(
+        home.path(),
+        "bash",
+        &["-euo", "pipefail", "-c", &commands.join("\n")],
+    )
+    .output()
+    .unwrap();
+    stdout(&output);
+    bash_and_fish_complete(home.path(), loader);
+    assert!(home.path().join(".zfunc/_raytracer").is_file());
 }
 
 #[test]
@@ -70,7 +145,7 @@ fn a_fresh_home_follows_the_install_section_to_completions_and_man_pages() {
     for (tool, install) in tools {
         available &= support::tool_available(tool, TEST, install);
     }
-    let Some(loader) = bash_completion() else {
+    let Some(loader) = bash_completion(TEST) else {
         return;
     };
     if !available {
@@ -80,11 +155,8 @@ fn a_fresh_home_follows_the_install_section_to_completions_and_man_pages() {
     assert!(blocks.len() >= 5, "{blocks:?}");
     assert_eq!(blocks[0].trim(), "cargo install --locked --path .");
 
-    let home = tempfile::tempdir().expect("temp dir");
+    let home = fresh_home();
     let home = home.path();
-    let installed = home.join(".cargo/bin/raytracer");
-    std::fs::create_dir_all(installed.parent().unwrap()).unwrap();
-    std::fs::copy(bin(), &installed).expect("install the binary");
     for block in &blocks[1..] {
         let output = in_home(home, "bash", &["-euo", "pipefail", "-c", block])
             .output()
@@ -92,31 +164,9 @@ fn a_fresh_home_follows_the_install_section_to_completions_and_man_pages() {
         stdout(&output);
     }
 
-    // bash: the loader finds the script on demand, and completes `gr`.
-    let script = format!(
-        "source {loader}; _comp_load raytracer 2>/dev/null || __load_completion raytracer; \
-         function=$(complete -p raytracer | sed 's/.* -F \\([^ ]*\\) .*/\\1/'); \
-         COMP_WORDS=(raytracer gr); COMP_CWORD=1; COMP_LINE='raytracer gr'; \
-         COMP_POINT=${{#COMP_LINE}}; \"$function\" raytracer gr raytracer; \
-         printf '%s\\n' \"${{COMPREPLY[@]}}\""
-    );
-    let bash = stdout(&in_home(home, "bash", &["-c", &script]).output().unwrap());
-    assert_eq!(
-        bash.trim(),
-        "grade",
-        "bash completes `raytracer gr` as: {bash}"
-    );
-
-    // fish: ~/.config/fish/completions is read as it is.
-    let fish = stdout(
-        &in_home(home, "fish", &["-c", "complete -C 'raytracer gr'"])
-            .output()
-            .unwrap(),
-    );
-    assert!(
-        fish.starts_with("grade\t"),
-        "fish completes `raytracer gr` as: {fish}"
-    );
+    // bash: the loader finds the script on demand; fish reads
+    // ~/.config/fish/completions as it is.
+    bash_and_fish_complete(home, loader);
     let fish = stdout(
         &in_home(home, "fish", &["-c", "complete -C 'raytracer grade --exp'"])
             .output()

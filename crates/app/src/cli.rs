@@ -117,15 +117,28 @@ raytracer grade --merge REPORT\n       \
 raytracer grade --export-suite DIR"
     )]
     Grade(GradeArgs),
-    /// Print a completion script for SHELL to stdout (docs/cli.md says
-    /// where each shell looks for it).
-    #[command(after_help = exit::PRINT)]
+    /// Print a completion script for SHELL to stdout.
+    #[command(after_help = COMPLETIONS_HELP)]
     Completions(CompletionsArgs),
     /// Print the man page of `raytracer`, or of one command, in roff; or
     /// write every page to a folder (`make man` writes target/man/).
     #[command(after_help = exit::PRINT)]
     Man(ManArgs),
 }
+
+/// Where each shell finds the script, from a home where the folder may
+/// not exist yet (as README.md's install section has it), and the exit codes.
+const COMPLETIONS_HELP: &str = "Where each shell finds it (the folders may need creating):
+  bash (with the bash-completion package):
+    dir=~/.local/share/bash-completion/completions
+    mkdir -p $dir && raytracer completions bash > $dir/raytracer
+  zsh (and `fpath=(~/.zfunc $fpath)` in ~/.zshrc, before compinit):
+    mkdir -p ~/.zfunc && raytracer completions zsh > ~/.zfunc/_raytracer
+  fish:
+    mkdir -p ~/.config/fish/completions
+    raytracer completions fish > ~/.config/fish/completions/raytracer.fish
+
+Exit codes: 0 printed; 2 a usage error or a file that cannot be written.";
 
 /// `raytracer completions SHELL`.
 #[derive(Debug, Args)]
