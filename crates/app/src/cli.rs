@@ -183,9 +183,13 @@ pub fn man_pages(version: &'static str) -> Vec<(String, Vec<u8>)> {
     top.build();
     let mut pages = Vec::new();
     let mut page = |cmd: clap::Command| {
+        // The footer's centre, where a date would go, names the build: an
+        // empty date would shift the title line's fields (roff quotes only
+        // words with spaces).
         let man = clap_mangen::Man::new(cmd)
-            .source(format!("raytracer {version}"))
-            .manual("raytracer");
+            .date(format!("raytracer {version}"))
+            .source("raytracer")
+            .manual("General Commands Manual");
         let mut roff = Vec::new();
         // Writing to a vector cannot fail.
         let _ = man.render(&mut roff);
