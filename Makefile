@@ -52,12 +52,14 @@ web:
 test-web: web
 	$(CARGO) test --release --locked --test playground $(CARGO_FLAGS)
 
-# The man page, generated from the command line's definition (clap_mangen):
-# `man ./raytracer.1`, or copy it to a folder of MANPATH.
+# The man pages, generated from the command line's definition (clap_mangen):
+# raytracer.1 and one per command (raytracer-grade.1, ...) with its options
+# and exit codes, in target/man/. `man target/man/raytracer-grade.1` reads
+# one; README.md's install section installs them for `man raytracer-grade`.
 man: raytracer
-	./raytracer man > raytracer.1
+	./raytracer man --dir target/man
 
-# The cold times in README.md, measured from bare clones of HEAD
+# The cold times in docs/contributing.md, measured from bare clones of HEAD
 # (scripts/cold-times.sh; 15 to 20 minutes on 2 cores).
 cold-times:
 	scripts/cold-times.sh
@@ -119,7 +121,7 @@ accuracy: raytracer
 # CPU seconds, executions, crashes) to the run log at the end of
 # docs/reliability.md (scripts/fuzz.sh); a crash lands in
 # fuzz/artifacts/TARGET and fails the target. Needs cargo-fuzz
-# (`cargo install cargo-fuzz`). libFuzzer's instrumentation and ASan use
+# (`cargo install --locked cargo-fuzz`). libFuzzer's instrumentation and ASan use
 # nightly-only rustc flags: RUSTC_BOOTSTRAP=1 allows them on the stable
 # toolchain (use FUZZ_FLAGS="--sanitizer none" to fuzz without ASan).
 FUZZ_SECONDS ?= 600

@@ -16,7 +16,8 @@ fn main() -> ExitCode {
     let hidden = args
         .iter()
         .any(|a| a.to_string_lossy().chars().any(escape::is_hidden));
-    match cli::parse_args(args) {
+    // The version and the commit it was built from (build.rs).
+    match cli::parse_args(args, env!("RAYTRACER_VERSION")) {
         Ok(cli) => commands::run(cli),
         Err(error) => {
             // clap prints help and version to stdout (exit 0) and usage

@@ -55,6 +55,9 @@ fn the_report_has_every_setting_and_its_findings() {
         "a 16-px scene is measured at 144 px: {stdout}"
     );
     says(&stdout, "**Sampling**: the RMSE falls as N^-");
+    // One repetition is singular, and a share is never shown as `0.0%`.
+    says(&stdout, "1 repetition, the settings");
+    assert!(!stdout.contains("0.0%"), "{stdout}");
     // stderr is a pipe here, not a terminal: each step still says so, in
     // plain lines.
     let stderr = String::from_utf8_lossy(&output.stderr);
@@ -97,6 +100,11 @@ fn an_image_without_edges_has_no_sampling_error() {
     says(&stdout, "at 6×6 (`--size`; its own is 8×8)");
     says(&stdout, "the RMSE is 0 at every jittered sample count");
     says(&stdout, "**f32 is enough here**");
+    // No pixel has an edge to refine: the findings say none, not 0.0%.
+    says(
+        &stdout,
+        "none of the pixels took all 64 samples and none took 4 samples",
+    );
     let row = stdout
         .lines()
         .find(|line| line.starts_with("| adaptive 64 spp |"))

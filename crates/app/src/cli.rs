@@ -15,49 +15,127 @@ use raytracer_render::tile::Band;
 
 /// Render and check scenes of the raytracer scene language.
 #[derive(Debug, Parser)]
-#[command(name = "raytracer", version, long_about = None)]
+#[command(name = "raytracer", long_about = None)]
+#[command(override_usage = "raytracer SCENE OUT [OPTIONS]\n       raytracer <COMMAND>")]
 #[command(
-    after_help = "`raytracer SCENE OUT` is short for `raytracer render SCENE OUT`.\n\
-Exit codes: 0 success, 1 the scene has errors, 2 usage, I/O or internal error,\n\
-130 interrupted (Ctrl-C; no output file is left half-written)."
+    after_help = "`raytracer SCENE OUT` is short for `raytracer render SCENE OUT` \
+(the course's form).\n\n\
+Exit codes: 0 success; 1 the command's own failure (a scene with errors, images that \
+differ, files that would change: each command's --help says which); 2 a usage error, a \
+file that cannot be read or written, or an internal error; 130 interrupted (Ctrl-C; no \
+output file is left half-written)."
 )]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    /// The version `--version` printed: this build's (the binary's build
+    /// script names its commit), for the man pages.
+    #[arg(skip)]
+    pub version: &'static str,
+}
+
+/// Each command's exit codes, at the end of its `--help` and its man page
+/// (docs/cli.md shows them from there).
+mod exit {
+    pub const RENDER: &str = "Exit codes: 0 the image was written; 1 the scene has errors \
+(nothing is written); 2 a usage error or a file that cannot be read or written; 130 \
+interrupted (no output file is left half-written).";
+    pub const CHECK: &str = "Exit codes: 0 no scene has errors (warnings allowed); 1 a \
+scene has errors (or warnings, with --deny-warnings), or a scene found in a folder cannot \
+be read; 2 a usage error or a file named on the command line that cannot be read.";
+    pub const CONVERT: &str = "Exit codes: 0 converted; 1 the scene has errors (nothing is \
+written); 2 a usage error or a file that cannot be read or written.";
+    pub const FMT: &str = "Exit codes: 0 formatted, or with --check nothing would change; \
+1 with --check a file would change, or a file has syntax errors (it is left alone), or a \
+file found in a folder cannot be read; 2 a usage error, a JSON scene or a file that cannot \
+be read, named on the command line.";
+    pub const LSP: &str = "Exit codes: 0 after the protocol's shutdown and exit; 1 the \
+client exited or disconnected without shutdown; 2 the conversation could not start.";
+    pub const STITCH: &str = "Exit codes: 0 the image was written; 1 the parts do not make \
+one frame (nothing is written); 2 a usage error or a file that cannot be read or written.";
+    pub const ACCURACY: &str = "Exit codes: 0 the report was printed; 1 a scene has errors \
+(nothing is measured); 2 a usage error (such as a --reference-spp that is not a square) \
+or a file that cannot be read or written.";
+    pub const PREVIEW: &str = "Exit codes: 130 stopped by Ctrl-C, its normal end; 2 it \
+could not start (SCENE `-` or unreadable, an --spp that is not a square, an address that \
+cannot be bound).";
+    pub const COMPARE: &str = "Exit codes: 0 the images match; 1 they differ (in geometry, \
+appearance or size); 2 an image cannot be read or decoded, or the heat map cannot be \
+written.";
+    pub const GRADE: &str = "Exit codes: 0 every scene matches (with --class, every scene \
+of every student); 1 a scene does not; 2 a usage error, a student folder without a usable \
+tracer.txt or build.txt, a suite that cannot be read or has a scene with errors, a summary \
+--merge cannot read, a report or cache that cannot be written, or no box for the programs \
+without --unprotected.";
+    pub const PRINT: &str = "Exit codes: 0 printed; 2 a usage error or a file that cannot \
+be written.";
 }
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Render a scene to an image (.ppm or .png, by OUT's extension).
+    #[command(after_help = exit::RENDER)]
     Render(RenderArgs),
     /// Check scenes and report every problem (a linter).
+    #[command(after_help = exit::CHECK)]
     Check(CheckArgs),
     /// Convert a scene to JSON, canonical scene text, or POV-Ray.
+    #[command(after_help = exit::CONVERT)]
     Convert(ConvertArgs),
     /// Lay out scene text files canonically, keeping every comment.
+    #[command(after_help = exit::FMT)]
     Fmt(FmtArgs),
     /// Serve the Language Server Protocol on stdin and stdout (for editors).
+    #[command(after_help = exit::LSP)]
     Lsp(LspArgs),
     /// Put the tiles of `render --tile` together into one image.
+    #[command(after_help = exit::STITCH)]
     Stitch(StitchArgs),
     /// Measure what accuracy costs for a scene: error and time of each
     /// setting against a converged reference, as a table with findings.
+    #[command(after_help = exit::ACCURACY)]
     Accuracy(AccuracyArgs),
     /// Serve a local page that re-renders the scene, and shows its
     /// diagnostics, every time it or one of its textures is saved.
+    #[command(after_help = exit::PREVIEW)]
     Preview(PreviewArgs),
     /// Compare a candidate image with a reference: ꟻLIP, RMSE and PSNR,
     /// and the coverage of their non-black pixels.
+    #[command(after_help = exit::COMPARE)]
     Compare(CompareArgs),
     /// Grade a ray tracer: run it on a suite of scenes in a sandbox and
-    /// compare each image with ours, into an HTML report.
+    /// judge each image against ours, into an HTML report.
+    #[command(after_help = exit::GRADE, arg_required_else_help = true)]
+    #[command(
+        override_usage = "raytracer grade --tracer COMMAND [SUITE]... -o REPORT [OPTIONS]\n       \
+raytracer grade --student DIR [SUITE]... -o REPORT [OPTIONS]\n       \
+raytracer grade --class DIR [SUITE]... -o REPORT [OPTIONS]\n       \
+raytracer grade --merge REPORT\n       \
+raytracer grade --export-suite DIR"
+    )]
     Grade(Box<GradeArgs>),
-    /// Print a completion script for SHELL to stdout, as in
-    /// `raytracer completions bash > ~/.local/share/bash-completion/completions/raytracer`.
+    /// Print a completion script for SHELL to stdout.
+    #[command(after_help = COMPLETIONS_HELP)]
     Completions(CompletionsArgs),
-    /// Print the man page, in roff, to stdout (`make man` writes raytracer.1).
-    Man,
+    /// Print the man page of `raytracer`, or of one command, in roff; or
+    /// write every page to a folder (`make man` writes target/man/).
+    #[command(after_help = exit::PRINT)]
+    Man(ManArgs),
 }
+
+/// Where each shell finds the script, from a home where the folder may
+/// not exist yet (as README.md's install section has it), and the exit codes.
+const COMPLETIONS_HELP: &str = "Where each shell finds it (the folders may need creating):
+  bash (with the bash-completion package):
+    dir=~/.local/share/bash-completion/completions
+    mkdir -p $dir && raytracer completions bash > $dir/raytracer
+  zsh (and `fpath=(~/.zfunc $fpath)` in ~/.zshrc, before compinit):
+    mkdir -p ~/.zfunc && raytracer completions zsh > ~/.zfunc/_raytracer
+  fish:
+    mkdir -p ~/.config/fish/completions
+    raytracer completions fish > ~/.config/fish/completions/raytracer.fish
+
+Exit codes: 0 printed; 2 a usage error or a file that cannot be written.";
 
 /// `raytracer completions SHELL`.
 #[derive(Debug, Args)]
@@ -66,21 +144,60 @@ pub struct CompletionsArgs {
     pub shell: clap_complete::Shell,
 }
 
+/// `raytracer man [COMMAND] [--dir DIR]`.
+#[derive(Debug, Args)]
+pub struct ManArgs {
+    /// The command whose page to print (`grade` prints raytracer-grade(1))
+    /// [default: the page of `raytracer`].
+    #[arg(value_name = "COMMAND")]
+    pub command: Option<String>,
+    /// Write every page (raytracer.1 and raytracer-COMMAND.1 for each
+    /// command) to DIR, created if missing, instead of printing one.
+    #[arg(long, value_name = "DIR", conflicts_with = "command")]
+    pub dir: Option<PathBuf>,
+}
+
+/// The command line as clap sees it, with `version` for `--version` (the
+/// build's, from the binary).
+pub fn command(version: &'static str) -> clap::Command {
+    <Cli as clap::CommandFactory>::command().version(version)
+}
+
 /// The completion script for `shell`, generated from this command line.
-pub fn completions(shell: clap_complete::Shell) -> Vec<u8> {
-    let mut command = <Cli as clap::CommandFactory>::command();
+pub fn completions(shell: clap_complete::Shell, version: &'static str) -> Vec<u8> {
+    let mut command = command(version);
     let mut out = Vec::new();
     clap_complete::generate(shell, &mut command, "raytracer", &mut out);
     out
 }
 
-/// The man page of `raytracer`, in roff, generated from this command line.
-pub fn man_page() -> Vec<u8> {
-    let command = <Cli as clap::CommandFactory>::command();
-    let mut out = Vec::new();
-    // Writing to a vector cannot fail.
-    let _ = clap_mangen::Man::new(command).render(&mut out);
-    out
+/// The man pages, generated from this command line (clap_mangen): the
+/// page of `raytracer` (named `raytracer.1`), then one per command
+/// (`raytracer-grade.1`), each with its options and exit codes, as
+/// (file name, roff).
+pub fn man_pages(version: &'static str) -> Vec<(String, Vec<u8>)> {
+    let mut top = command(version).disable_help_subcommand(true);
+    top.build();
+    let mut pages = Vec::new();
+    let mut page = |cmd: clap::Command| {
+        // The footer's centre, where a date would go, names the build: an
+        // empty date would shift the title line's fields (roff quotes only
+        // words with spaces).
+        let man = clap_mangen::Man::new(cmd)
+            .date(format!("raytracer {version}"))
+            .source("raytracer")
+            .manual("General Commands Manual");
+        let mut roff = Vec::new();
+        // Writing to a vector cannot fail.
+        let _ = man.render(&mut roff);
+        pages.push((man.get_filename(), roff));
+    };
+    for sub in top.get_subcommands() {
+        page(sub.clone().version(version));
+    }
+    page(top);
+    pages.rotate_right(1);
+    pages
 }
 
 /// `--accel`: the renderer's [`Accel`] as the command line spells it.
@@ -142,8 +259,8 @@ pub struct SamplingArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub spp: u32,
     /// Which pixels take all `--spp` samples: every one, or only those
-    /// whose corners, then four samples, differ by the adaptive threshold
-    /// (`render --aa-threshold`).
+    /// whose corners, then four samples, differ by more than the adaptive
+    /// threshold.
     #[arg(long, value_enum, default_value_t = Antialias::Uniform)]
     pub aa: Antialias,
     /// Worker threads for rendering (default: all cores).
@@ -388,7 +505,10 @@ fn command_names() -> Vec<String> {
 /// `raytracer render SCENE OUT`. A first argument that is no command and
 /// no existing file, and does not look like a path (no `.`, `/` or `\`),
 /// is a mistyped command (exit 2), with the nearest command suggested.
-pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap::Error> {
+pub fn parse_args(
+    args: impl IntoIterator<Item = OsString>,
+    version: &'static str,
+) -> Result<Cli, clap::Error> {
     let mut args: Vec<OsString> = args.into_iter().collect();
     let names = command_names();
     let is_subcommand = |a: &OsString| {
@@ -401,7 +521,31 @@ pub fn parse_args(args: impl IntoIterator<Item = OsString>) -> Result<Cli, clap:
         }
         args.insert(1, "render".into());
     }
-    Cli::try_parse_from(args)
+    use clap::FromArgMatches;
+    let matches = command(version).try_get_matches_from(args)?;
+    let mut cli = Cli::from_arg_matches(&matches)?;
+    cli.version = version;
+    if let Command::Man(ManArgs {
+        command: Some(name),
+        ..
+    }) = &cli.command
+    {
+        // Every command has a page; `help` has none.
+        let pages: Vec<String> = names.into_iter().filter(|n| n != "help").collect();
+        if !pages.contains(name) {
+            let shown = raytracer_scene::escape::escape(name);
+            let expected = pages
+                .iter()
+                .map(|c| format!("`{c}`"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            return Err(command(version).error(
+                clap::error::ErrorKind::InvalidValue,
+                format!("unknown command `{shown}`: expected one of {expected}"),
+            ));
+        }
+    }
+    Ok(cli)
 }
 
 /// The usage error for a first argument that is a mistyped command rather
@@ -609,7 +753,7 @@ mod tests {
     use super::*;
 
     fn parse(args: &[&str]) -> Result<Cli, clap::Error> {
-        parse_args(args.iter().map(OsString::from))
+        parse_args(args.iter().map(OsString::from), "0.0.0 (commit test)")
     }
 
     #[test]
@@ -634,7 +778,9 @@ mod tests {
 
     #[test]
     fn flags_are_still_flags() {
-        assert!(parse(&["raytracer", "--version"]).is_err_and(|e| e.exit_code() == 0));
+        let version = parse(&["raytracer", "--version"]).unwrap_err();
+        assert_eq!(version.exit_code(), 0);
+        assert_eq!(version.to_string(), "raytracer 0.0.0 (commit test)\n");
         assert!(parse(&["raytracer", "check"]).is_err_and(|e| e.exit_code() == 2));
     }
 
@@ -713,6 +859,152 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Every `--flag` a help text names, with the word before it when that
+    /// word, in backticks with it, is another command (`render --tile`).
+    fn named_flags(help: &str) -> Vec<(Option<String>, String)> {
+        let mut flags = Vec::new();
+        for (at, _) in help.match_indices("--") {
+            let before = help[..at].chars().next_back();
+            if before.is_some_and(|c| c.is_alphanumeric() || c == '-') {
+                continue;
+            }
+            let name: String = help[at + 2..]
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '-')
+                .collect();
+            let name = name.trim_end_matches('-').to_string();
+            if name.is_empty() {
+                continue;
+            }
+            let command = help[..at]
+                .strip_suffix(' ')
+                .and_then(|head| head.rsplit(['`', ' ', '(']).next())
+                .filter(|word| help[..at].ends_with(&format!("`{word} ")))
+                .map(str::to_string);
+            flags.push((command, name));
+        }
+        flags
+    }
+
+    #[test]
+    fn named_flags_finds_flags_and_the_command_they_belong_to() {
+        assert_eq!(
+            named_flags("tiles of `render --tile` (--aa-threshold, not-a--flag)"),
+            [
+                (Some("render".to_string()), "tile".to_string()),
+                (None, "aa-threshold".to_string())
+            ]
+        );
+    }
+
+    /// Each help text, every command's and the top one's, names only flags
+    /// its command has, or another command's in the form `render --tile`
+    /// (the lists come from clap's definition, not from a list of ours).
+    #[test]
+    fn help_texts_name_only_flags_their_command_has() {
+        let top = command("0.0.0");
+        let longs = |cmd: &clap::Command| -> Vec<String> {
+            cmd.get_arguments()
+                .filter_map(|a| a.get_long())
+                .map(str::to_string)
+                .chain(["help".to_string()])
+                .collect()
+        };
+        let mut commands: Vec<clap::Command> = top.get_subcommands().cloned().collect();
+        commands.push(top.clone());
+        let mut checked = 0;
+        for mut cmd in commands {
+            let mut own = longs(&cmd);
+            if cmd.get_name() == "raytracer" {
+                own.push("version".to_string());
+            }
+            let help = cmd.render_long_help().to_string();
+            for (other, flag) in named_flags(&help) {
+                let theirs = match &other {
+                    Some(name) => longs(
+                        top.find_subcommand(name)
+                            .unwrap_or_else(|| panic!("`{name} --{flag}` names no command")),
+                    ),
+                    None => own.clone(),
+                };
+                assert!(
+                    theirs.contains(&flag),
+                    "the help of `{}` names `--{flag}`, which {} has not",
+                    cmd.get_name(),
+                    other.as_deref().unwrap_or("it")
+                );
+                checked += 1;
+            }
+        }
+        assert!(
+            checked > 100,
+            "only {checked} flags were found in the help texts"
+        );
+    }
+
+    #[test]
+    fn grade_needs_an_output_only_where_it_writes_a_report() {
+        let kind = |args: &[&str]| parse(args).err().map(|e| e.kind());
+        assert_eq!(kind(&["raytracer", "grade", "--merge", "r"]), None);
+        assert_eq!(kind(&["raytracer", "grade", "--export-suite", "d"]), None);
+        assert_eq!(
+            kind(&["raytracer", "grade", "--tracer", "t {scene} {out}"]),
+            Some(clap::error::ErrorKind::MissingRequiredArgument)
+        );
+        assert_eq!(
+            kind(&["raytracer", "grade", "--tracer", "t", "-o", "r"]),
+            None
+        );
+        // Alone, it shows its forms rather than one missing option.
+        assert_eq!(
+            kind(&["raytracer", "grade"]),
+            Some(clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand)
+        );
+    }
+
+    #[test]
+    fn the_usage_shows_the_course_form_and_every_command_its_exit_codes() {
+        let mut top = command("0.0.0");
+        let help = top.render_long_help().to_string();
+        assert!(help.contains("Usage: raytracer SCENE OUT"), "{help}");
+        for sub in top.get_subcommands_mut().filter(|s| s.get_name() != "help") {
+            let help = sub.render_long_help().to_string();
+            assert!(help.contains("\nExit codes: "), "{help}");
+        }
+    }
+
+    #[test]
+    fn there_is_a_man_page_for_raytracer_and_each_command_with_its_options() {
+        let pages = man_pages("1.2.3 (commit abc)");
+        let names: Vec<&str> = pages.iter().map(|(name, _)| name.as_str()).collect();
+        let mut expected = vec!["raytracer.1".to_string()];
+        expected.extend(
+            command("0")
+                .get_subcommands()
+                .map(|c| format!("raytracer-{}.1", c.get_name())),
+        );
+        assert_eq!(names, expected);
+        let grade = &pages
+            .iter()
+            .find(|(n, _)| n == "raytracer-grade.1")
+            .unwrap()
+            .1;
+        let grade = String::from_utf8_lossy(grade);
+        assert!(grade.contains(".TH raytracer-grade 1"), "{grade}");
+        assert!(grade.contains("1.2.3 (commit abc)"), "{grade}");
+        for option in command("0")
+            .find_subcommand("grade")
+            .unwrap()
+            .get_arguments()
+        {
+            if let Some(long) = option.get_long() {
+                let roff = format!("\\fB\\-\\-{}\\fR", long.replace('-', "\\-"));
+                assert!(grade.contains(&roff), "raytracer-grade.1 lacks {roff}");
+            }
+        }
+        assert!(grade.contains("Exit codes: 0 every scene matches"));
     }
 
     #[test]

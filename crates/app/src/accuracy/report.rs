@@ -62,7 +62,7 @@ pub fn markdown(m: &Measurement, scene: &str) -> String {
          RMSE, estimated from its halves, {own:.3}/255), which every row but the depths is \
          judged against, and at depth {DEEP} ({deep_rays} rays, {deep_secs:.1} s; own RMSE \
          {deep_own:.3}/255), which the depths are. Times: whole frames on one thread (its CPU \
-         time), {reps} repetitions, the settings in a fresh random order in each; × is the \
+         time), {reps}, the settings in a fresh random order in each; × is the \
          median over repetitions of the ratio to the default in the same repetition (range in \
          brackets); the default takes {median:.4} CPU s ({min:.4}–{max:.4}).\n",
         size = m.size,
@@ -75,7 +75,7 @@ pub fn markdown(m: &Measurement, scene: &str) -> String {
         deep_rays = deep.rays,
         deep_secs = deep.seconds,
         deep_own = deep.own_rmse,
-        reps = m.reps,
+        reps = plural(m.reps, "repetition"),
         median = default.seconds.median,
         min = default.seconds.min,
         max = default.seconds.max,
@@ -301,9 +301,9 @@ impl Verdict {
     }
 
     /// The shares of pixels that took all samples, and 4, as percentages:
-    /// `["12.5%", "3.0%"]`.
+    /// `["12.5%", "3.0%"]` (see [`percent`]).
     pub fn refined_shares(&self) -> [String; 2] {
-        [self.refined, self.partly_refined].map(|share| format!("{:.1}%", 100.0 * share))
+        [self.refined, self.partly_refined].map(percent)
     }
 
     /// "meets", or "misses" with what missed.
@@ -374,8 +374,8 @@ pub fn findings(m: &Measurement) -> Vec<String> {
                 let v = Verdict::of(m, n, t);
                 let [all, four] = v.refined_shares();
                 format!(
-                    "{n} spp: RMSE ×{:.2}, time ×{}, {all} of pixels took all {n} samples and \
-                     {four} took 4 ({})",
+                    "{n} spp: RMSE ×{:.2}, time ×{}, {all} of the pixels took all {n} samples \
+                     and {four} took 4 samples ({})",
                     v.rmse,
                     v.time_spread(),
                     v.outcome()
@@ -545,4 +545,46 @@ pub fn pareto_csv(m: &Measurement) -> String {
         }
     }
     csv
+}
+
+/// A share of 0 to 1 as a percentage with one decimal: `12.5%`; `none`
+/// for 0, and `under 0.1%` for a share that one decimal would show as
+/// `0.0%` though it is not 0.
+pub fn percent(share: f64) -> String {
+    if share <= 0.0 {
+        "none".into()
+    } else if share < 0.0005 {
+        "under 0.1%".into()
+    } else {
+        format!("{:.1}%", 100.0 * share)
+    }
+}
+
+/// `count` and `noun`, plural unless it is 1: `1 repetition`, `5 repetitions`.
+pub fn plural(count: usize, noun: &str) -> String {
+    if count == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{count} {noun}s")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_repetition_is_singular() {
+        assert_eq!(plural(1, "repetition"), "1 repetition");
+        assert_eq!(plural(5, "repetition"), "5 repetitions");
+        assert_eq!(plural(0, "repetition"), "0 repetitions");
+    }
+
+    #[test]
+    fn shares_are_never_a_misleading_zero() {
+        assert_eq!(percent(0.0), "none");
+        assert_eq!(percent(0.0001), "under 0.1%");
+        assert_eq!(percent(0.125), "12.5%");
+        assert_eq!(percent(1.0), "100.0%");
+    }
 }

@@ -136,8 +136,10 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Accuracy(args) => accuracy::run(args),
         Command::Preview(args) => preview::run(args),
         Command::Compare(args) => compare::run(args),
-        Command::Completions(args) => print_bytes(&crate::cli::completions(args.shell)),
-        Command::Man => print_bytes(&crate::cli::man_page()),
+        Command::Completions(args) => {
+            print_bytes(&crate::cli::completions(args.shell, cli.version))
+        }
+        Command::Man(args) => man(args, cli.version),
         #[cfg(unix)]
         Command::Grade(args) => grade::run(*args),
         #[cfg(not(unix))]
@@ -157,6 +159,37 @@ pub fn run(cli: Cli) -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// A man page that cannot be written to `man --dir`'s folder.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error(transparent)]
+#[diagnostic(code(io::write_man))]
+pub struct WriteManError(FileError);
+
+/// `raytracer man`: print the page of `raytracer` or of one command, or
+/// write every page to a folder (created), each atomically.
+fn man(args: crate::cli::ManArgs, version: &'static str) -> Result<Outcome, BoxedDiagnostic> {
+    let pages = crate::cli::man_pages(version);
+    let Some(dir) = args.dir else {
+        let name = match &args.command {
+            Some(command) => format!("raytracer-{command}.1"),
+            None => "raytracer.1".to_string(),
+        };
+        let (_, roff) = pages
+            .iter()
+            .find(|(file, _)| *file == name)
+            .expect("clap allows only the commands that have a page");
+        return print_bytes(roff);
+    };
+    std::fs::create_dir_all(&dir)
+        .map_err(|error| WriteManError(FileError::new("create the folder", &dir, &error)))?;
+    for (name, roff) in &pages {
+        let path = dir.join(name);
+        raytracer_render::output::write_atomically(&path, |out| out.write_all(roff))
+            .map_err(|error| WriteManError(FileError::writing(&path)(error)))?;
+    }
+    Ok(Outcome::Success)
 }
 
 /// `grade` on a system without the Unix process controls its sandbox needs.

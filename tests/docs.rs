@@ -1,0 +1,215 @@
+//! The command-line examples of README.md and docs/ are tests: trycmd runs
+//! every ```` ```console ```` block of each page in [`PAGES`] (a `$ raytracer
+//! ...` line, then its output, stdout and stderr together; `? 1` after
+//! the command for an exit code other than 0; `...` for lines left out,
+//! `[..]` for part of a line) and fails with a diff when the program's
+//! output drifts from the page. `TRYCMD=overwrite cargo test --release
+//! --test integration docs::` writes the program's output into the pages.
+//!
+//! Each page runs in a folder of its own that trycmd makes and removes:
+//! the repository's `scenes/` and the page's fixtures,
+//! `tests/docs/<page>.in/` (README.md's are `tests/docs/README.in/`), at
+//! 80 columns. A page's blocks run in order in that one folder, so a later
+//! example sees the files an earlier one wrote.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::support::bin;
+
+/// The pages whose examples run, relative to the repository.
+/// docs/grading.md is not yet among them (its examples need a grader's
+/// sandbox and a student's tracer).
+const PAGES: &[&str] = &[
+    "README.md",
+    "docs/README.md",
+    "docs/cli.md",
+    "docs/distributed.md",
+    "docs/formats.md",
+    "docs/language.md",
+    "docs/preview.md",
+];
+
+fn repo() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Copy the folder `from` into `to` (created), recursively.
+fn copy_folder(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).expect("create folder");
+    for entry in std::fs::read_dir(from).expect("read folder") {
+        let entry = entry.expect("entry");
+        let target = to.join(entry.file_name());
+        if entry.file_type().expect("type").is_dir() {
+            copy_folder(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), &target).expect("copy file");
+        }
+    }
+}
+
+/// `docs/cli.md` -> `cli`, `README.md` -> `README`, `docs/README.md` ->
+/// `docs-README`: the name of the page's fixture folder under tests/docs/.
+fn fixture_name(page: &str) -> String {
+    let stem = page.strip_suffix(".md").expect("a Markdown page");
+    match stem.strip_prefix("docs/") {
+        Some("README") => "docs-README".to_string(),
+        Some(name) => name.to_string(),
+        None => stem.to_string(),
+    }
+}
+
+/// The programs the examples may run: this build of `raytracer`, `cat`
+/// to show a fixture, and `cmp` to show two files are the same. trycmd skips, without failing, a command whose
+/// program it was not given, so [`every_page_with_examples_runs_them`]
+/// holds each example to these.
+fn programs() -> Vec<(&'static str, PathBuf)> {
+    let on_path = |name: &str| {
+        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default())
+            .map(|dir| dir.join(name))
+            .find(|path| path.is_file())
+            .unwrap_or_else(|| panic!("`{name}` on PATH"))
+    };
+    vec![
+        ("raytracer", PathBuf::from(bin())),
+        ("cat", on_path("cat")),
+        ("cmp", on_path("cmp")),
+    ]
+}
+
+#[test]
+fn the_examples_in_the_docs_run_as_written() {
+    let root = tempfile::tempdir().expect("temp dir");
+    let cases = trycmd::TestCases::new();
+    for (name, path) in programs() {
+        cases.register_bin(name, path);
+    }
+    // Every example ends well within the timeout but `preview`, a server
+    // that runs until it is stopped: its example expects the stop
+    // (`? interrupted`) after the line it printed.
+    cases
+        .env("COLUMNS", "80")
+        .env("NO_COLOR", "1")
+        .timeout(std::time::Duration::from_secs(10));
+    let mut copies = Vec::new();
+    for page in PAGES {
+        // trycmd runs `X.md` in `X.in` (copied to a fresh folder when `X.out`
+        // exists): the page is laid beside a folder made of its fixtures.
+        let copy = root.path().join(fixture_name(page)).with_extension("md");
+        std::fs::copy(repo().join(page), &copy).unwrap_or_else(|e| panic!("{page}: {e}"));
+        let input = copy.with_extension("in");
+        copy_folder(&repo().join("scenes"), &input.join("scenes"));
+        let fixtures = repo().join("tests/docs").join(fixture_name(page) + ".in");
+        if fixtures.is_dir() {
+            copy_folder(&fixtures, &input);
+        }
+        std::fs::create_dir(copy.with_extension("out")).expect("out folder");
+        cases.case(&copy);
+        copies.push((copy, page));
+    }
+    // trycmd names the copies in what it prints: say which page each is.
+    for (copy, page) in &copies {
+        let _ = writeln!(std::io::stderr(), "{page} runs as {}", copy.display());
+    }
+    cases.run();
+    // Under `TRYCMD=overwrite`, trycmd rewrote the copies: carry them back.
+    if std::env::var("TRYCMD").as_deref() == Ok("overwrite") {
+        for (copy, page) in copies {
+            std::fs::copy(copy, repo().join(page)).expect("write the page back");
+        }
+    }
+}
+
+/// Every page of docs/ with a command example, and README.md, is in
+/// [`PAGES`]; and in those pages no command example hides in a block
+/// trycmd does not run (`sh`, `text`, or no language).
+#[test]
+fn every_page_with_examples_runs_them() {
+    let mut pages = vec![repo().join("README.md")];
+    for entry in std::fs::read_dir(repo().join("docs")).expect("docs/") {
+        let path = entry.expect("entry").path();
+        if path.extension().is_some_and(|e| e == "md") {
+            pages.push(path);
+        }
+    }
+    let mut with_examples = 0;
+    for path in pages {
+        let page = path
+            .strip_prefix(repo())
+            .expect("in the repository")
+            .to_string_lossy()
+            .replace('\\', "/");
+        let text = std::fs::read_to_string(&path).expect("read page");
+        let runs = PAGES.contains(&page.as_str());
+        if text.lines().any(|line| line.starts_with("```console")) {
+            with_examples += 1;
+            assert!(
+                runs,
+                "{page} has console examples but is not in tests/docs.rs's PAGES"
+            );
+        }
+        if !runs {
+            continue;
+        }
+        assert!(
+            !text.contains("```console,ignore"),
+            "{page}: an example that does not run"
+        );
+        let programs: Vec<&str> = programs().iter().map(|(name, _)| *name).collect();
+        let mut fence: Option<&str> = None;
+        for (number, line) in text.lines().enumerate() {
+            match fence {
+                None if line.starts_with("```") => fence = Some(line[3..].trim()),
+                Some(_) if line.starts_with("```") => fence = None,
+                Some("console") if line.starts_with("$ ") => {
+                    let program = line[2..].split_whitespace().next().unwrap_or("");
+                    assert!(
+                        programs.contains(&program),
+                        "{page}:{}: `{program}` is not among the programs tests/docs.rs \
+                         gives trycmd ({programs:?}), which would skip the example",
+                        number + 1
+                    );
+                }
+                Some(language) => assert!(
+                    language.starts_with("console") || !line.starts_with("$ raytracer"),
+                    "{page}:{}: a command example in a ```{language} block, which is not run: \
+                     make it a ```console block with its output",
+                    number + 1
+                ),
+                None => {}
+            }
+        }
+    }
+    assert!(
+        with_examples >= 3,
+        "only {with_examples} pages have console examples"
+    );
+}
+
+/// docs/README.md, the index, links every page of docs/, and README.md
+/// links the index.
+#[test]
+fn the_index_links_every_page() {
+    let index = std::fs::read_to_string(repo().join("docs/README.md")).expect("docs/README.md");
+    let mut pages = 0;
+    for entry in std::fs::read_dir(repo().join("docs")).expect("docs/") {
+        let name = entry
+            .expect("entry")
+            .file_name()
+            .to_string_lossy()
+            .into_owned();
+        if name.ends_with(".md") && name != "README.md" {
+            pages += 1;
+            assert!(
+                index.contains(&format!("]({name})")),
+                "docs/README.md does not link {name}"
+            );
+        }
+    }
+    assert!(pages >= 15, "only {pages} pages in docs/");
+    let readme = std::fs::read_to_string(repo().join("README.md")).expect("README.md");
+    assert!(
+        readme.contains("](docs/README.md)"),
+        "README.md does not link the index"
+    );
+}
