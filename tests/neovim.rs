@@ -57,7 +57,7 @@ fn neovim_shows_diagnostics_applies_a_quick_fix_and_formats() {
         "{stdout}"
     );
     assert!(
-        stdout.contains("action quickfix: projected `headup` onto the plane"),
+        stdout.contains("action quickfix: project `headup` onto the plane"),
         "{stdout}"
     );
     assert_eq!(std::fs::read_to_string(&scene).unwrap(), EXPECTED);
