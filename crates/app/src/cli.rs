@@ -235,9 +235,9 @@ pub struct CheckArgs {
     /// headup onto the plane) in place.
     #[arg(long)]
     pub fix: bool,
-    /// With `--fix`, also apply the unsafe fixes (such as a "did you
-    /// mean" replacement).
-    #[arg(long, requires = "fix")]
+    /// Also apply the unsafe fixes (such as a "did you mean"
+    /// replacement); implies `--fix`.
+    #[arg(long)]
     pub unsafe_fixes: bool,
     /// Show at most N problems per file in the human and short formats,
     /// then how many more there are (0 shows every one; the json, sarif
