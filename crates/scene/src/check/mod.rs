@@ -161,15 +161,19 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
                             .args
                             .last()
                             .map_or(section.kind.span, |last| section.kind.span.join(last.span));
-                        let written = cx.text(line);
-                        let (number, _) = cx.source.line_col(line.start());
+                        // The line as one: the keyword and its values,
+                        // without what lies between them.
+                        let written = std::iter::once("camera".to_string())
+                            .chain(section.args.iter().map(|v| cx.text(v.span)))
+                            .collect::<Vec<_>>()
+                            .join(" ");
                         let fix =
                             cx.removal(&format!("remove `{written}`"), Applicability::Unsafe, line);
                         cx.problems.push(CheckError::RepeatedCamera {
                             first: first.into(),
                             second: section.kind.span.into(),
                             help: format!(
-                                "a scene has one camera: remove line {number}, `{written}`"
+                                "a scene has one camera: keep the first and remove `{written}`"
                             ),
                             fix,
                         })
