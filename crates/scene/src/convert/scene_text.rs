@@ -7,13 +7,16 @@
 //! `center`, `normal`, `headup`, `color`, `reflectivity`, `texture`); a
 //! `color` of `1 1 1` and a `reflectivity` of `0` (the defaults) are left out.
 //!
-//! Numbers are the shortest text that reads back as the same `f64`, bit for
-//! bit ([`number`]), and texture paths are bare words where the grammar
+//! Numbers are spelt as the formatter spells them, the shortest text that
+//! reads back as the same `f64`, bit for bit ([`number`]), and the
+//! attributes are in the formatter's order, so this text is what `fmt`
+//! prints for it; texture paths are bare words where the grammar
 //! reads them back as one, quoted strings otherwise ([`path`]).
 
 use std::fmt::Write;
 
 use crate::ast::{AttrName, SectionKind};
+use crate::format::number;
 use crate::language::attributes_of;
 use crate::model::{self, Shape};
 use crate::syntax::{is_line_end, is_word_char};
@@ -114,20 +117,6 @@ fn same_bits(a: &[f64], b: &[f64]) -> bool {
     a.iter()
         .map(|x| x.to_bits())
         .eq(b.iter().map(|x| x.to_bits()))
-}
-
-/// `x` as the shortest scene-language number that reads back as exactly
-/// `x`: plain decimals from 1e-5 up to 1e15 (`0.3`, `-2`, `16384`, `-0`),
-/// an exponent outside that (`1e-7`, `1.5e300`). Rust's `Display` and
-/// `LowerExp` for `f64` print the fewest digits that round-trip.
-/// `x` must be finite, as every number in a checked scene is.
-pub fn number(x: f64) -> String {
-    let magnitude = x.abs();
-    if magnitude == 0.0 || (1e-5..1e15).contains(&magnitude) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
 }
 
 /// A texture path as the grammar reads it back: a bare word when it is one
