@@ -262,3 +262,43 @@ fn a_folder_and_a_file_together_get_one_total() {
     assert_eq!(output.status.code(), Some(0));
     assert_eq!(stdout(&output), "checked 0 files: 0 errors, 0 warnings\n");
 }
+
+/// `raytracer check scenes/` says nothing but the warnings that are a
+/// scene's point, each named (`scene::no_light`) in the scene's leading
+/// comment (issue 56: six warnings, said nowhere to be meant).
+#[test]
+fn shipped_scenes_warn_only_where_their_comment_says_so() {
+    let scenes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut folders = vec![scenes];
+    let mut checked = 0;
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+                continue;
+            }
+            if path.extension().is_none_or(|e| e != "txt") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            let header: String = text
+                .lines()
+                .take_while(|l| l.starts_with('#'))
+                .collect::<Vec<_>>()
+                .join(" ");
+            let loaded = raytracer_scene::frontend::load(&path).unwrap();
+            for entry in loaded.report.entries() {
+                assert!(
+                    entry.severity == "warning" && header.contains(&format!("`{}`", entry.code)),
+                    "{}: `{}` ({}) is not named in its leading comment as the scene's point",
+                    path.display(),
+                    entry.code,
+                    entry.severity
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 15, "{checked} scenes");
+}
