@@ -1,6 +1,6 @@
 //! The canonical scene-text printer (`convert --to scene`).
 //!
-//! The layout is fixed, so printing is a formatter: the camera line, then
+//! The layout is the formatter's, printed by its [`Printer`]: the camera line, then
 //! each object in order, then each light, one blank line between sections;
 //! attributes two spaces in, in the order of the language table
 //! ([`crate::language`], which docs/language.md shows: `dimension`,
@@ -13,10 +13,8 @@
 //! prints for it; texture paths are bare words where the grammar
 //! reads them back as one, quoted strings otherwise ([`path`]).
 
-use std::fmt::Write;
-
 use crate::ast::{AttrName, SectionKind};
-use crate::format::number;
+use crate::format::{number, Printer};
 use crate::language::attributes_of;
 use crate::model::{self, Shape};
 use crate::syntax::{is_line_end, is_word_char};
@@ -25,7 +23,8 @@ use super::UnprintablePath;
 
 /// `scene` as canonical scene text, ending in a newline.
 pub fn to_scene_text(scene: &model::Scene) -> Result<String, UnprintablePath> {
-    let mut out = format!("camera {}\n", scene.camera.resolution);
+    let mut out = Printer::default();
+    out.section(&format!("camera {}", scene.camera.resolution), []);
     for object in &scene.objects {
         let kind = match object.shape {
             Shape::Sphere { .. } => SectionKind::Sphere,
@@ -40,7 +39,7 @@ pub fn to_scene_text(scene: &model::Scene) -> Result<String, UnprintablePath> {
             _ => Printed::Omitted,
         })?;
     }
-    Ok(out)
+    Ok(out.finish())
 }
 
 /// What an attribute line prints.
@@ -51,27 +50,26 @@ enum Printed<'a> {
     Omitted,
 }
 
-/// A blank line, the keyword, then each attribute `value_of` gives, in
-/// the order of the language table ([`attributes_of`]).
+/// The keyword, then each attribute `value_of` gives, in the order of the
+/// language table ([`attributes_of`]).
 fn section<'a>(
-    out: &mut String,
+    out: &mut Printer,
     kind: &SectionKind,
     value_of: impl Fn(&AttrName) -> Printed<'a>,
 ) -> Result<(), UnprintablePath> {
-    out.push('\n');
-    out.push_str(kind.as_str());
-    out.push('\n');
+    let mut lines = Vec::new();
     for spec in attributes_of(kind) {
         let name = spec.name.as_str();
         match value_of(&spec.attr_name()) {
-            Printed::Numbers(values) => line(out, name, &values),
-            // Writing to a String cannot fail.
-            Printed::Path(texture) => {
-                let _ = writeln!(out, "  {name} {}", path(texture)?);
+            Printed::Numbers(values) => {
+                let values: Vec<String> = values.into_iter().map(number).collect();
+                lines.push(format!("{name} {}", values.join(" ")));
             }
+            Printed::Path(texture) => lines.push(format!("{name} {}", path(texture)?)),
             Printed::Omitted => {}
         }
     }
+    out.section(kind.as_str(), lines.iter().map(String::as_str));
     Ok(())
 }
 
@@ -104,12 +102,6 @@ fn object_value<'a>(object: &'a model::Object, name: &AttrName) -> Printed<'a> {
             .map_or(Printed::Omitted, Printed::Path),
         _ => Printed::Omitted,
     }
-}
-
-/// `  name v1 v2 v3`.
-fn line(out: &mut String, name: &str, values: &[f64]) {
-    let values: Vec<String> = values.iter().copied().map(number).collect();
-    let _ = writeln!(out, "  {name} {}", values.join(" "));
 }
 
 /// Equal bit for bit, so a `-0` reflectivity is printed, not dropped.

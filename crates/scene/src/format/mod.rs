@@ -9,9 +9,10 @@
 //! between sections. Numbers are spelt as [`number`] spells them (`.7` is
 //! `0.7`, `1e2` is `100`), the same `f64` bit for bit; words and strings
 //! are copied as written. `convert --to scene` prints a scene's model with
-//! the same spelling and order, so the two agree on one canonical form
-//! (they differ only in what the model keeps: no comments, no attribute
-//! at its default value, the lights after the objects).
+//! the same spelling and order through the same renderer ([`Printer`]),
+//! so the two agree on one canonical form (they differ only in what the
+//! model keeps: no comments, no attribute at its default value, the
+//! lights after the objects).
 //!
 //! Comments come from [`syntax::trivia`] and are placed by where they stood
 //! relative to the tree's nodes:
@@ -276,7 +277,6 @@ fn lay_out<'a>(text: &'a str, tokens: &'a [Token]) -> Vec<Line<'a>> {
 
 /// The lines as text, trailing comments aligned within each section.
 fn render(lines: &[Line]) -> String {
-    let width = |line: &Line| line.indent + line.code.chars().count();
     let mut out = String::new();
     let mut start = 0;
     while start < lines.len() {
@@ -287,30 +287,67 @@ fn render(lines: &[Line]) -> String {
                 end += 1;
             }
         }
-        let block = &lines[start..end];
-        let column = block
-            .iter()
-            .filter(|l| l.comment.is_some() && !l.code.is_empty())
-            .map(width)
-            .max()
-            .unwrap_or(0);
-        for line in block {
-            if line.blank_before {
-                out.push('\n');
-            }
-            out.extend(std::iter::repeat_n(' ', line.indent));
-            out.push_str(&line.code);
-            if let Some(comment) = line.comment {
-                if !line.code.is_empty() {
-                    out.extend(std::iter::repeat_n(' ', column - width(line) + 1));
-                }
-                out.push_str(comment);
-            }
-            out.push('\n');
-        }
+        render_block(&lines[start..end], &mut out);
         start = end;
     }
     out
+}
+
+/// One block of lines (a section's, or one outside any) onto `out`, its
+/// trailing comments aligned.
+fn render_block(block: &[Line], out: &mut String) {
+    let width = |line: &Line| line.indent + line.code.chars().count();
+    let column = block
+        .iter()
+        .filter(|l| l.comment.is_some() && !l.code.is_empty())
+        .map(width)
+        .max()
+        .unwrap_or(0);
+    for line in block {
+        if line.blank_before {
+            out.push('\n');
+        }
+        out.extend(std::iter::repeat_n(' ', line.indent));
+        out.push_str(&line.code);
+        if let Some(comment) = line.comment {
+            if !line.code.is_empty() {
+                out.extend(std::iter::repeat_n(' ', column - width(line) + 1));
+            }
+            out.push_str(comment);
+        }
+        out.push('\n');
+    }
+}
+
+/// Scene text in the canonical layout, written a section at a time from
+/// values rather than laid out from a file: `convert --to scene` prints
+/// with it, through the renderer `fmt` uses, so the two print one form.
+#[derive(Debug, Default)]
+pub struct Printer {
+    out: String,
+}
+
+impl Printer {
+    /// A section: its keyword line (`camera 400`, `sphere`), then each
+    /// attribute line (`dimension 0.5`) in the order given.
+    pub fn section<'a>(&mut self, keyword: &str, attributes: impl IntoIterator<Item = &'a str>) {
+        let mut lines = vec![Line {
+            code: keyword.to_string(),
+            blank_before: !self.out.is_empty(),
+            ..Line::default()
+        }];
+        lines.extend(attributes.into_iter().map(|attribute| Line {
+            indent: 2,
+            code: attribute.to_string(),
+            ..Line::default()
+        }));
+        render_block(&lines, &mut self.out);
+    }
+
+    /// The text printed, ending in a newline unless empty.
+    pub fn finish(self) -> String {
+        self.out
+    }
 }
 
 fn is_section_start(line: &Line) -> bool {
