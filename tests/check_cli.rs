@@ -1,5 +1,5 @@
 //! `raytracer check` end to end: exit codes, the three formats, several
-//! files in one run, `--deny-warnings` and `--fix`.
+//! files in one run, `--deny-warnings`, `--fix` and `--unsafe-fixes`.
 
 use std::process::Output;
 
@@ -133,7 +133,7 @@ fn fix_rewrites_only_the_fixed_values_and_rechecks() {
     // diagnostic, so no fix.
     assert!(!out.contains("normal`"), "{out}");
     assert!(
-        out.contains("warns.txt:6:11: fixed: projected `headup` onto the plane"),
+        out.contains("warns.txt:6:11: applied: project `headup` onto the plane"),
         "{out}"
     );
     assert!(out.contains("warns.txt: ok; effects: shadows"), "{out}");
@@ -143,8 +143,35 @@ fn fix_rewrites_only_the_fixed_values_and_rechecks() {
     );
     // Nothing is left to fix, and no temporary file is left behind.
     let again = stdout(&check(&["--fix", &warns]));
-    assert!(!again.contains("fixed"), "{again}");
+    assert!(!again.contains("applied"), "{again}");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+/// `--fix` applies the safe fixes and counts the unsafe ones it left;
+/// `--unsafe-fixes` alone applies both (issue 56: it was a usage error).
+#[test]
+fn fix_counts_the_unsafe_fixes_left_and_unsafe_fixes_implies_fix() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "camera 4\nsphere\n  dimension 1\n  center 0 0 -5\n  colour 1 0 0\n  reflectivity 70\nlight location 0 5 0 color 1 1 1\n";
+    let scene = write(dir.path(), "s.txt", text);
+    let out = stdout(&check(&["--fix", &scene]));
+    assert!(
+        out.ends_with("2 more fixes can be applied with `--unsafe-fixes` (review them: each is a likely intent, not a certainty)\n"),
+        "{out}"
+    );
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), text);
+    let output = check(&["--unsafe-fixes", &scene]);
+    assert_eq!(output.status.code(), Some(0), "{output:?}");
+    let out = stdout(&output);
+    assert!(
+        out.contains("s.txt:5:3: applied: replace `colour` with `color`"),
+        "{out}"
+    );
+    assert!(!out.contains("--unsafe-fixes"), "{out}");
+    assert_eq!(
+        std::fs::read_to_string(&scene).unwrap(),
+        text.replace("colour", "color").replace("70", "0.7")
+    );
 }
 
 #[test]
@@ -234,4 +261,44 @@ fn a_folder_and_a_file_together_get_one_total() {
     let output = check(&[&empty.path().display().to_string()]);
     assert_eq!(output.status.code(), Some(0));
     assert_eq!(stdout(&output), "checked 0 files: 0 errors, 0 warnings\n");
+}
+
+/// `raytracer check scenes/` says nothing but the warnings that are a
+/// scene's point, each named (`scene::no_light`) in the scene's leading
+/// comment (issue 56: six warnings, said nowhere to be meant).
+#[test]
+fn shipped_scenes_warn_only_where_their_comment_says_so() {
+    let scenes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut folders = vec![scenes];
+    let mut checked = 0;
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+                continue;
+            }
+            if path.extension().is_none_or(|e| e != "txt") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            let header: String = text
+                .lines()
+                .take_while(|l| l.starts_with('#'))
+                .collect::<Vec<_>>()
+                .join(" ");
+            let loaded = raytracer_scene::frontend::load(&path).unwrap();
+            for entry in loaded.report.entries() {
+                assert!(
+                    entry.severity == "warning" && header.contains(&format!("`{}`", entry.code)),
+                    "{}: `{}` ({}) is not named in its leading comment as the scene's point",
+                    path.display(),
+                    entry.code,
+                    entry.severity
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 15, "{checked} scenes");
 }

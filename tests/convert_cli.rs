@@ -54,7 +54,39 @@ fn json_flag_is_short_for_to_json() {
     assert!(text(&both.stderr).contains("cannot be used with"));
     let neither = raytracer(&["convert", "s.txt"], dir.path());
     assert_eq!(neither.status.code(), Some(2));
-    assert!(text(&neither.stderr).contains("--to <TO>|--json"));
+    assert!(text(&neither.stderr).contains("expected `--to json`, `--to scene` or `--to pov`"));
+}
+
+/// `-o` names the output language by its extension when `--to` does not
+/// (issue 56: `-o x.json` still demanded `--to`), and an extension that
+/// names none is a usage error that writes nothing.
+#[test]
+fn the_output_extension_picks_the_language() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.txt"), SCENE).unwrap();
+    for (output, starts) in [
+        ("x.json", "{\n  \"format\": \"raytracer-scene/1\","),
+        ("x.scene", "camera 4\n"),
+        ("x.pov", "// "),
+    ] {
+        let run = raytracer(&["convert", "s.txt", "-o", output], dir.path());
+        assert_eq!(
+            run.status.code(),
+            Some(0),
+            "{output}: {}",
+            text(&run.stderr)
+        );
+        let written = std::fs::read_to_string(dir.path().join(output)).unwrap();
+        assert!(written.starts_with(starts), "{output}: {written}");
+    }
+    let unknown = raytracer(&["convert", "s.txt", "-o", "x.png"], dir.path());
+    assert_eq!(unknown.status.code(), Some(2));
+    assert!(
+        text(&unknown.stderr).contains("cannot tell the output language from `x.png`"),
+        "{}",
+        text(&unknown.stderr)
+    );
+    assert!(!dir.path().join("x.png").exists());
 }
 
 #[test]

@@ -268,16 +268,18 @@ fn section_mut<'a>(scene: &'a mut Value, kind: &SectionKind) -> Option<&'a mut V
 
 /// The codes of diagnostics on a JSON scene whose fix is not as the fix
 /// registry says: carried though it says scene text only, or missing
-/// though it says JSON scenes get it.
+/// though it says JSON scenes get it (a missing texture gets its fix only
+/// when a near path names a file, on either language).
 fn unlike_the_registry(loaded: &raytracer_scene::frontend::Loaded) -> Vec<String> {
     loaded
         .report
         .entries()
         .filter(|e| {
+            let sometimes = e.code == "scene::texture_not_found" && e.fix.is_none();
             fix::WITH_FIX
                 .iter()
                 .find(|rule| rule.code == e.code)
-                .is_some_and(|rule| rule.json != e.fix.is_some())
+                .is_some_and(|rule| rule.json != e.fix.is_some() && !sometimes)
         })
         .map(|e| e.code)
         .collect()

@@ -4,8 +4,11 @@
 //!   text as an insta snapshot;
 //! - properties over the corpus (tests/corpus/field), scenes/ and generated
 //!   scenes with comments and odd spacing: formatting is idempotent, keeps
-//!   every comment, and never changes meaning (the same syntax tree, the
-//!   same diagnostics, the same checked scene);
+//!   every comment, and never changes meaning (the same syntax tree but
+//!   for the attributes' order, the same diagnostics, the same checked
+//!   scene);
+//! - one canonical form: over the corpus and scenes/, `convert --to scene`
+//!   prints what `fmt` does, but for what the model does not keep;
 //! - the command: `--check` lists and writes nothing, files are rewritten in
 //!   place, syntax errors refuse, stdin goes to stdout, JSON is refused.
 
@@ -15,8 +18,10 @@ use std::path::{Path, PathBuf};
 
 use crate::support::{run, write};
 use proptest::prelude::*;
-use raytracer_scene::format::format;
+use raytracer_scene::convert::scene_text::to_scene_text;
+use raytracer_scene::format::{self as formatter, format};
 use raytracer_scene::frontend::load_bytes;
+use raytracer_scene::language::attributes_of;
 use raytracer_scene::syntax::{self, trivia};
 
 const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/format");
@@ -39,13 +44,18 @@ fn scene_files(dir: &str) -> Vec<PathBuf> {
 /// checked scene as JSON.
 fn meaning(text: &str, dir: &Path) -> (Vec<String>, Option<String>) {
     let loaded = load_bytes("scene.txt", dir, text.as_bytes());
-    let comments = comments(text);
+    // Longest first, so no comment's removal breaks a longer one.
+    let mut comments = comments(text);
+    comments.sort_by_key(|c| std::cmp::Reverse(c.len()));
     let plain = |s: &str| {
         let mut s = s.to_string();
         for comment in &comments {
             s = s.replace(comment.as_str(), " ");
         }
-        s.split_whitespace().collect::<Vec<_>>().join(" ")
+        s.split_whitespace()
+            .map(canonical_number)
+            .collect::<Vec<_>>()
+            .join(" ")
     };
     let diagnostics = loaded
         .report
@@ -60,10 +70,44 @@ fn meaning(text: &str, dir: &Path) -> (Vec<String>, Option<String>) {
             format!("{} {} {help:?} {at:?}", e.code, plain(&e.message))
         })
         .collect();
+    // Attributes move into the table's order, and their diagnostics with
+    // them.
+    let mut diagnostics: Vec<String> = diagnostics;
+    diagnostics.sort();
     let scene = loaded
         .checked
         .map(|c| raytracer_scene::convert::json::to_json(&c.scene));
     (diagnostics, scene)
+}
+
+/// A word that quotes a number (`5e2`, `` `.5` ``) with the number as the
+/// formatter spells it, its quotes and punctuation kept.
+fn canonical_number(word: &str) -> String {
+    let marks: &[char] = &['`', '"', '\'', '(', ')', ',', ':', ';', '?'];
+    let core = word.trim_matches(marks);
+    match core.parse::<f64>() {
+        Ok(x) if x.is_finite() && core.chars().any(|c| c.is_ascii_digit()) => {
+            word.replacen(core, &formatter::number(x), 1)
+        }
+        _ => word.to_string(),
+    }
+}
+
+/// The syntax tree with each section's attributes in the language table's
+/// order, as the formatter puts them (stable, what a section does not take
+/// last).
+fn in_table_order(text: &str) -> Vec<raytracer_scene::ast::Section> {
+    let mut sections = syntax::parse(text).file.sections;
+    for section in &mut sections {
+        let table = attributes_of(&section.kind);
+        section.attributes.sort_by_key(|a| {
+            table
+                .iter()
+                .position(|spec| spec.attr_name() == *a.name)
+                .unwrap_or(table.len())
+        });
+    }
+    sections
 }
 
 fn comments(text: &str) -> Vec<String> {
@@ -78,12 +122,18 @@ fn assert_formats_well(text: &str, dir: &Path, what: &str) -> String {
     let once = format(text).unwrap_or_else(|e| panic!("{what}: syntax errors {e:?}"));
     assert_eq!(format(&once).unwrap(), once, "{what}: not idempotent");
     assert_eq!(
-        syntax::parse(text).file,
-        syntax::parse(&once).file,
+        in_table_order(text),
+        syntax::parse(&once).file.sections,
         "{what}: the tree changed\n{once}"
     );
     assert_eq!(meaning(text, dir), meaning(&once, dir), "{what}: meaning");
-    assert_eq!(comments(text), comments(&once), "{what}: comments");
+    // Every comment is kept; one moves with the attribute it stands by.
+    let sorted = |text: &str| {
+        let mut comments = comments(text);
+        comments.sort();
+        comments
+    };
+    assert_eq!(sorted(text), sorted(&once), "{what}: comments");
     once
 }
 
@@ -113,6 +163,72 @@ fn corpus_and_scenes_keep_their_meaning() {
         let dir = path.parent().unwrap();
         assert_formats_well(&text, dir, &path.display().to_string());
     }
+}
+
+/// One canonical form (issue 56): over the corpus and scenes/, `convert
+/// --to scene` prints what `fmt` does, but for what the model does not
+/// keep: comments, an attribute at its default (`color 1 1 1`,
+/// `reflectivity 0`) and the place of the lights (after the objects).
+/// And `fmt` leaves the converted text as it is.
+#[test]
+fn fmt_and_convert_print_one_canonical_form() {
+    let files: Vec<PathBuf> = [CORPUS, SCENES]
+        .iter()
+        .flat_map(|d| scene_files(d))
+        .filter(|p| !p.ends_with("SOURCE.txt"))
+        .collect();
+    let mut compared = 0;
+    for path in files {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let loaded = load_bytes("scene.txt", path.parent().unwrap(), text.as_bytes());
+        let Some(checked) = loaded.checked else {
+            continue;
+        };
+        let converted = to_scene_text(&checked.scene).unwrap();
+        assert_eq!(format(&converted).unwrap(), converted, "{}", path.display());
+        let formatted = format(&text).unwrap();
+        assert_eq!(
+            as_the_model_keeps(&formatted),
+            converted,
+            "{}: fmt, without what the model does not keep, is not convert's",
+            path.display()
+        );
+        compared += 1;
+    }
+    assert!(compared >= 15, "{compared} scenes compared");
+}
+
+/// Formatted scene text without what the model does not keep: comment
+/// lines and trailing comments, attributes at their defaults, blank lines
+/// between comments; the lights moved after the objects.
+fn as_the_model_keeps(formatted: &str) -> String {
+    let mut sections: Vec<Vec<String>> = Vec::new();
+    for line in formatted.lines() {
+        let code = line.split('#').next().unwrap_or_default().trim_end();
+        if code.is_empty() {
+            continue;
+        }
+        if matches!(code.trim(), "color 1 1 1" | "reflectivity 0")
+            && sections.last().is_some_and(|s| s[0] != "light")
+        {
+            continue;
+        }
+        if code.starts_with(' ') {
+            sections
+                .last_mut()
+                .expect("a section")
+                .push(code.to_string());
+        } else {
+            sections.push(vec![code.to_string()]);
+        }
+    }
+    sections.sort_by_key(|s| match s[0].as_str() {
+        "light" => 2,
+        code if code.starts_with("camera") => 0,
+        _ => 1,
+    });
+    let blocks: Vec<String> = sections.iter().map(|s| s.join("\n") + "\n").collect();
+    blocks.join("\n")
 }
 
 /// Found by the `format` fuzz target (fuzz/seeds/format/crash_missing_camera_order): with no

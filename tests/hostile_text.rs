@@ -231,7 +231,7 @@ fn fix_reports_escape_the_file_name() {
     assert!(
         // A non-unit normal is valid and stays as written (issue 14); the
         // headup projection is the fix here.
-        stdout.contains("fix\\u{1b}]0;x\\u{7}.txt:6:14: fixed: projected `headup` onto the plane"),
+        stdout.contains("fix\\u{1b}]0;x\\u{7}.txt:6:14: applied: project `headup` onto the plane"),
         "{stdout}"
     );
 }

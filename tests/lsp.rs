@@ -398,7 +398,7 @@ fn quick_fixes_and_fix_all() {
     assert_eq!(
         titles,
         [
-            "projected `headup` onto the plane",
+            "project `headup` onto the plane",
             "apply every safe fix (1)"
         ]
     );
@@ -418,7 +418,7 @@ fn quick_fixes_and_fix_all() {
     // The misspelt attribute: an unsafe fix, offered but not preferred.
     let actions = actions_at(&mut client, 4, json!(["quickfix"]));
     assert_eq!(actions.as_array().unwrap().len(), 1, "{actions}");
-    assert_eq!(actions[0]["title"], "replaced `colr` with `color`");
+    assert_eq!(actions[0]["title"], "replace `colr` with `color`");
     assert_eq!(actions[0]["isPreferred"], false);
     // Fix-all only: the safe fixes of the whole document.
     let fix_all = actions_at(&mut client, 0, json!(["source.fixAll"]));

@@ -15,7 +15,7 @@ const SCRIPT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/editors/neovim.
 
 const SCENE: &str = "camera 40\nsphere dimension 1 center 0 0 -5   # the ball\n  colr .5 .5 .5\nplane dimension 4 4 center 0 -1 -5\n  normal 0 1 0 headup 0 1 1\nlight location 0 5 0 color 1 1 1\n";
 
-const EXPECTED: &str = "camera 40\n\nsphere\n  dimension 1\n  center 0 0 -5 # the ball\n  colr .5 .5 .5\n\nplane\n  dimension 4 4\n  center 0 -1 -5\n  normal 0 1 0\n  headup 0 0 1\n\nlight\n  location 0 5 0\n  color 1 1 1\n";
+const EXPECTED: &str = "camera 40\n\nsphere\n  dimension 1\n  center 0 0 -5 # the ball\n  colr 0.5 0.5 0.5\n\nplane\n  dimension 4 4\n  center 0 -1 -5\n  normal 0 1 0\n  headup 0 0 1\n\nlight\n  location 0 5 0\n  color 1 1 1\n";
 
 #[test]
 fn neovim_shows_diagnostics_applies_a_quick_fix_and_formats() {
@@ -57,7 +57,7 @@ fn neovim_shows_diagnostics_applies_a_quick_fix_and_formats() {
         "{stdout}"
     );
     assert!(
-        stdout.contains("action quickfix: projected `headup` onto the plane"),
+        stdout.contains("action quickfix: project `headup` onto the plane"),
         "{stdout}"
     );
     assert_eq!(std::fs::read_to_string(&scene).unwrap(), EXPECTED);

@@ -9,6 +9,9 @@
 //! have a section per code showing the fixture's current output. Every code
 //! either carries a fix in its fixture (snapshotted as JSON) or is on
 //! [`raytracer_scene::fix::WITHOUT_FIX`], whose reason its section states.
+//! Beside them, `tests/ui/cascade/` holds scenes whose mistakes once drew
+//! a message too many, or two that contradicted each other, each with the
+//! number of its mistakes and a snapshot of what `check` says.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -115,6 +118,48 @@ fn every_code_is_listed_and_has_a_fixture() {
     );
     let stale: Vec<_> = with_fixture.difference(&listed).collect();
     assert!(stale.is_empty(), "fixtures named after no code: {stale:?}");
+}
+
+/// Scenes whose mistakes once drew more messages than there are mistakes,
+/// or messages that contradict each other (issue 56): `tests/ui/cascade/`,
+/// each fixture's first line saying how many mistakes it holds (`# 1
+/// mistake: …`). Each reports that many diagnostics, rendered as its
+/// snapshot (`cascade-<name>`).
+#[test]
+fn one_mistake_is_one_message() {
+    let dir = Path::new("tests/ui/cascade");
+    let mut fixtures: Vec<PathBuf> = std::fs::read_dir(root().join(dir))
+        .expect("tests/ui/cascade")
+        .map(|entry| dir.join(entry.expect("fixture").file_name()))
+        .filter(|path| path.extension().is_some_and(|e| e == "txt"))
+        .collect();
+    fixtures.sort();
+    assert!(!fixtures.is_empty());
+    for fixture in fixtures {
+        let text = std::fs::read_to_string(root().join(&fixture)).expect("fixture");
+        let mistakes: usize = text
+            .strip_prefix("# ")
+            .and_then(|rest| rest.split_once(' '))
+            .and_then(|(n, rest)| rest.starts_with("mistake").then(|| n.parse().ok())?)
+            .unwrap_or_else(|| panic!("{} should start `# N mistakes`", fixture.display()));
+        let loaded = load(&fixture);
+        let codes: Vec<String> = loaded.report.entries().map(|e| e.code).collect();
+        assert_eq!(
+            codes.len(),
+            mistakes,
+            "{}: {mistakes} mistakes, reported {codes:?}",
+            fixture.display()
+        );
+        let rendered = loaded.report.render_human(80, false);
+        let name = fixture.file_stem().expect("name").to_string_lossy();
+        insta::with_settings!({
+            snapshot_path => "ui/snapshots",
+            prepend_module_to_snapshot => false,
+            omit_expression => true,
+        }, {
+            insta::assert_snapshot!(format!("cascade-{name}"), rendered);
+        });
+    }
 }
 
 /// Lines without trailing whitespace, without leading or trailing blank lines.

@@ -2,7 +2,7 @@
 -- scene with mistakes. Run by tests/neovim.rs as
 --   RAYTRACER=<binary> SCENE=<file> nvim --headless --clean -c 'luafile tests/editors/neovim.lua'
 -- It waits for the diagnostics and prints them, applies the quick fix
--- "projected `headup` onto the plane", formats the buffer, writes the file
+-- "project `headup` onto the plane", formats the buffer, writes the file
 -- and shuts the server down. Any failure exits non-zero (`cquit`).
 -- Written for Neovim 0.7 (Debian's) and later: `vim.lsp.start_client`,
 -- `formatting_sync` where `format` is missing.

@@ -352,9 +352,9 @@ pub struct CheckArgs {
     /// headup onto the plane) in place.
     #[arg(long)]
     pub fix: bool,
-    /// With `--fix`, also apply the unsafe fixes (such as a "did you
-    /// mean" replacement).
-    #[arg(long, requires = "fix")]
+    /// Also apply the unsafe fixes (such as a "did you mean"
+    /// replacement); implies `--fix`.
+    #[arg(long)]
     pub unsafe_fixes: bool,
     /// Show at most N problems per file in the human and short formats,
     /// then how many more there are (0 shows every one; the json, sarif
@@ -375,11 +375,12 @@ pub enum Target {
 }
 
 #[derive(Debug, Args)]
-#[command(group(clap::ArgGroup::new("target").required(true).args(["to", "json"])))]
+#[command(group(clap::ArgGroup::new("target").args(["to", "json"])))]
 pub struct ConvertArgs {
     /// Scene file (`.json` is read as JSON; `-` reads stdin).
     pub scene: PathBuf,
-    /// Output language.
+    /// Output language [default: from the extension of `-o`: `.json`,
+    /// `.txt` or `.scene`, `.pov`].
     #[arg(long, value_enum)]
     pub to: Option<Target>,
     /// Short for `--to json`.
@@ -391,11 +392,42 @@ pub struct ConvertArgs {
 }
 
 impl ConvertArgs {
-    /// The output language, from `--to` or `--json` (clap requires exactly
-    /// one of them).
-    pub fn target(&self) -> Target {
-        self.to.unwrap_or(Target::Json)
+    /// The output language: `--to`, `--json` (clap allows one of them),
+    /// or the extension of `-o`. `None` when none says it.
+    pub fn target(&self) -> Option<Target> {
+        let by_extension = || {
+            let extension = self.output.as_deref()?.extension()?.to_str()?;
+            match extension.to_ascii_lowercase().as_str() {
+                "json" => Some(Target::Json),
+                "txt" | "scene" => Some(Target::Scene),
+                "pov" => Some(Target::Pov),
+                _ => None,
+            }
+        };
+        self.to
+            .or(self.json.then_some(Target::Json))
+            .or_else(by_extension)
     }
+}
+
+/// The usage error of a `convert` that does not say what to write.
+fn convert_without_target(args: &ConvertArgs) -> Option<clap::Error> {
+    use clap::CommandFactory;
+    if args.target().is_some() {
+        return None;
+    }
+    let message = match &args.output {
+        Some(path) => format!(
+            "cannot tell the output language from `{}`: give `--to json`, `--to scene` or `--to pov`, or name the output `.json`, `.txt` or `.pov`",
+            raytracer_scene::escape::escape(&path.display().to_string())
+        ),
+        None => "expected `--to json`, `--to scene` or `--to pov` (or `-o` with a `.json`, `.txt` or `.pov` name)".to_string(),
+    };
+    Some(
+        Cli::command()
+            .find_subcommand_mut("convert")?
+            .error(clap::error::ErrorKind::MissingRequiredArgument, message),
+    )
 }
 
 #[derive(Debug, Args)]
@@ -543,6 +575,11 @@ pub fn parse_args(
                 clap::error::ErrorKind::InvalidValue,
                 format!("unknown command `{shown}`: expected one of {expected}"),
             ));
+        }
+    }
+    if let Command::Convert(convert) = &cli.command {
+        if let Some(error) = convert_without_target(convert) {
+            return Err(error);
         }
     }
     Ok(cli)
@@ -787,7 +824,7 @@ mod tests {
     #[test]
     fn convert_json_is_short_for_to_json() {
         let target = |args: &[&str]| match parse(args).map(|cli| cli.command) {
-            Ok(Command::Convert(args)) => Ok(args.target()),
+            Ok(Command::Convert(args)) => Ok(args.target().expect("a target")),
             Ok(_) => panic!("not convert"),
             Err(e) => Err(e.kind()),
         };
@@ -806,6 +843,50 @@ mod tests {
         assert_eq!(
             target(&["raytracer", "convert", "s.txt"]),
             Err(clap::error::ErrorKind::MissingRequiredArgument)
+        );
+    }
+
+    /// `-o x.json` says what to write (issue 56); `--to` still wins, and
+    /// an extension that names no language is a usage error naming the
+    /// file and the ways to say it.
+    #[test]
+    fn convert_infers_the_target_from_the_output_extension() {
+        let target = |args: &[&str]| match parse(args).map(|cli| cli.command) {
+            Ok(Command::Convert(args)) => Ok(args.target()),
+            Ok(_) => panic!("not convert"),
+            Err(e) => Err((e.kind(), e.to_string())),
+        };
+        for (output, expected) in [
+            ("x.json", Target::Json),
+            ("out/X.JSON", Target::Json),
+            ("x.txt", Target::Scene),
+            ("x.scene", Target::Scene),
+            ("x.pov", Target::Pov),
+        ] {
+            assert_eq!(
+                target(&["raytracer", "convert", "s.txt", "-o", output]),
+                Ok(Some(expected)),
+                "{output}"
+            );
+        }
+        assert_eq!(
+            target(&[
+                "raytracer",
+                "convert",
+                "s.txt",
+                "-o",
+                "x.json",
+                "--to",
+                "pov"
+            ]),
+            Ok(Some(Target::Pov))
+        );
+        let (kind, message) =
+            target(&["raytracer", "convert", "s.txt", "-o", "x.png"]).unwrap_err();
+        assert_eq!(kind, clap::error::ErrorKind::MissingRequiredArgument);
+        assert!(
+            message.contains("cannot tell the output language from `x.png`: give `--to json`"),
+            "{message}"
         );
     }
 

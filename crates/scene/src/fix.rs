@@ -75,10 +75,6 @@ pub const WITHOUT_FIX: &[(&str, &str)] = &[
         "the value's shape is wrong, and what it was meant to hold is unknown",
     ),
     (
-        "scene::texture_not_found",
-        "the file the path was meant to name is unknown, unless a near path names one (with `/` for a backslash, without quotes, in another case or from another folder), which an unsafe fix then writes",
-    ),
-    (
         "scene::texture_not_a_file",
         "the file the path was meant to name is unknown",
     ),
@@ -277,6 +273,12 @@ pub const WITH_FIX: &[FixRule] = &[
         does: "negates the z of a centre with z > 0",
     },
     FixRule {
+        code: "scene::texture_not_found",
+        applicability: UNSAFE,
+        json: true,
+        does: "writes a near path that names a file, as a path from the scene's folder: `/` for a backslash, without quotes, in the folder's case, or the same name beside the scene (first) or in a folder near it",
+    },
+    FixRule {
         code: "scene::no_light",
         applicability: UNSAFE,
         json: false,
@@ -353,7 +355,8 @@ pub struct Edit {
 /// A change that resolves a diagnostic.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Fix {
-    /// What applying it does: "projected `headup` onto the plane".
+    /// What applying it does, in the imperative (an editor's quick fix
+    /// is titled with it): "project `headup` onto the plane".
     pub message: String,
     pub applicability: Applicability,
     /// Non-overlapping edits, in source order.

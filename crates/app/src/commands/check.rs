@@ -13,7 +13,9 @@
 //! With `--fix`, each file is checked, gets the safe fixes its diagnostics
 //! carry (with `--unsafe-fixes`, the unsafe ones too; see [`raytracer_scene::fix`]),
 //! written atomically (a temporary file beside it, then a rename), and is
-//! checked again, so the report shows what remains. Fixes replace single
+//! checked again, so the report shows what remains, and a last line counts
+//! the unsafe fixes left for `--unsafe-fixes` (which implies `--fix`).
+//! Fixes replace single
 //! numbers or words, so they apply to JSON scenes as they do to scene text.
 
 use std::io::Write;
@@ -45,6 +47,10 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
     // A file named on the command line that cannot be read: exit 2.
     let mut named_unreadable = false;
     let several = discovered.walked || discovered.found.len() > 1;
+    // `--unsafe-fixes` alone means `--fix --unsafe-fixes`.
+    let fixing = args.fix || args.unsafe_fixes;
+    // After safe fixes, the unsafe fixes the checked files still carry.
+    let mut unsafe_left = 0;
     for found in &discovered.found {
         let (path, named) = match found {
             Found::Scene { path, named } => (path, *named),
@@ -60,7 +66,7 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
                 continue;
             }
         };
-        if args.fix {
+        if fixing {
             let applicability = if args.unsafe_fixes {
                 Applicability::Unsafe
             } else {
@@ -82,6 +88,13 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
                 failed |=
                     report.error_count() > 0 || (args.deny_warnings && report.warning_count() > 0);
                 totals.add(report);
+                if fixing && !args.unsafe_fixes {
+                    unsafe_left += report
+                        .fixes_up_to(Applicability::Unsafe)
+                        .iter()
+                        .filter(|f| f.applicability == Applicability::Unsafe)
+                        .count();
+                }
                 out.scene(&loaded)?;
             }
             Err(error) => {
@@ -94,6 +107,12 @@ pub fn run(args: CheckArgs) -> Result<Outcome, BoxedDiagnostic> {
     }
     if several {
         out.total(&totals)?;
+    }
+    if unsafe_left > 0 {
+        let fixes = if unsafe_left == 1 { "fix" } else { "fixes" };
+        out.note(&format!(
+            "{unsafe_left} more {fixes} can be applied with `--unsafe-fixes` (review them: each is a likely intent, not a certainty)"
+        ))?;
     }
     out.finish()?;
     if named_unreadable {
@@ -217,14 +236,20 @@ impl Output {
     /// stderr when stdout is for machines.
     fn fixed(&self, fixed: &[String]) -> Result<(), BoxedDiagnostic> {
         for line in fixed {
-            let line = escape(line);
-            if self.format_is_for_machines() {
-                sayln!("{line}");
-            } else {
-                out!("{line}\n")?;
-            }
+            self.note(&escape(line))?;
         }
         Ok(())
+    }
+
+    /// A line for people about the run, not a diagnostic: on stdout with
+    /// the diagnostics, or on stderr when stdout is for machines.
+    fn note(&self, line: &str) -> Result<(), BoxedDiagnostic> {
+        if self.format_is_for_machines() {
+            sayln!("{line}");
+            Ok(())
+        } else {
+            out!("{line}\n")
+        }
     }
 
     /// A file a walk found and did not check, named with the reason: a
@@ -309,7 +334,8 @@ pub struct WriteFixError(FileError);
 
 /// Apply the fixes of at most `applicability` that the diagnostics of the
 /// scene at `path` carry, in place, returning one `file:line:column:
-/// fixed: …` line per fix. Stdin, unreadable files (the check reports them)
+/// applied: …` line per fix (the fix's message, in the imperative:
+/// "applied: write `normal 0 1 0`"). Stdin, unreadable files (the check reports them)
 /// and files that are not UTF-8 (rewriting would replace their bad bytes)
 /// are left alone.
 fn fix_in_place(path: &Path, applicability: Applicability) -> Result<Vec<String>, WriteFixError> {
@@ -343,7 +369,7 @@ fn fix_in_place(path: &Path, applicability: Applicability) -> Result<Vec<String>
         .map(|f| {
             let at = f.edits.first().map_or(0, |e| e.span.start());
             let (line, column) = report.source.line_col(at);
-            format!("{name}:{line}:{column}: fixed: {}", f.message)
+            format!("{name}:{line}:{column}: applied: {}", f.message)
         })
         .collect())
 }

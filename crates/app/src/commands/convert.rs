@@ -49,7 +49,8 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, BoxedDiagnostic> {
     };
     paths::rebase_textures(&mut checked, destination);
     let checked = &checked;
-    let text = match args.target() {
+    // The command line made sure a target is given or inferred.
+    let text = match args.target().unwrap_or(Target::Json) {
         Target::Json => json::to_json(&checked.scene),
         Target::Scene => {
             scene_text::to_scene_text(&checked.scene).map_err(|e| Box::new(e) as BoxedDiagnostic)?

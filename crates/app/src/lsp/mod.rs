@@ -443,7 +443,7 @@ mod tests {
         );
         let first = server.answer(&actions).expect("code actions");
         assert_eq!(
-            first[0]["title"], "replaced `colour` with `color`",
+            first[0]["title"], "replace `colour` with `color`",
             "{first}"
         );
         assert_eq!(server.answer(&actions).expect("code actions"), first);

@@ -201,7 +201,7 @@ fn not_taken(kind: &SectionKind, attribute: &Attribute, cx: &Checker<'_>) -> Che
                         Replacement::Near => Applicability::Unsafe,
                     };
                     Fix::boxed(
-                        format!("replaced `{found}` with `{near}`"),
+                        format!("replace `{found}` with `{near}`"),
                         applicability,
                         attribute.name.span,
                         near,
@@ -373,7 +373,14 @@ fn count_problem(
         let kept = values[..expected_count]
             .last()
             .map_or(name_span, |v| v.span);
-        let kept_line = cx.text(name_span.join(kept));
+        // The name as the language spells it (`Camera` is the parser's
+        // `syntax::keyword_case`), then the values kept as written.
+        let written_name = cx.text(name_span);
+        let kept_line = if written_name.eq_ignore_ascii_case(name) {
+            format!("{name}{}", cx.text(Span::new(name_span.end(), kept.end())))
+        } else {
+            cx.text(name_span.join(kept))
+        };
         let fix = Fix::boxed(
             format!("write `{kept_line}`"),
             Applicability::Unsafe,

@@ -132,7 +132,8 @@ pub enum CheckError {
         fix: Option<Box<Fix>>,
     },
 
-    /// Fires when the file has no `camera` line.
+    /// Fires when the file has no `camera` line (and no unknown section
+    /// that is a misspelt `camera`, whose "did you mean" says it).
     #[error("the scene has no camera")]
     #[diagnostic(
         code(scene::missing_camera),
@@ -148,12 +149,15 @@ pub enum CheckError {
 
     /// Fires on every `camera` after the first.
     #[error("the scene has more than one camera")]
-    #[diagnostic(code(scene::repeated_camera), help("remove this `camera` line"))]
+    #[diagnostic(code(scene::repeated_camera))]
     RepeatedCamera {
         #[label("first camera")]
         first: SourceSpan,
         #[label("another camera")]
         second: SourceSpan,
+        /// Which line to remove, quoted with its number.
+        #[help]
+        help: String,
         /// Removing the second camera line (unsafe).
         fix: Option<Box<Fix>>,
     },

@@ -68,6 +68,9 @@ pub struct SceneCheck<'a, S: Sink = Collect> {
     camera: Option<(Span, Option<u32>)>,
     /// Where the first section starts: a missing camera goes before it.
     first_section: Option<Span>,
+    /// Whether an unknown section was taken for a misspelt `camera`, whose
+    /// "did you mean" already says what a missing camera would.
+    camera_misspelt: bool,
     objects: S,
     /// Whether every object so far was valid.
     objects_valid: bool,
@@ -114,6 +117,7 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
             cx: Checker::new(source, textures),
             camera: None,
             first_section: None,
+            camera_misspelt: false,
             objects,
             objects_valid: true,
             lights: Vec::new(),
@@ -157,11 +161,20 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
                             .args
                             .last()
                             .map_or(section.kind.span, |last| section.kind.span.join(last.span));
+                        // The line as one: the keyword and its values,
+                        // without what lies between them.
+                        let written = std::iter::once("camera".to_string())
+                            .chain(section.args.iter().map(|v| cx.text(v.span)))
+                            .collect::<Vec<_>>()
+                            .join(" ");
                         let fix =
-                            cx.removal("remove this `camera` line", Applicability::Unsafe, line);
+                            cx.removal(&format!("remove `{written}`"), Applicability::Unsafe, line);
                         cx.problems.push(CheckError::RepeatedCamera {
                             first: first.into(),
                             second: section.kind.span.into(),
+                            help: format!(
+                                "a scene has one camera: keep the first and remove `{written}`"
+                            ),
                             fix,
                         })
                     }
@@ -180,7 +193,10 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
             }
             SectionKind::Light => self.lights.push(sections::light(section, cx)),
             SectionKind::Unknown(word) => {
-                cx.problems.push(unknown_section(word, section.kind.span))
+                let near = suggest::nearest(word, &SectionKind::KEYWORDS).map(|(near, _)| near);
+                self.camera_misspelt |= near == Some(SectionKind::Camera.as_str());
+                cx.problems
+                    .push(unknown_section(word, near, section.kind.span))
             }
         }
     }
@@ -201,12 +217,14 @@ impl<'a, S: Sink> SceneCheck<'a, S> {
             mut cx,
             camera,
             first_section,
+            camera_misspelt,
             objects,
             objects_valid,
             lights,
             counts,
         } = self;
-        if camera.is_none() {
+        // A misspelt camera line is the one mistake, already reported.
+        if camera.is_none() && !camera_misspelt {
             let fix = cx.scene_text.then(|| {
                 let at = first_section.map_or(0, |s| s.start());
                 let line = &cx.source.text[..at];
@@ -319,8 +337,9 @@ impl Count {
     }
 }
 
-fn unknown_section(word: &str, span: Span) -> CheckError {
-    let near = suggest::nearest(word, &SectionKind::KEYWORDS).map(|(near, _)| near);
+/// The diagnostic for `word` in section position, with `near`, the
+/// nearest keyword if one is close.
+fn unknown_section(word: &str, near: Option<&str>, span: Span) -> CheckError {
     let help = match near {
         Some(near) => format!("did you mean `{near}`?"),
         None => format!(
@@ -332,7 +351,7 @@ fn unknown_section(word: &str, span: Span) -> CheckError {
         found: word.to_string(),
         fix: near.map(|near| {
             Fix::boxed(
-                format!("replaced `{word}` with `{near}`"),
+                format!("replace `{word}` with `{near}`"),
                 Applicability::Unsafe,
                 span,
                 near,

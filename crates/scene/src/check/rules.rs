@@ -43,6 +43,12 @@ pub fn check(
     }
 }
 
+/// A fix and the help line that explains it.
+struct Fixed {
+    help: String,
+    fix: Option<Box<Fix>>,
+}
+
 /// The numbers of one line, the row they belong to and the language of
 /// the file (help lines show the new line in it).
 struct Line<'a> {
@@ -65,12 +71,14 @@ impl Line<'_> {
         Some(picked.last().map_or(first, |last| first.join(last.span)))
     }
 
-    /// The unsafe fix that writes `new` (one number per value), with the
-    /// help line `help(line)` where `line` is the whole new line in the
-    /// file's language, such as `reflectivity 0.7` or `"reflectivity": 0.7`.
-    fn fix(&self, new: &[f64], write: fn(f64) -> String, help: impl Fn(&str) -> String) -> Fix {
+    /// The unsafe fix that writes `new` (one number per value), titled
+    /// "write `line`", with the help line `help(line)`, where `line` is
+    /// the whole new line in the file's language, such as
+    /// `reflectivity 0.7` or `"reflectivity": 0.7`.
+    fn fix(&self, new: &[f64], write: fn(f64) -> String, help: impl Fn(&str) -> String) -> Fixed {
         let texts: Vec<String> = new.iter().map(|&x| write(x)).collect();
         let line = self.spec.written(&texts, self.language);
+        let help = help(&line);
         let edits = self
             .values
             .iter()
@@ -81,10 +89,14 @@ impl Line<'_> {
                 content,
             })
             .collect();
-        Fix {
-            message: help(&line),
+        let fix = Fix {
+            message: format!("write `{line}`"),
             applicability: Applicability::Unsafe,
             edits,
+        };
+        Fixed {
+            help,
+            fix: Some(Box::new(fix)),
         }
     }
 
@@ -122,8 +134,8 @@ impl Line<'_> {
         };
         let found = cx.text(self.span());
         let (min, max) = (format::short(min), format::short(max));
-        let (span, help) = (span.into(), fix.message.clone());
-        let fix = Some(Box::new(fix));
+        let (span, help) = (span.into(), fix.help);
+        let fix = fix.fix;
         // One line a variant: the two carry the same fields.
         #[rustfmt::skip]
         let problem = match self.spec.name {
@@ -153,8 +165,8 @@ impl Line<'_> {
                 what: what.to_string(),
                 found: cx.text(value.span),
                 span: value.span.into(),
-                help: fix.message.clone(),
-                fix: Some(Box::new(fix)),
+                help: fix.help,
+                fix: fix.fix,
             });
         }
         ok
@@ -171,8 +183,8 @@ impl Line<'_> {
             cx.problems.push(CheckError::NegativeLightColor {
                 found: cx.text(self.span()),
                 span: span.into(),
-                help: fix.message.clone(),
-                fix: Some(Box::new(fix)),
+                help: fix.help,
+                fix: fix.fix,
             });
             return false;
         }
@@ -184,8 +196,8 @@ impl Line<'_> {
             });
             cx.problems.push(CheckError::LightColorAboveOne {
                 span: self.span().into(),
-                help: fix.message.clone(),
-                fix: Some(Box::new(fix)),
+                help: fix.help,
+                fix: fix.fix,
             });
         }
         true
@@ -212,7 +224,7 @@ impl Line<'_> {
                 let fix = match turned {
                     Some(v) if v != facing => self.fix(&v, format::number, |line| {
                         format!(
-                            "write `{line}`, facing the camera as nearly as a {} perpendicular to the {} can",
+                            "write `{line}`: a plane's {} is perpendicular to its {}",
                             self.spec.name.as_str(),
                             across.as_str()
                         )
@@ -223,8 +235,8 @@ impl Line<'_> {
                 };
                 cx.problems.push(CheckError::ZeroNormal {
                     span,
-                    help: fix.message.clone(),
-                    fix: Some(Box::new(fix)),
+                    help: fix.help,
+                    fix: fix.fix,
                 });
             }
             StandIn::PerpendicularTo(other) => {
@@ -239,8 +251,8 @@ impl Line<'_> {
                 };
                 cx.problems.push(CheckError::ZeroHeadup {
                     span,
-                    help: fix.message.clone(),
-                    fix: Some(Box::new(fix)),
+                    help: fix.help,
+                    fix: fix.fix,
                 });
             }
         }
@@ -261,8 +273,8 @@ impl Line<'_> {
             cx.problems.push(CheckError::ResolutionNotInteger {
                 found,
                 span,
-                help: fix.message.clone(),
-                fix: Some(Box::new(fix)),
+                help: fix.help,
+                fix: fix.fix,
             });
             return false;
         }
@@ -278,8 +290,8 @@ impl Line<'_> {
                 max: format::short(max),
                 found,
                 span,
-                help: fix.message.clone(),
-                fix: Some(Box::new(fix)),
+                help: fix.help,
+                fix: fix.fix,
             });
             return false;
         }

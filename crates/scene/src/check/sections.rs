@@ -204,7 +204,7 @@ fn orientation(
                 "the renderer projects it onto the plane: write `{}`",
                 written_vector(&AttrName::Headup, projected, cx.language())
             ),
-            fix: headup_fix(projected, "projected `headup` onto the plane"),
+            fix: headup_fix(projected, "project `headup` onto the plane"),
         }),
         Headup::Parallel => {
             let stand_in = geometry::stand_in_headup(geometry::unit(*normal)?).to_array();

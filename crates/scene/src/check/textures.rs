@@ -79,68 +79,61 @@ impl<'a> Textures<'a> {
         )
     }
 
-    /// Whether `path` (relative to the scene's folder, with `/`) names an
-    /// entry, by listing its folder through the loader.
-    fn exists(&mut self, path: &str) -> bool {
-        let (folder, name) = path.rsplit_once('/').unwrap_or(("", path));
-        !name.is_empty()
-            && self
-                .loader
-                .entries(&self.dir.join(folder))
-                .iter()
-                .any(|e| e == name)
+    /// The entry of `folder` (relative to the scene's folder, with `/`,
+    /// empty for the scene's own) named `name`, or else one that names it
+    /// in another case, as a path from the scene's folder.
+    fn entry(&mut self, folder: &str, name: &str) -> Option<String> {
+        if name.is_empty() {
+            return None;
+        }
+        let entries = self.loader.entries(&self.dir.join(folder));
+        let found = entries
+            .iter()
+            .find(|e| *e == name)
+            .or_else(|| entries.iter().find(|e| e.eq_ignore_ascii_case(name)))?;
+        Some(if folder.is_empty() {
+            found.clone()
+        } else {
+            format!("{folder}/{found}")
+        })
     }
 
     /// A path near `written` that names a file where it does not: with
     /// `/` for `\`, without curly or straight quotes, in the case the
-    /// folder has it, or the same name in a folder of the scene's folder
-    /// or beside it. `None` when there is none, or `written` is absolute.
+    /// folder has it; else the file's name beside the scene (whatever
+    /// folder, even another drive, was written before it); else the same
+    /// name in a folder of the scene's folder, beside it, or in a folder
+    /// beside it, the shortest such path. Each is a path from the scene's
+    /// folder. `None` when there is none, or `written` is absolute and
+    /// its name is nowhere near the scene.
     fn near(&mut self, written: &str) -> Option<String> {
         let quotes: &[char] = &['\u{201C}', '\u{201D}', '\u{2018}', '\u{2019}', '"', '\''];
         let plain = written.replace('\\', "/");
         let plain = plain.trim_matches(quotes).to_string();
-        if plain.is_empty() || plain.starts_with('/') {
-            return None;
-        }
-        if plain != written && self.exists(&plain) {
-            return Some(plain);
-        }
-        let (folder, name) = plain
-            .rsplit_once('/')
-            .map_or(("", plain.as_str()), |(f, n)| (f, n));
-        let cased = self
-            .loader
-            .entries(&self.dir.join(folder))
-            .into_iter()
-            .find(|e| e != name && e.eq_ignore_ascii_case(name));
-        if let Some(cased) = cased {
-            return Some(if folder.is_empty() {
-                cased
-            } else {
-                format!("{folder}/{cased}")
-            });
-        }
-        // The same name one folder down, beside the scene's folder, or in
-        // a folder beside it.
-        let mut folders: Vec<String> = self.loader.entries(&self.dir);
-        folders.sort();
-        for sub in folders.into_iter().take(64) {
-            let candidate = format!("{sub}/{name}");
-            if candidate != plain && self.exists(&candidate) {
-                return Some(candidate);
+        let (folder, name) = plain.rsplit_once('/').unwrap_or(("", plain.as_str()));
+        let absolute = plain.starts_with('/') || folder.contains(':');
+        if !absolute {
+            if let Some(near) = self.entry(folder, name).filter(|near| near != written) {
+                return Some(near);
             }
         }
-        let beside = format!("../{plain}");
-        if self.exists(&beside) {
+        if let Some(beside) = self.entry("", name).filter(|near| near != written) {
             return Some(beside);
         }
+        let mut folders: Vec<String> = self.loader.entries(&self.dir);
+        folders.sort();
         let mut siblings: Vec<String> = self.loader.entries(&self.dir.join(".."));
         siblings.sort();
-        siblings
+        let folders = folders
             .into_iter()
             .take(64)
-            .map(|sibling| format!("../{sibling}/{name}"))
-            .find(|candidate| self.exists(candidate))
+            .chain(std::iter::once("..".to_string()))
+            .chain(siblings.into_iter().take(64).map(|s| format!("../{s}")));
+        let mut found: Vec<String> = folders
+            .filter_map(|folder| self.entry(&folder, name))
+            .collect();
+        found.sort_by_key(|path| (path.len(), path.clone()));
+        found.into_iter().next()
     }
 
     /// Load `path` (as written) unless already done; the diagnostic when it

@@ -28,7 +28,7 @@ use crate::geometry;
 use crate::model::{Material, Shape};
 use crate::texture::TextureFormat;
 
-use super::scene_text::number;
+use crate::format::number;
 
 /// `checked` as a POV-Ray 3.7 scene, ending in a newline.
 pub fn to_pov(checked: &Checked) -> String {

@@ -1,19 +1,20 @@
 //! The canonical scene-text printer (`convert --to scene`).
 //!
-//! The layout is fixed, so printing is a formatter: the camera line, then
+//! The layout is the formatter's, printed by its [`Printer`]: the camera line, then
 //! each object in order, then each light, one blank line between sections;
 //! attributes two spaces in, in the order of the language table
 //! ([`crate::language`], which docs/language.md shows: `dimension`,
 //! `center`, `normal`, `headup`, `color`, `reflectivity`, `texture`); a
 //! `color` of `1 1 1` and a `reflectivity` of `0` (the defaults) are left out.
 //!
-//! Numbers are the shortest text that reads back as the same `f64`, bit for
-//! bit ([`number`]), and texture paths are bare words where the grammar
+//! Numbers are spelt as the formatter spells them, the shortest text that
+//! reads back as the same `f64`, bit for bit ([`number`]), and the
+//! attributes are in the formatter's order, so this text is what `fmt`
+//! prints for it; texture paths are bare words where the grammar
 //! reads them back as one, quoted strings otherwise ([`path`]).
 
-use std::fmt::Write;
-
 use crate::ast::{AttrName, SectionKind};
+use crate::format::{number, Printer};
 use crate::language::attributes_of;
 use crate::model::{self, Shape};
 use crate::syntax::{is_line_end, is_word_char};
@@ -22,7 +23,8 @@ use super::UnprintablePath;
 
 /// `scene` as canonical scene text, ending in a newline.
 pub fn to_scene_text(scene: &model::Scene) -> Result<String, UnprintablePath> {
-    let mut out = format!("camera {}\n", scene.camera.resolution);
+    let mut out = Printer::default();
+    out.section(&format!("camera {}", scene.camera.resolution), []);
     for object in &scene.objects {
         let kind = match object.shape {
             Shape::Sphere { .. } => SectionKind::Sphere,
@@ -37,7 +39,7 @@ pub fn to_scene_text(scene: &model::Scene) -> Result<String, UnprintablePath> {
             _ => Printed::Omitted,
         })?;
     }
-    Ok(out)
+    Ok(out.finish())
 }
 
 /// What an attribute line prints.
@@ -48,27 +50,26 @@ enum Printed<'a> {
     Omitted,
 }
 
-/// A blank line, the keyword, then each attribute `value_of` gives, in
-/// the order of the language table ([`attributes_of`]).
+/// The keyword, then each attribute `value_of` gives, in the order of the
+/// language table ([`attributes_of`]).
 fn section<'a>(
-    out: &mut String,
+    out: &mut Printer,
     kind: &SectionKind,
     value_of: impl Fn(&AttrName) -> Printed<'a>,
 ) -> Result<(), UnprintablePath> {
-    out.push('\n');
-    out.push_str(kind.as_str());
-    out.push('\n');
+    let mut lines = Vec::new();
     for spec in attributes_of(kind) {
         let name = spec.name.as_str();
         match value_of(&spec.attr_name()) {
-            Printed::Numbers(values) => line(out, name, &values),
-            // Writing to a String cannot fail.
-            Printed::Path(texture) => {
-                let _ = writeln!(out, "  {name} {}", path(texture)?);
+            Printed::Numbers(values) => {
+                let values: Vec<String> = values.into_iter().map(number).collect();
+                lines.push(format!("{name} {}", values.join(" ")));
             }
+            Printed::Path(texture) => lines.push(format!("{name} {}", path(texture)?)),
             Printed::Omitted => {}
         }
     }
+    out.section(kind.as_str(), lines.iter().map(String::as_str));
     Ok(())
 }
 
@@ -103,31 +104,11 @@ fn object_value<'a>(object: &'a model::Object, name: &AttrName) -> Printed<'a> {
     }
 }
 
-/// `  name v1 v2 v3`.
-fn line(out: &mut String, name: &str, values: &[f64]) {
-    let values: Vec<String> = values.iter().copied().map(number).collect();
-    let _ = writeln!(out, "  {name} {}", values.join(" "));
-}
-
 /// Equal bit for bit, so a `-0` reflectivity is printed, not dropped.
 fn same_bits(a: &[f64], b: &[f64]) -> bool {
     a.iter()
         .map(|x| x.to_bits())
         .eq(b.iter().map(|x| x.to_bits()))
-}
-
-/// `x` as the shortest scene-language number that reads back as exactly
-/// `x`: plain decimals from 1e-5 up to 1e15 (`0.3`, `-2`, `16384`, `-0`),
-/// an exponent outside that (`1e-7`, `1.5e300`). Rust's `Display` and
-/// `LowerExp` for `f64` print the fewest digits that round-trip.
-/// `x` must be finite, as every number in a checked scene is.
-pub fn number(x: f64) -> String {
-    let magnitude = x.abs();
-    if magnitude == 0.0 || (1e-5..1e15).contains(&magnitude) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
 }
 
 /// A texture path as the grammar reads it back: a bare word when it is one

@@ -19,7 +19,7 @@ fn keeps_comments_where_they_belong() {
     let text = "# header\n\n# about the camera\ncamera 4 # square\nsphere\n# the size\ndimension .5   # radius\n  center 0 # x\n 0 -5\n  # color 1 0 0\n# the end\n";
     assert_eq!(
         fmt(text),
-        "# header\n\n# about the camera\ncamera 4 # square\n\nsphere\n  # the size\n  dimension .5 # radius\n  center 0     # x\n    0 -5\n  # color 1 0 0\n\n# the end\n"
+        "# header\n\n# about the camera\ncamera 4 # square\n\nsphere\n  # the size\n  dimension 0.5 # radius\n  center 0      # x\n    0 -5\n  # color 1 0 0\n\n# the end\n"
     );
 }
 
@@ -46,4 +46,19 @@ fn empty_and_comment_only_files() {
     assert_eq!(fmt(""), "");
     assert_eq!(fmt("  \n\n"), "");
     assert_eq!(fmt("# only\n\n\n# two  \n"), "# only\n\n# two\n");
+}
+
+/// One canonical form with `convert --to scene` (issue 56): numbers as
+/// [`super::number`] spells them, attributes in the language table's
+/// order, each with its comments; what a section does not take goes last.
+#[test]
+fn spells_numbers_and_orders_attributes_canonically() {
+    assert_eq!(
+        fmt("camera 4e2\nsphere\n  reflectivity .7 # shiny\n  # grey\n  color .3 .3 .3\n  colour 1\n  center +0 1. -5\n  dimension 1e-7\n  # left over\n"),
+        "camera 400\n\nsphere\n  dimension 1e-7\n  center 0 1 -5\n  # grey\n  color 0.3 0.3 0.3\n  reflectivity 0.7 # shiny\n  colour 1\n  # left over\n"
+    );
+    assert_eq!(
+        fmt("plane headup 0 0 -1 normal 0 1 0 center 0 -1 -5 dimension 4 4"),
+        "plane\n  dimension 4 4\n  center 0 -1 -5\n  normal 0 1 0\n  headup 0 0 -1\n"
+    );
 }
