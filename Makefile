@@ -7,7 +7,7 @@ CARGO ?= cargo
 CARGO_FLAGS ?=
 BIN := target/release/raytracer
 
-.PHONY: all build test man web test-web cold-times run render-scenes bench bench-profile bench-scaling accuracy fuzz fuzz-cmin clean \
+.PHONY: all build check test test-times man web test-web cold-times run render-scenes bench bench-profile bench-scaling accuracy fuzz fuzz-cmin clean \
 	vsix preview-screenshot preview-latency grading-screenshot playground-screenshot
 
 all: raytracer
@@ -24,6 +24,21 @@ build:
 # cores (docs/performance.md, "Build time").
 TEST_THREADS ?= $(shell echo $$(( $$(nproc) * 2 )))
 
+# The tests that need programs outside cargo or root (Slurm, browsers,
+# editors, POV-Ray, GNU parallel, shells and man, the sandbox's attacks, the
+# classes of student tracers in Java, Python and JavaScript): the full tier,
+# which `make test` and CI run and `make check` leaves out.
+FULL_TIER := slurm:: neovim:: vim_syntax:: vscode:: pov:: preview_browser:: \
+	grade_browser:: grade_sandbox:: grade_students:: grade_class:: distributed:: install::
+
+# The fast tier, what a contributor runs after each edit: every crate's unit
+# tests and the integration tests that need nothing but cargo and the
+# binary, in the release profile `make` builds (docs/contributing.md says
+# which tier to run when).
+check: raytracer
+	$(CARGO) test --release --locked --workspace --lib --tests $(CARGO_FLAGS) -- \
+	  --test-threads=$(TEST_THREADS) $(addprefix --skip ,$(FULL_TIER))
+
 # Everything CI checks, over the whole workspace: formatting, lints, each
 # crate's unit tests, the integration and snapshot tests of tests/ (which
 # include the tidy checks of the layering), and the doc tests. Clippy and
@@ -39,6 +54,13 @@ test: raytracer
 	$(CARGO) clippy --release --locked --test playground -- -D warnings
 	$(CARGO) test --release --locked --workspace --lib --tests $(CARGO_FLAGS) -- --test-threads=$(TEST_THREADS)
 	$(CARGO) test --release --locked --workspace --doc
+
+# Every test's time, by cargo-nextest (`cargo install cargo-nextest
+# --locked`): the slow ones are named as they run, and each test's time is
+# in target/nextest/default/junit.xml (.config/nextest.toml).
+test-times: raytracer
+	$(CARGO) nextest run --release --locked --workspace --lib --tests \
+	  --test-threads=$(TEST_THREADS) $(CARGO_FLAGS)
 
 # The playground (docs/playground.md): the page and its WebAssembly module
 # in target/web/site, a folder to open from file:// or copy to any static

@@ -36,7 +36,12 @@ pub(crate) fn binary() -> &'static Path {
         if open {
             return built;
         }
-        let copy = std::env::temp_dir().join("raytracer-grade-tests-binary");
+        // This process's own copy: another suite running beside this one
+        // (or another test process) may be replacing its own meanwhile.
+        let copy = std::env::temp_dir().join(format!(
+            "raytracer-grade-tests-binary-{}",
+            std::process::id()
+        ));
         let _ = std::fs::remove_file(&copy);
         std::fs::copy(&built, &copy).unwrap();
         copy

@@ -406,6 +406,32 @@ fn paths_after(code: &str, prefix: &str) -> Vec<Vec<String>> {
     found
 }
 
+/// The modules of the crate in `src` compiled only for tests: those
+/// declared under `#[cfg(test)]` by their parent.
+fn test_only_modules(src: &Path) -> BTreeSet<Vec<String>> {
+    sources(src)
+        .iter()
+        .flat_map(|file| {
+            let text = std::fs::read_to_string(src.join(file)).unwrap();
+            let parent = module_path(file);
+            text.split("#[cfg(test)]\n")
+                .skip(1)
+                .filter_map(|rest| {
+                    let rest = rest.trim_start();
+                    let rest = rest.strip_prefix("pub ").unwrap_or(rest);
+                    let name = rest.strip_prefix("mod ")?.split_once(';')?.0;
+                    (!name.contains(char::is_whitespace)).then(|| name.to_string())
+                })
+                .map(move |name| {
+                    let mut path = parent.clone();
+                    path.push(name);
+                    path
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
 /// Which source files of the crate in `src` each file imports, in code
 /// outside unit tests: every `crate::`, `super::` and `self::` path and
 /// every path through a child module the file declares, resolved to the
@@ -421,25 +447,7 @@ fn module_graph(src: &Path) -> std::collections::BTreeMap<String, BTreeSet<Strin
         .iter()
         .map(|file| (module_path(file), file.clone()))
         .collect();
-    // Files compiled only for tests: `tests.rs`, and those declared under
-    // `#[cfg(test)]` by their parent.
-    let test_only: BTreeSet<Vec<String>> = files
-        .iter()
-        .flat_map(|file| {
-            let text = std::fs::read_to_string(src.join(file)).unwrap();
-            let parent = module_path(file);
-            text.split("#[cfg(test)]\nmod ")
-                .skip(1)
-                .filter_map(|rest| rest.split_once(';').map(|(name, _)| name.to_string()))
-                .filter(|name| !name.contains(char::is_whitespace))
-                .map(move |name| {
-                    let mut path = parent.clone();
-                    path.push(name);
-                    path
-                })
-                .collect::<Vec<_>>()
-        })
-        .collect();
+    let test_only = test_only_modules(src);
     for file in files
         .iter()
         .filter(|f| !f.ends_with("tests.rs") && !test_only.contains(&module_path(f)))
@@ -571,6 +579,204 @@ fn no_crate_has_a_module_cycle() {
         "these modules import each other in a cycle (docs/architecture.md, Invariants):\n{}",
         found.join("\n")
     );
+}
+
+/// The scene crate's modules from the bottom up, as docs/architecture.md's
+/// invariants state them: a module may import only modules of its own
+/// level or below.
+const SCENE_LEVELS: [&[&str]; 7] = [
+    &[
+        "span", "ast", "language", "limits", "suggest", "escape", "failure", "encoding",
+        "geometry", "texture",
+    ],
+    &["fix", "line_index", "model"],
+    &["syntax"],
+    &["diagnostic"],
+    &["json"],
+    &["check", "format", "convert"],
+    &["frontend"],
+];
+
+#[test]
+fn the_scene_crate_imports_in_its_stated_order() {
+    let level = |module: &str| {
+        SCENE_LEVELS
+            .iter()
+            .position(|names| names.contains(&module))
+    };
+    let top = |file: &str| module_path(file).first().cloned().unwrap_or_default();
+    let graph = module_graph(&repository().join("crates/scene/src"));
+    let mut wrong = Vec::new();
+    for (file, imports) in &graph {
+        let from = top(file);
+        if from.is_empty() {
+            continue;
+        }
+        let Some(at) = level(&from) else {
+            panic!(
+                "`{from}` is at no level of SCENE_LEVELS: add it here and in docs/architecture.md"
+            );
+        };
+        for target in imports {
+            let to = top(target);
+            if level(&to).is_some_and(|there| there > at) {
+                wrong.push(format!("{file} imports `{to}`, a level above `{from}`"));
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+    // The doc states the same order, level by level.
+    let doc = std::fs::read_to_string(repository().join("docs/architecture.md")).unwrap();
+    let doc = doc.replace("\n  ", " ");
+    let stated = doc
+        .split("in `raytracer-scene`, ")
+        .nth(1)
+        .expect("docs/architecture.md states the scene crate's order");
+    let stated = &stated[..stated
+        .find("drives them all")
+        .expect("the order ends with `frontend`")];
+    let mut at = 0;
+    for names in SCENE_LEVELS {
+        for name in names {
+            let found = stated
+                .find(&format!("`{name}`"))
+                .unwrap_or_else(|| panic!("docs/architecture.md's order does not name `{name}`"));
+            assert!(
+                found >= at,
+                "docs/architecture.md names `{name}` before a module of a level below it"
+            );
+        }
+        at = names
+            .iter()
+            .map(|name| stated.find(&format!("`{name}`")).unwrap())
+            .max()
+            .unwrap();
+    }
+}
+
+/// The non-test code of each source file of the crate in `src`, comments
+/// left out.
+fn non_test_code(src: &Path) -> Vec<(String, String)> {
+    let test_only = test_only_modules(src);
+    sources(src)
+        .into_iter()
+        .filter(|file| !file.ends_with("tests.rs") && !test_only.contains(&module_path(file)))
+        .map(|file| {
+            let text = std::fs::read_to_string(src.join(&file)).unwrap();
+            let code = text.split("#[cfg(test)]").next().unwrap();
+            let code: Vec<&str> = code
+                .lines()
+                .map(|line| line.split("//").next().unwrap())
+                .collect();
+            (file, code.join("\n"))
+        })
+        .collect()
+}
+
+#[test]
+fn the_language_reads_no_clock() {
+    for (file, code) in non_test_code(&repository().join("crates/scene/src")) {
+        for clock in ["Instant", "SystemTime", "std::time"] {
+            assert!(
+                !code.contains(clock),
+                "crates/scene/src/{file} names `{clock}`: the language reads no clock (docs/architecture.md)"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_language_touches_files_only_in_the_front_end_and_the_texture_loaders() {
+    for (file, code) in non_test_code(&repository().join("crates/scene/src")) {
+        if file.starts_with("frontend/") || file == "texture.rs" {
+            continue;
+        }
+        for io in ["std::fs", "File::", "OpenOptions"] {
+            let named = code.match_indices(io).any(|(i, _)| {
+                !code[..i]
+                    .chars()
+                    .next_back()
+                    .is_some_and(|c| c.is_alphanumeric() || c == '_')
+            });
+            assert!(
+                !named,
+                "crates/scene/src/{file} names `{io}`: the analysis does no I/O of its own (docs/architecture.md)"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_renderer_never_reads_the_syntax_tree() {
+    for (file, code) in non_test_code(&repository().join("crates/render/src")) {
+        for tree in [
+            "raytracer_scene::ast",
+            "raytracer_scene::syntax",
+            "raytracer_scene::json",
+        ] {
+            assert!(
+                !code.contains(tree),
+                "crates/render/src/{file} names `{tree}`: the renderer sees only `ir::Scene` (docs/architecture.md)"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_fuzz_targets_name_only_the_crates_the_map_allows() {
+    let manifest = std::fs::read_to_string(repository().join("fuzz/Cargo.toml")).unwrap();
+    let named = workspace_dependencies(&manifest, "dependencies");
+    assert!(
+        named.contains("raytracer-scene"),
+        "fuzz/Cargo.toml names no crate of ours: {named:?}"
+    );
+    // The language server's edits are a target too: `raytracer-app`'s
+    // `lsp::Document`.
+    let allowed: BTreeSet<String> = ["raytracer-scene", "raytracer-render", "raytracer-app"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let above: Vec<_> = named.difference(&allowed).collect();
+    assert!(
+        above.is_empty(),
+        "fuzz/Cargo.toml names {above:?}: the fuzz targets drive the language, the renderer and the language server (docs/architecture.md)"
+    );
+}
+
+/// Every invariant of docs/architecture.md names the tests that hold it
+/// (`` `FILE::TEST` ``), and each named test is a function of that file.
+#[test]
+fn every_invariant_names_tests_that_exist() {
+    let doc = std::fs::read_to_string(repository().join("docs/architecture.md")).unwrap();
+    let section = &doc[doc
+        .find("\n## Invariants\n")
+        .expect("an invariants section")..];
+    let section = &section[1..];
+    let section = &section[..section.find("\n## ").map_or(section.len(), |end| end + 1)];
+    let invariants: Vec<&str> = section.split("\n- **").skip(1).collect();
+    assert!(invariants.len() > 10, "no invariants found");
+    for invariant in invariants {
+        let name = invariant.split("**").next().unwrap();
+        let tests: Vec<(&str, &str)> = invariant
+            .split('`')
+            .skip(1)
+            .step_by(2)
+            .filter_map(|word| word.split_once(".rs::"))
+            .collect();
+        assert!(
+            !tests.is_empty(),
+            "the invariant \"{name}\" names no test (`tests/FILE.rs::test`)"
+        );
+        for (file, test) in tests {
+            let path = repository().join(format!("{file}.rs"));
+            let text = std::fs::read_to_string(&path)
+                .unwrap_or_else(|_| panic!("\"{name}\" names `{file}.rs`, which does not exist"));
+            assert!(
+                text.contains(&format!("fn {test}(")),
+                "\"{name}\" names `{file}.rs::{test}`, which is no function of that file"
+            );
+        }
+    }
 }
 
 /// A page's `## ` headings, outside code blocks.
