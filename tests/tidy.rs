@@ -587,7 +587,7 @@ fn no_crate_has_a_module_cycle() {
 const SCENE_LEVELS: [&[&str]; 7] = [
     &[
         "span", "ast", "language", "limits", "suggest", "escape", "failure", "encoding",
-        "geometry", "texture",
+        "geometry", "texture", "folder",
     ],
     &["fix", "line_index", "model"],
     &["syntax"],

@@ -243,10 +243,7 @@ pub fn encode(image: &Image, format: Format, out: &mut dyn Write) -> std::io::Re
 
 /// The folder a file is in (`.` for a bare name).
 fn folder_of(path: &Path) -> PathBuf {
-    match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
-        _ => PathBuf::from("."),
-    }
+    raytracer_scene::folder::folder_of(path).to_path_buf()
 }
 
 #[cfg(test)]

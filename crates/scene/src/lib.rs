@@ -37,6 +37,7 @@ pub mod encoding;
 pub mod escape;
 pub mod failure;
 pub mod fix;
+pub mod folder;
 pub mod format;
 pub mod frontend;
 pub mod geometry;

@@ -32,10 +32,9 @@ use raytracer_scene::frontend::{load, Loaded};
 /// A usage or I/O error of `accuracy`.
 #[derive(Debug, thiserror::Error, Diagnostic)]
 pub enum AccuracyError {
-    /// The worker threads could not be started.
-    #[error("cannot start {threads} threads: {reason}")]
-    #[diagnostic(code(io::threads))]
-    Threads { threads: usize, reason: String },
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Threads(#[from] super::ThreadsError),
 
     /// A chart could not be drawn.
     #[error("cannot draw `{path}`: {source}")]
@@ -66,15 +65,7 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
         ),
         None => None,
     };
-    let pool = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .map_err(|e| AccuracyError::Threads {
-                threads,
-                reason: e.to_string(),
-            })
-    };
+    let pool = |threads: usize| super::thread_pool(Some(threads), "measuring");
     let threads = args
         .threads
         .map_or_else(rayon::current_num_threads, |t| t as usize);

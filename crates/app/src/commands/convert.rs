@@ -43,10 +43,10 @@ pub fn run(args: ConvertArgs) -> Result<Outcome, BoxedDiagnostic> {
     };
     // Texture paths resolve from the output's folder (the working directory
     // for stdout), wherever the scene was.
-    let destination = match args.output.as_deref().and_then(Path::parent) {
-        Some(folder) if !folder.as_os_str().is_empty() => folder,
-        _ => Path::new("."),
-    };
+    let destination = args
+        .output
+        .as_deref()
+        .map_or(Path::new("."), raytracer_scene::folder::folder_of);
     paths::rebase_textures(&mut checked, destination);
     let checked = &checked;
     // The command line made sure a target is given or inferred.

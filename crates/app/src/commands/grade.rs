@@ -57,9 +57,9 @@ pub enum GradeError {
     #[diagnostic(code(io::grade))]
     File(#[from] FileError),
 
-    #[error("cannot start {threads} grading threads: {reason}")]
-    #[diagnostic(code(io::threads))]
-    Threads { threads: usize, reason: String },
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Threads(#[from] super::ThreadsError),
 
     #[error("{} student folder{} cannot be graded", errors.len(), if errors.len() == 1 { "" } else { "s" })]
     #[diagnostic(code(grade::student))]
@@ -260,13 +260,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
         );
     }
 
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.jobs as usize)
-        .build()
-        .map_err(|e| GradeError::Threads {
-            threads: args.jobs as usize,
-            reason: e.to_string(),
-        })?;
+    let pool = super::thread_pool(Some(args.jobs as usize), "grading").map_err(GradeError::from)?;
     let graded = Graded {
         scenes: &scenes,
         references: &references,

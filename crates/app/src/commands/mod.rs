@@ -124,6 +124,34 @@ fn print_bytes(bytes: &[u8]) -> Result<Outcome, BoxedDiagnostic> {
     Ok(Outcome::Success)
 }
 
+/// The worker threads of a command could not be started.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error("cannot start {threads} {purpose} threads: {reason}")]
+#[diagnostic(code(io::threads))]
+pub struct ThreadsError {
+    threads: usize,
+    purpose: &'static str,
+    reason: String,
+}
+
+/// A pool of `threads` workers (all cores without a number), for
+/// `purpose` ("render", "grading"), as render, preview, accuracy and grade
+/// build theirs.
+pub(crate) fn thread_pool(
+    threads: Option<usize>,
+    purpose: &'static str,
+) -> Result<rayon::ThreadPool, ThreadsError> {
+    let threads = threads.unwrap_or_else(rayon::current_num_threads);
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| ThreadsError {
+            threads,
+            purpose,
+            reason: e.to_string(),
+        })
+}
+
 /// Run a parsed command line and return the process exit code.
 pub fn run(cli: Cli) -> ExitCode {
     let result = match cli.command {

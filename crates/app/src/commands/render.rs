@@ -37,10 +37,9 @@ use raytracer_scene::frontend::{load_timed, Loaded};
 /// A usage error found after clap: a value clap's parsers cannot judge.
 #[derive(Debug, thiserror::Error, Diagnostic)]
 pub enum RenderUsageError {
-    /// The worker threads could not be started.
-    #[error("cannot start {threads} render threads: {reason}")]
-    #[diagnostic(code(io::threads))]
-    Threads { threads: usize, reason: String },
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Threads(#[from] super::ThreadsError),
 
     /// `--tile` with an output that is not PNG.
     #[error("expected a `.png` output for `--tile`, found `{path}`")]
@@ -185,14 +184,7 @@ fn preflight(args: &RenderArgs) -> Result<(Format, rayon::ThreadPool), BoxedDiag
 
 /// The render pool of `--threads` (all cores without it).
 pub(crate) fn thread_pool(threads: Option<u32>) -> Result<rayon::ThreadPool, RenderUsageError> {
-    let threads = threads.map_or_else(rayon::current_num_threads, |t| t as usize);
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| RenderUsageError::Threads {
-            threads,
-            reason: e.to_string(),
-        })
+    Ok(super::thread_pool(threads.map(|t| t as usize), "render")?)
 }
 
 /// Write the rendered rows to `path`: a tile when rendering one, else the

@@ -264,10 +264,7 @@ pub fn load(paths: &[PathBuf]) -> Result<Suite, SuiteError> {
         if path.is_dir() {
             load_folder(path, &mut suite)?;
         } else {
-            let root = path
-                .parent()
-                .filter(|p| !p.as_os_str().is_empty())
-                .unwrap_or(Path::new("."));
+            let root = raytracer_scene::folder::folder_of(path);
             let name = path
                 .file_name()
                 .unwrap_or_default()

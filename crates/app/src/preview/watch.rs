@@ -95,10 +95,7 @@ fn counts(event: &Event, names: &BTreeSet<OsString>) -> bool {
 
 /// The folder `file` is in (`.` for a bare name).
 fn folder_of(file: &Path) -> PathBuf {
-    match file.parent() {
-        Some(folder) if !folder.as_os_str().is_empty() => folder.to_path_buf(),
-        _ => PathBuf::from("."),
-    }
+    raytracer_scene::folder::folder_of(file).to_path_buf()
 }
 
 #[cfg(test)]

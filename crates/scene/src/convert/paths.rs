@@ -58,10 +58,7 @@ fn rebase(texture: &Path, destination: Option<&Path>) -> PathBuf {
 /// `file` with its folder made canonical and its name kept.
 fn canonical_file(file: &Path) -> Option<PathBuf> {
     let name = file.file_name()?;
-    let folder = match file.parent() {
-        Some(folder) if !folder.as_os_str().is_empty() => folder,
-        _ => Path::new("."),
-    };
+    let folder = crate::folder::folder_of(file);
     Some(folder.canonicalize().ok()?.join(name))
 }
 
