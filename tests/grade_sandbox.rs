@@ -1328,3 +1328,68 @@ fn without_a_box_a_killed_graders_daemon_dies_with_the_next_lease_of_its_uid() {
     }
     assert!(left.is_empty(), "uid {uid}: survivors: {left:?}");
 }
+
+/// `command` started with descriptor 7 reading `secret` and 8 appending
+/// to `log`, both left open without close-on-exec, as a careless caller
+/// of `grade` (a script, a CI runner) might leave them: a shell of the
+/// tests' user opens them, then execs `command` (for a user run,
+/// `setpriv` and the grader, which keep them).
+fn with_descriptors(command: &Command, secret: &Path, log: &Path) -> Command {
+    let mut wrapped = Command::new("bash");
+    wrapped
+        .args([
+            "-c",
+            "exec 7<\"$1\" 8>>\"$2\"; shift 2; exec \"$@\"",
+            "bash",
+        ])
+        .arg(secret)
+        .arg(log)
+        .arg(command.get_program())
+        .args(command.get_args())
+        .stdin(Stdio::null());
+    for (key, value) in command.get_envs() {
+        match value {
+            Some(value) => wrapped.env(key, value),
+            None => wrapped.env_remove(key),
+        };
+    }
+    wrapped
+}
+
+/// The descriptors the process that starts `grade` leaves open reach no
+/// program: a root-only file read through descriptor 7 and a root-only
+/// log appended through 8, in a box and without one.
+#[test]
+fn inherited_descriptors_never_reach_the_program() {
+    let attack = Attack::new(
+        "cat <&7 2>/dev/null; echo appended >&8 2>/dev/null && echo wrote\n\
+         exec \"$RAYTRACER\" render \"$1\" \"$2\"",
+    );
+    let secret = attack.path().join("root-only.txt");
+    std::fs::write(&secret, "root only 4251\n").unwrap();
+    let log = attack.path().join("root-only.log");
+    std::fs::write(&log, "").unwrap();
+    for file in [&secret, &log] {
+        std::fs::set_permissions(file, std::fs::Permissions::from_mode(0o600)).unwrap();
+    }
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let extra: &[&str] = if unprotected { &["--unprotected"] } else { &[] };
+            let mut command =
+                with_descriptors(&attack.command(kind, None, extra, &[]), &secret, &log);
+            if unprotected {
+                without_namespaces(&mut command);
+            }
+            let (_, scene, _) = attack.grade_by(kind, command);
+            let run = format!("{kind:?}, unprotected {unprotected}");
+            assert_eq!(status(&scene), "match", "{run}: {scene}");
+            let stdout = scene["stdout"].as_str().unwrap();
+            assert!(!stdout.contains("4251"), "{run}: read through 7: {stdout}");
+            assert!(
+                !stdout.contains("wrote"),
+                "{run}: wrote through 8: {stdout}"
+            );
+            assert_eq!(std::fs::read_to_string(&log).unwrap(), "", "{run}");
+        }
+    }
+}

@@ -9,7 +9,8 @@
 //! nothing it starts outlives the run. Without one (`--unprotected`), in
 //! the forked child (`confine`): a process group of its own, a network
 //! namespace when one can be had, and Landlock and a seccomp filter
-//! ([`crate::fence`]). Either way (`drop_to_user`): when
+//! ([`crate::fence`]). Either way (`drop_to_user`): every descriptor
+//! from 3 up that the grader inherited is close-on-exec; when
 //! the grader is root, a uid of the student's own (leased,
 //! [`crate::uids`]), because root ignores the process-count limit; the
 //! resource limits (CPU seconds, address space, file size, processes, no
