@@ -1393,3 +1393,229 @@ fn inherited_descriptors_never_reach_the_program() {
         }
     }
 }
+
+/// A `TMPDIR` open to every account (`/tmp`'s kind), for a test that
+/// looks at what a run leaves there. Whatever is left in it is removed
+/// when it is dropped (before the test's folder, whose removal recurses
+/// per level: a deep folder left would overflow the test's stack).
+struct Tmp(PathBuf);
+
+impl Tmp {
+    fn new(parent: &Path) -> Tmp {
+        let tmp = parent.join("tmp");
+        std::fs::create_dir_all(&tmp).unwrap();
+        std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o1777)).unwrap();
+        Tmp(tmp)
+    }
+
+    /// What is left: nothing of a finished run may be. It is removed
+    /// (by `rm`, which walks without recursing) before it is returned.
+    fn left(&self) -> Vec<String> {
+        let left: Vec<String> = std::fs::read_dir(&self.0)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        for name in &left {
+            let path = self.0.join(name);
+            let _ = Command::new("chmod")
+                .arg("-R")
+                .arg("u+rwx")
+                .arg(&path)
+                .status();
+            let removed = Command::new("rm").arg("-rf").arg(&path).status().unwrap();
+            assert!(removed.success(), "cannot remove {}", path.display());
+        }
+        left
+    }
+}
+
+impl Drop for Tmp {
+    fn drop(&mut self) {
+        self.left();
+    }
+}
+
+/// A tracer opens its working folder (`chmod 755`) and makes a
+/// set-user-ID and set-group-ID copy of `id`, then waits; meanwhile
+/// another local account (uid 65533) looks for it under the grader's
+/// `TMPDIR` and runs what it finds. It must find nothing that runs as the
+/// student's uid (a root run) or the grader's (a user run): the run's
+/// folders lie in a folder only the grader may enter, and without a box
+/// the `chmod` itself is refused. Nothing of the run is left in `TMPDIR`
+/// once `grade` ends.
+#[test]
+fn a_set_user_id_file_a_run_makes_is_out_of_other_accounts_reach() {
+    let attack = Attack::new(
+        "cp /usr/bin/id helper && chmod 6755 helper 2>&1 || echo refused\n\
+         chmod 755 . .. 2>/dev/null\n\
+         exec sleep 4250",
+    );
+    let tmp = Tmp::new(attack.path());
+    let tmp_text = tmp.0.display().to_string();
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let run = format!("{kind:?}, unprotected {unprotected}");
+            let mut extra = vec!["--timeout", "60"];
+            if unprotected {
+                extra.push("--unprotected");
+            }
+            let mut command = attack.command(kind, None, &extra, &[("TMPDIR", &tmp_text)]);
+            if unprotected {
+                without_namespaces(&mut command);
+            }
+            let report = attack.path().join(format!("report-{kind:?}"));
+            let mut grading = command
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .unwrap();
+            let start = std::time::Instant::now();
+            while processes_with("4250").is_empty() {
+                assert!(
+                    start.elapsed().as_secs() < 60 && grading.try_wait().unwrap().is_none(),
+                    "{run}: the tracer did not start"
+                );
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            let classmate = Command::new("setpriv")
+                .args(["--reuid=65533", "--regid=65533", "--clear-groups", "find"])
+                .arg(&tmp.0)
+                .args(["-name", "helper", "-perm", "-4000", "-exec", "{}", ";"])
+                .stderr(Stdio::null())
+                .output()
+                .unwrap();
+            for (pid, _) in processes_with("4250") {
+                // SAFETY: `kill` has no memory preconditions.
+                unsafe { libc::kill(pid, libc::SIGKILL) };
+            }
+            grading.wait().unwrap();
+            let seen = String::from_utf8_lossy(&classmate.stdout);
+            assert!(!seen.contains("euid="), "{run}: the classmate ran: {seen}");
+            assert_eq!(tmp.left(), Vec::<String>::new(), "{run}");
+            let summary: Value =
+                serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap())
+                    .unwrap();
+            let stdout = summary["scenes"][0]["stdout"].as_str().unwrap();
+            if unprotected {
+                assert!(stdout.contains("refused"), "{run}: {stdout}");
+            }
+        }
+    }
+}
+
+/// A tracer's script that leaves `levels` nested folders (`d/d/d/…`) and
+/// a `chmod 000` folder holding a file in its working folder.
+fn nested_folders(levels: usize) -> String {
+    format!(
+        "python3 - <<'END'\n\
+         import os\n\
+         os.mkdir('closed')\n\
+         open('closed/file', 'w').close()\n\
+         top = os.open('.', os.O_RDONLY)\n\
+         for _ in range({levels}):\n    os.mkdir('d')\n    os.chdir('d')\n\
+         os.fchdir(top)\n\
+         os.chmod('closed', 0)\n\
+         END\n"
+    )
+}
+
+/// A tracer that leaves 30,000 nested folders and a `chmod 000` one is
+/// graded like any other, and its working folder goes with the run, in
+/// a box and without one: the removal walks without a frame per level
+/// and opens what it must before removing. Without a box, Landlock checks
+/// each new folder against every folder above it, so the nesting takes
+/// minutes and the run ends at its timeout with as many folders as it
+/// made: the folder must still go.
+#[test]
+fn deep_and_closed_folders_a_run_leaves_are_removed() {
+    let attack = Attack::new(&format!(
+        "{}exec \"$RAYTRACER\" render \"$1\" \"$2\"",
+        nested_folders(30_000)
+    ));
+    let tmp = Tmp::new(attack.path());
+    let tmp_text = tmp.0.display().to_string();
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let run = format!("{kind:?}, unprotected {unprotected}");
+            // In a box the folders take a second or two; on a busy
+            // machine more: the run's time is not what is tested.
+            let extra: &[&str] = if unprotected {
+                &["--unprotected", "--timeout", "5"]
+            } else {
+                &["--timeout", "120"]
+            };
+            let mut command = attack.command(kind, None, extra, &[("TMPDIR", &tmp_text)]);
+            if unprotected {
+                without_namespaces(&mut command);
+            }
+            let (code, scene, _) = attack.grade_by(kind, command);
+            if unprotected {
+                assert!(
+                    ["match", "timeout"].contains(&status(&scene)),
+                    "{run}: {scene}"
+                );
+            } else {
+                assert_eq!(code, 0, "{run}: {scene}");
+                assert_eq!(status(&scene), "match", "{run}: {scene}");
+            }
+            assert_eq!(tmp.left(), Vec::<String>::new(), "{run}");
+        }
+    }
+}
+
+/// A student's build that leaves 25,000 nested folders and a `chmod 000`
+/// one in its prepared folder: the student is graded (each scene's copy
+/// refuses a folder that deep) and the prepared folder goes with the run.
+#[test]
+fn deep_folders_a_build_leaves_are_removed() {
+    let dir = open_folder("grade-deep-build-");
+    let d = dir.path();
+    std::fs::create_dir_all(d.join("suite")).unwrap();
+    std::fs::write(
+        d.join("suite/ball.txt"),
+        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n",
+    )
+    .unwrap();
+    let student = d.join("student");
+    std::fs::create_dir_all(&student).unwrap();
+    std::fs::write(
+        student.join("tracer.txt"),
+        "./renderer render {scene} {out}\n",
+    )
+    .unwrap();
+    std::fs::write(student.join("build.txt"), "bash build.sh\n").unwrap();
+    std::fs::write(student.join("build.sh"), nested_folders(25_000)).unwrap();
+    std::fs::copy(crate::grade_cli::student_binary(), student.join("renderer")).unwrap();
+    std::fs::set_permissions(&student, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let tmp = Tmp::new(d);
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let run = format!("{kind:?}, unprotected {unprotected}");
+            let report = d.join(format!("report-{kind:?}-{unprotected}"));
+            let mut command = grader(kind);
+            command
+                .args(["grade", "--student"])
+                .arg(&student)
+                .arg("-o")
+                .arg(&report)
+                .arg("--cache")
+                .arg(d.join(format!("cache-{kind:?}")))
+                .arg(d.join("suite"))
+                .env("HOME", d)
+                .env("TMPDIR", &tmp.0)
+                .stdin(Stdio::null());
+            if unprotected {
+                command.arg("--unprotected");
+                without_namespaces(&mut command);
+            }
+            let output = command.output().unwrap();
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            assert!(
+                report.join("summary.json").is_file(),
+                "{run}: no summary: {stderr}"
+            );
+            assert_eq!(tmp.left(), Vec::<String>::new(), "{run}: {stderr}");
+        }
+    }
+}

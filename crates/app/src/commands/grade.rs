@@ -399,6 +399,9 @@ fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, Gr
         scenes: results,
     };
     summary.sort();
+    if let Some(folder) = prepared {
+        grade::remove_reporting(folder, "the student's prepared folder");
+    }
     report::write(&job.report, &summary).map_err(FileError::writing(&job.report))?;
     Ok(summary)
 }

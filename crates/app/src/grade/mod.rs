@@ -30,6 +30,7 @@ use serde::Serialize;
 use crate::compare::{self, heatmap, FlipStats, Picture, Thresholds};
 use aspects::{AspectResult, AspectThresholds};
 pub use judge::Status;
+use raytracer_box::folder::RunFolder;
 use raytracer_box::{run::run, Confinement, Ended, Share};
 use raytracer_render::render::probe::Buffers;
 use suite::SuiteScene;
@@ -138,7 +139,7 @@ pub fn grade_scene(
     };
     // A folder that cannot be prepared is this scene's failure, not the
     // whole grading's: the student's folder may be what it cannot copy.
-    let dir = match workdir::prepare(scene, folder, plan.confinement.user) {
+    let dir = match workdir::prepare(scene, folder, &plan.confinement) {
         Ok(dir) => dir,
         Err(error) => {
             let reason = format!(
@@ -165,7 +166,7 @@ pub fn grade_scene(
         points: &scene.aspects,
     };
     let mut judged = judge::judge(&run.ended, &dir.out(), &against);
-    drop(dir);
+    remove_reporting(dir.folder, "the scene's working folder");
 
     let mut images = Images {
         reference: reference_image,
@@ -248,6 +249,18 @@ pub(crate) fn program_files(argv: &[std::ffi::OsString]) -> Vec<PathBuf> {
         .filter_map(|path| std::fs::canonicalize(path).ok())
         .filter(|path| path.is_file() && Some(path) != exe.as_ref())
         .collect()
+}
+
+/// Remove a run's `folder` (`what`, for the warning): what cannot be
+/// removed is said on stderr, and grading goes on.
+pub(crate) fn remove_reporting(folder: RunFolder, what: &str) {
+    let path = folder.path().display().to_string();
+    if let Err(error) = folder.remove() {
+        eprintln!(
+            "warning: cannot remove {what} `{path}`: {}",
+            raytracer_scene::diagnostic::io_reason(&error)
+        );
+    }
 }
 
 /// A scene that did not run because of `reason`.

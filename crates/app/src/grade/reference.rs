@@ -283,7 +283,7 @@ impl Cache {
         if let Some(picture) = read_private(&path) {
             return Ok((picture, false));
         }
-        let dir = workdir::prepare(scene, None, confinement.user)?;
+        let dir = workdir::prepare(scene, None, &confinement)?;
         let argv = template.argv(&dir.scene_file, workdir::OUT, Some(cwd));
         let share = Share {
             read_write: vec![dir.root.clone()],
