@@ -1619,3 +1619,106 @@ fn deep_folders_a_build_leaves_are_removed() {
         }
     }
 }
+
+/// A tracer that fills its disk space, blocks or inodes, is told so
+/// (the scene's reason names the run's disk space and says it was full),
+/// and the next run has all of its own: in a box the working folder is a
+/// tmpfs of `--disk` MiB and a bounded number of inodes, gone with the
+/// box.
+#[test]
+fn a_run_that_fills_its_disk_is_told_and_the_next_is_not_hurt() {
+    let blocks = Attack::new(
+        "for i in $(seq 64); do head -c 1048576 /dev/zero > fill$i 2>/dev/null || break; done\n\
+         mkdir closed; chmod 000 closed\n\
+         exec \"$RAYTRACER\" render \"$1\" \"$2\"",
+    );
+    let inodes = Attack::new(
+        "for i in $(seq 40000); do : 2>/dev/null > f$i || break; done\n\
+         exec \"$RAYTRACER\" render \"$1\" \"$2\"",
+    );
+    let honest = Attack::new("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    for kind in kinds() {
+        for attack in [&blocks, &inodes] {
+            let (_, scene, _) = attack.grade(kind, None, &["--disk", "8"], &[]);
+            let reason = scene["reason"].as_str().unwrap_or_default();
+            assert!(
+                reason.contains("the run's disk space (8 MiB) was full"),
+                "{kind:?}: {scene}"
+            );
+            let (_, scene, _) = honest.grade(kind, None, &["--disk", "8"], &[]);
+            assert_eq!(status(&scene), "match", "{kind:?}: {scene}");
+            assert!(scene["reason"].is_null(), "{kind:?}: {scene}");
+        }
+    }
+}
+
+/// A class where one student leaves 30,000 nested folders, fills its
+/// disk and starts a daemon is graded to the end: the honest student
+/// matches, class.csv is written, no daemon and nothing of a run is left.
+#[test]
+fn a_class_survives_a_student_who_leaves_a_mess() {
+    let dir = open_folder("grade-class-mess-");
+    let d = dir.path();
+    std::fs::create_dir_all(d.join("suite")).unwrap();
+    std::fs::write(
+        d.join("suite/ball.txt"),
+        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n",
+    )
+    .unwrap();
+    let student = |name: &str, script: &str| {
+        let folder = d.join("class").join(name);
+        std::fs::create_dir_all(&folder).unwrap();
+        std::fs::write(folder.join("tracer.txt"), "bash tracer.sh {scene} {out}\n").unwrap();
+        std::fs::write(folder.join("tracer.sh"), script).unwrap();
+        std::fs::copy(crate::grade_cli::student_binary(), folder.join("renderer")).unwrap();
+        for path in [folder.clone(), d.join("class")] {
+            std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        }
+    };
+    student(
+        "a-mess",
+        &format!(
+            "setsid sleep 4252 </dev/null >/dev/null 2>&1 &\n{}\
+             for i in $(seq 32); do head -c 1048576 /dev/zero > fill$i 2>/dev/null || break; done\n\
+             exit 0\n",
+            nested_folders(30_000)
+        ),
+    );
+    student("b-honest", "exec ./renderer render \"$1\" \"$2\"\n");
+    let tmp = Tmp::new(d);
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let run = format!("{kind:?}, unprotected {unprotected}");
+            let report = d.join(format!("report-{kind:?}-{unprotected}"));
+            let mut command = grader(kind);
+            command
+                .args(["grade", "--disk", "16", "--timeout", "30", "--class"])
+                .arg(d.join("class"))
+                .arg("-o")
+                .arg(&report)
+                .arg("--cache")
+                .arg(d.join(format!("cache-{kind:?}")))
+                .arg(d.join("suite"))
+                .env("HOME", d)
+                .env("TMPDIR", &tmp.0)
+                .stdin(Stdio::null());
+            if unprotected {
+                command.arg("--unprotected");
+                without_namespaces(&mut command);
+            }
+            let output = command.output().unwrap();
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            assert_eq!(output.status.code(), Some(1), "{run}: {stderr}");
+            let csv = std::fs::read_to_string(report.join("class.csv")).unwrap();
+            assert_eq!(csv.lines().count(), 3, "{run}: {csv}");
+            let honest: Value = serde_json::from_slice(
+                &std::fs::read(report.join("b-honest/summary.json")).unwrap(),
+            )
+            .unwrap();
+            assert_eq!(status(&honest["scenes"][0]), "match", "{run}: {honest}");
+            assert_eq!(tmp.left(), Vec::<String>::new(), "{run}: {stderr}");
+            let left = processes_with("4252");
+            assert!(left.is_empty(), "{run}: the daemon survived: {left:?}");
+        }
+    }
+}

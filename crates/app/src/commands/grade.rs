@@ -426,6 +426,7 @@ fn limits(args: &SandboxArgs) -> Limits {
         file_size: u64::from(args.max_file_size) * MIB,
         processes: args.max_processes.into(),
         output: args.max_output as usize * 1024,
+        disk: u64::from(args.disk) * MIB,
     }
 }
 

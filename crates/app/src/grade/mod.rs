@@ -31,7 +31,7 @@ use crate::compare::{self, heatmap, FlipStats, Picture, Thresholds};
 use aspects::{AspectResult, AspectThresholds};
 pub use judge::Status;
 use raytracer_box::folder::RunFolder;
-use raytracer_box::{run::run, Confinement, Ended, Share};
+use raytracer_box::{run::run, Confinement, Ended, Scratch, Share};
 use raytracer_render::render::probe::Buffers;
 use suite::SuiteScene;
 use workdir::Template;
@@ -156,6 +156,10 @@ pub fn grade_scene(
             Programs::Here(_) => program_files(&argv),
             Programs::Folder(_) => Vec::new(),
         },
+        scratch: Some(Scratch {
+            folder: dir.root.clone(),
+            keep: dir.keep(),
+        }),
     };
     let run = run(&argv, &dir.start, &share, plan.confinement);
     let against = judge::Against {
@@ -167,6 +171,16 @@ pub fn grade_scene(
     };
     let mut judged = judge::judge(&run.ended, &dir.out(), &against);
     remove_reporting(dir.folder, "the scene's working folder");
+    if run.disk_full {
+        let full = format!(
+            "the run's disk space ({} MiB) was full",
+            plan.confinement.limits.disk >> 20
+        );
+        judged.reason = Some(match judged.reason.take() {
+            Some(reason) => format!("{reason}; {full}"),
+            None => full,
+        });
+    }
 
     let mut images = Images {
         reference: reference_image,

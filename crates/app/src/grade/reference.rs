@@ -288,6 +288,10 @@ impl Cache {
         let share = Share {
             read_write: vec![dir.root.clone()],
             read_only: super::program_files(&argv),
+            scratch: Some(raytracer_box::Scratch {
+                folder: dir.root.clone(),
+                keep: dir.keep(),
+            }),
         };
         let run = run(&argv, &dir.start, &share, confinement);
         if let Some((_, reason)) = judge::failure(&run.ended) {

@@ -123,6 +123,7 @@ impl Student {
         let share = Share {
             read_write: vec![folder.to_path_buf()],
             read_only: Vec::new(),
+            scratch: None,
         };
         let run = run(&argv, folder, &share, confinement);
         let (exit_code, signal) = match run.ended {

@@ -17,7 +17,9 @@
 //! mode 0700, so until its own owner changes no other user can enter it,
 //! rename an entry or put a link in its place. Everything under it is
 //! therefore given away first, without following links, and the folder
-//! itself last; after that the grader changes nothing in it by path.
+//! itself last; after that the grader changes nothing in it by path. In
+//! a box the program works on a tmpfs copy of it (`Scratch`), and only
+//! its image comes back.
 //! The command template is split into words like a shell would split it
 //! (quotes, backslashes) and `{scene}` and `{out}` are replaced inside
 //! each word, so no file name can add a word or run a command.
@@ -48,6 +50,14 @@ impl Workdir {
     /// The image the program was asked to write.
     pub fn out(&self) -> PathBuf {
         self.start.join(OUT)
+    }
+
+    /// The image's path relative to the folder: what a box copies out.
+    pub fn keep(&self) -> PathBuf {
+        self.start
+            .strip_prefix(&self.root)
+            .unwrap_or(Path::new(""))
+            .join(OUT)
     }
 }
 
