@@ -1652,6 +1652,55 @@ fn a_run_that_fills_its_disk_is_told_and_the_next_is_not_hurt() {
     }
 }
 
+/// A student whose folder does not fit the run's disk space is told so,
+/// and to raise `--disk`, rather than given the kernel's words.
+#[test]
+fn a_student_folder_larger_than_the_disk_is_told_so() {
+    let dir = open_folder("grade-large-student-");
+    let d = dir.path();
+    std::fs::create_dir_all(d.join("suite")).unwrap();
+    std::fs::write(
+        d.join("suite/ball.txt"),
+        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n",
+    )
+    .unwrap();
+    let student = d.join("student");
+    std::fs::create_dir_all(&student).unwrap();
+    std::fs::write(
+        student.join("tracer.txt"),
+        "./renderer render {scene} {out}\n",
+    )
+    .unwrap();
+    std::fs::copy(crate::grade_cli::student_binary(), student.join("renderer")).unwrap();
+    std::fs::write(student.join("data.bin"), vec![7u8; 3 << 20]).unwrap();
+    std::fs::set_permissions(&student, std::fs::Permissions::from_mode(0o755)).unwrap();
+    for kind in kinds() {
+        let report = d.join(format!("report-{kind:?}"));
+        let output = grader(kind)
+            .args(["grade", "--disk", "2", "--student"])
+            .arg(&student)
+            .arg("-o")
+            .arg(&report)
+            .arg("--cache")
+            .arg(d.join(format!("cache-{kind:?}")))
+            .arg(d.join("suite"))
+            .env("HOME", d)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let summary: Value =
+            serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap_or_else(
+                |_| panic!("{kind:?}: {}", String::from_utf8_lossy(&output.stderr)),
+            ))
+            .unwrap();
+        let reason = summary["scenes"][0]["reason"].as_str().unwrap_or_default();
+        assert!(
+            reason.contains("do not fit the run's disk space (2 MiB, 32768 files): raise `--disk`"),
+            "{kind:?}: {summary}"
+        );
+    }
+}
+
 /// A class where one student leaves 30,000 nested folders, fills its
 /// disk and starts a daemon is graded to the end: the honest student
 /// matches, class.csv is written, no daemon and nothing of a run is left.

@@ -201,6 +201,15 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
     };
     let mut child = match spawned {
         Ok(child) => child,
+        // The box's pid 1 could not fill the working folder's tmpfs.
+        Err(error) if report.is_some() && error.raw_os_error() == Some(libc::ENOSPC) => {
+            let full = format!(
+                "the program's files do not fit the run's disk space ({} MiB, {} files): raise `--disk`",
+                limits.disk >> 20,
+                crate::scratch::INODES
+            );
+            return Run::not_started(full, start);
+        }
         Err(error) => return Run::not_started(start_failure(&argv[0], &error), start),
     };
     let group = child.id() as libc::pid_t;
