@@ -1328,3 +1328,446 @@ fn without_a_box_a_killed_graders_daemon_dies_with_the_next_lease_of_its_uid() {
     }
     assert!(left.is_empty(), "uid {uid}: survivors: {left:?}");
 }
+
+/// `command` started with descriptor 7 reading `secret` and 8 appending
+/// to `log`, both left open without close-on-exec, as a careless caller
+/// of `grade` (a script, a CI runner) might leave them: a shell of the
+/// tests' user opens them, then execs `command` (for a user run,
+/// `setpriv` and the grader, which keep them).
+fn with_descriptors(command: &Command, secret: &Path, log: &Path) -> Command {
+    let mut wrapped = Command::new("bash");
+    wrapped
+        .args([
+            "-c",
+            "exec 7<\"$1\" 8>>\"$2\"; shift 2; exec \"$@\"",
+            "bash",
+        ])
+        .arg(secret)
+        .arg(log)
+        .arg(command.get_program())
+        .args(command.get_args())
+        .stdin(Stdio::null());
+    for (key, value) in command.get_envs() {
+        match value {
+            Some(value) => wrapped.env(key, value),
+            None => wrapped.env_remove(key),
+        };
+    }
+    wrapped
+}
+
+/// The descriptors the process that starts `grade` leaves open reach no
+/// program: a root-only file read through descriptor 7 and a root-only
+/// log appended through 8, in a box and without one.
+#[test]
+fn inherited_descriptors_never_reach_the_program() {
+    let attack = Attack::new(
+        "cat <&7 2>/dev/null; echo appended >&8 2>/dev/null && echo wrote\n\
+         exec \"$RAYTRACER\" render \"$1\" \"$2\"",
+    );
+    let secret = attack.path().join("root-only.txt");
+    std::fs::write(&secret, "root only 4251\n").unwrap();
+    let log = attack.path().join("root-only.log");
+    std::fs::write(&log, "").unwrap();
+    for file in [&secret, &log] {
+        std::fs::set_permissions(file, std::fs::Permissions::from_mode(0o600)).unwrap();
+    }
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let extra: &[&str] = if unprotected { &["--unprotected"] } else { &[] };
+            let mut command =
+                with_descriptors(&attack.command(kind, None, extra, &[]), &secret, &log);
+            if unprotected {
+                without_namespaces(&mut command);
+            }
+            let (_, scene, _) = attack.grade_by(kind, command);
+            let run = format!("{kind:?}, unprotected {unprotected}");
+            assert_eq!(status(&scene), "match", "{run}: {scene}");
+            let stdout = scene["stdout"].as_str().unwrap();
+            assert!(!stdout.contains("4251"), "{run}: read through 7: {stdout}");
+            assert!(
+                !stdout.contains("wrote"),
+                "{run}: wrote through 8: {stdout}"
+            );
+            assert_eq!(std::fs::read_to_string(&log).unwrap(), "", "{run}");
+        }
+    }
+}
+
+/// A `TMPDIR` open to every account (`/tmp`'s kind), for a test that
+/// looks at what a run leaves there. Whatever is left in it is removed
+/// when it is dropped (before the test's folder, whose removal recurses
+/// per level: a deep folder left would overflow the test's stack).
+struct Tmp(PathBuf);
+
+impl Tmp {
+    fn new(parent: &Path) -> Tmp {
+        let tmp = parent.join("tmp");
+        std::fs::create_dir_all(&tmp).unwrap();
+        std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o1777)).unwrap();
+        Tmp(tmp)
+    }
+
+    /// What is left: nothing of a finished run may be. It is removed
+    /// (by `rm`, which walks without recursing) before it is returned.
+    fn left(&self) -> Vec<String> {
+        let left: Vec<String> = std::fs::read_dir(&self.0)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        for name in &left {
+            let path = self.0.join(name);
+            let _ = Command::new("chmod")
+                .arg("-R")
+                .arg("u+rwx")
+                .arg(&path)
+                .status();
+            let removed = Command::new("rm").arg("-rf").arg(&path).status().unwrap();
+            assert!(removed.success(), "cannot remove {}", path.display());
+        }
+        left
+    }
+}
+
+impl Drop for Tmp {
+    fn drop(&mut self) {
+        self.left();
+    }
+}
+
+/// A tracer opens its working folder (`chmod 755`) and makes a
+/// set-user-ID and set-group-ID copy of `id`, then waits; meanwhile
+/// another local account (uid 65533) looks for it under the grader's
+/// `TMPDIR` and runs what it finds. It must find nothing that runs as the
+/// student's uid (a root run) or the grader's (a user run): the run's
+/// folders lie in a folder only the grader may enter, and without a box
+/// the `chmod` itself is refused. Nothing of the run is left in `TMPDIR`
+/// once `grade` ends.
+#[test]
+fn a_set_user_id_file_a_run_makes_is_out_of_other_accounts_reach() {
+    let attack = Attack::new(
+        "cp /usr/bin/id helper && chmod 6755 helper 2>&1 || echo refused\n\
+         chmod 755 . .. 2>/dev/null\n\
+         exec sleep 4250",
+    );
+    let tmp = Tmp::new(attack.path());
+    let tmp_text = tmp.0.display().to_string();
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let run = format!("{kind:?}, unprotected {unprotected}");
+            let mut extra = vec!["--timeout", "60"];
+            if unprotected {
+                extra.push("--unprotected");
+            }
+            let mut command = attack.command(kind, None, &extra, &[("TMPDIR", &tmp_text)]);
+            if unprotected {
+                without_namespaces(&mut command);
+            }
+            let report = attack.path().join(format!("report-{kind:?}"));
+            let mut grading = command
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .unwrap();
+            let start = std::time::Instant::now();
+            while processes_with("4250").is_empty() {
+                assert!(
+                    start.elapsed().as_secs() < 60 && grading.try_wait().unwrap().is_none(),
+                    "{run}: the tracer did not start"
+                );
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            let classmate = Command::new("setpriv")
+                .args(["--reuid=65533", "--regid=65533", "--clear-groups", "find"])
+                .arg(&tmp.0)
+                .args(["-name", "helper", "-perm", "-4000", "-exec", "{}", ";"])
+                .stderr(Stdio::null())
+                .output()
+                .unwrap();
+            for (pid, _) in processes_with("4250") {
+                // SAFETY: `kill` has no memory preconditions.
+                unsafe { libc::kill(pid, libc::SIGKILL) };
+            }
+            grading.wait().unwrap();
+            let seen = String::from_utf8_lossy(&classmate.stdout);
+            assert!(!seen.contains("euid="), "{run}: the classmate ran: {seen}");
+            assert_eq!(tmp.left(), Vec::<String>::new(), "{run}");
+            let summary: Value =
+                serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap())
+                    .unwrap();
+            let stdout = summary["scenes"][0]["stdout"].as_str().unwrap();
+            if unprotected {
+                assert!(stdout.contains("refused"), "{run}: {stdout}");
+            }
+        }
+    }
+}
+
+/// A tracer's script that leaves `levels` nested folders (`d/d/d/…`) and
+/// a `chmod 000` folder holding a file in its working folder.
+fn nested_folders(levels: usize) -> String {
+    format!(
+        "python3 - <<'END'\n\
+         import os\n\
+         os.mkdir('closed')\n\
+         open('closed/file', 'w').close()\n\
+         top = os.open('.', os.O_RDONLY)\n\
+         for _ in range({levels}):\n    os.mkdir('d')\n    os.chdir('d')\n\
+         os.fchdir(top)\n\
+         os.chmod('closed', 0)\n\
+         END\n"
+    )
+}
+
+/// A tracer that leaves 30,000 nested folders and a `chmod 000` one is
+/// graded like any other, and its working folder goes with the run, in
+/// a box and without one: the removal walks without a frame per level
+/// and opens what it must before removing. Without a box, Landlock checks
+/// each new folder against every folder above it, so the nesting takes
+/// minutes and the run ends at its timeout with as many folders as it
+/// made: the folder must still go.
+#[test]
+fn deep_and_closed_folders_a_run_leaves_are_removed() {
+    let attack = Attack::new(&format!(
+        "{}exec \"$RAYTRACER\" render \"$1\" \"$2\"",
+        nested_folders(30_000)
+    ));
+    let tmp = Tmp::new(attack.path());
+    let tmp_text = tmp.0.display().to_string();
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let run = format!("{kind:?}, unprotected {unprotected}");
+            // In a box the folders take a second or two; on a busy
+            // machine more: the run's time is not what is tested.
+            let extra: &[&str] = if unprotected {
+                &["--unprotected", "--timeout", "5"]
+            } else {
+                &["--timeout", "120"]
+            };
+            let mut command = attack.command(kind, None, extra, &[("TMPDIR", &tmp_text)]);
+            if unprotected {
+                without_namespaces(&mut command);
+            }
+            let (code, scene, _) = attack.grade_by(kind, command);
+            if unprotected {
+                assert!(
+                    ["match", "timeout"].contains(&status(&scene)),
+                    "{run}: {scene}"
+                );
+            } else {
+                assert_eq!(code, 0, "{run}: {scene}");
+                assert_eq!(status(&scene), "match", "{run}: {scene}");
+            }
+            assert_eq!(tmp.left(), Vec::<String>::new(), "{run}");
+        }
+    }
+}
+
+/// A student's build that leaves 25,000 nested folders and a `chmod 000`
+/// one in its prepared folder: the student is graded (each scene's copy
+/// refuses a folder that deep) and the prepared folder goes with the run.
+#[test]
+fn deep_folders_a_build_leaves_are_removed() {
+    let dir = open_folder("grade-deep-build-");
+    let d = dir.path();
+    std::fs::create_dir_all(d.join("suite")).unwrap();
+    std::fs::write(
+        d.join("suite/ball.txt"),
+        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n",
+    )
+    .unwrap();
+    let student = d.join("student");
+    std::fs::create_dir_all(&student).unwrap();
+    std::fs::write(
+        student.join("tracer.txt"),
+        "./renderer render {scene} {out}\n",
+    )
+    .unwrap();
+    std::fs::write(student.join("build.txt"), "bash build.sh\n").unwrap();
+    std::fs::write(student.join("build.sh"), nested_folders(25_000)).unwrap();
+    std::fs::copy(crate::grade_cli::student_binary(), student.join("renderer")).unwrap();
+    std::fs::set_permissions(&student, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let tmp = Tmp::new(d);
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let run = format!("{kind:?}, unprotected {unprotected}");
+            let report = d.join(format!("report-{kind:?}-{unprotected}"));
+            let mut command = grader(kind);
+            command
+                .args(["grade", "--student"])
+                .arg(&student)
+                .arg("-o")
+                .arg(&report)
+                .arg("--cache")
+                .arg(d.join(format!("cache-{kind:?}")))
+                .arg(d.join("suite"))
+                .env("HOME", d)
+                .env("TMPDIR", &tmp.0)
+                .stdin(Stdio::null());
+            if unprotected {
+                command.arg("--unprotected");
+                without_namespaces(&mut command);
+            }
+            let output = command.output().unwrap();
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            assert!(
+                report.join("summary.json").is_file(),
+                "{run}: no summary: {stderr}"
+            );
+            assert_eq!(tmp.left(), Vec::<String>::new(), "{run}: {stderr}");
+        }
+    }
+}
+
+/// A tracer that fills its disk space, blocks or inodes, is told so
+/// (the scene's reason names the run's disk space and says it was full),
+/// and the next run has all of its own: in a box the working folder is a
+/// tmpfs of `--disk` MiB and a bounded number of inodes, gone with the
+/// box.
+#[test]
+fn a_run_that_fills_its_disk_is_told_and_the_next_is_not_hurt() {
+    let blocks = Attack::new(
+        "for i in $(seq 64); do head -c 1048576 /dev/zero > fill$i 2>/dev/null || break; done\n\
+         mkdir closed; chmod 000 closed\n\
+         exec \"$RAYTRACER\" render \"$1\" \"$2\"",
+    );
+    let inodes = Attack::new(
+        "for i in $(seq 40000); do : 2>/dev/null > f$i || break; done\n\
+         exec \"$RAYTRACER\" render \"$1\" \"$2\"",
+    );
+    let honest = Attack::new("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    for kind in kinds() {
+        for attack in [&blocks, &inodes] {
+            let (_, scene, _) = attack.grade(kind, None, &["--disk", "8"], &[]);
+            let reason = scene["reason"].as_str().unwrap_or_default();
+            assert!(
+                reason.contains("the run's disk space (8 MiB) was full"),
+                "{kind:?}: {scene}"
+            );
+            let (_, scene, _) = honest.grade(kind, None, &["--disk", "8"], &[]);
+            assert_eq!(status(&scene), "match", "{kind:?}: {scene}");
+            assert!(scene["reason"].is_null(), "{kind:?}: {scene}");
+        }
+    }
+}
+
+/// A student whose folder does not fit the run's disk space is told so,
+/// and to raise `--disk`, rather than given the kernel's words.
+#[test]
+fn a_student_folder_larger_than_the_disk_is_told_so() {
+    let dir = open_folder("grade-large-student-");
+    let d = dir.path();
+    std::fs::create_dir_all(d.join("suite")).unwrap();
+    std::fs::write(
+        d.join("suite/ball.txt"),
+        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n",
+    )
+    .unwrap();
+    let student = d.join("student");
+    std::fs::create_dir_all(&student).unwrap();
+    std::fs::write(
+        student.join("tracer.txt"),
+        "./renderer render {scene} {out}\n",
+    )
+    .unwrap();
+    std::fs::copy(crate::grade_cli::student_binary(), student.join("renderer")).unwrap();
+    std::fs::write(student.join("data.bin"), vec![7u8; 3 << 20]).unwrap();
+    std::fs::set_permissions(&student, std::fs::Permissions::from_mode(0o755)).unwrap();
+    for kind in kinds() {
+        let report = d.join(format!("report-{kind:?}"));
+        let output = grader(kind)
+            .args(["grade", "--disk", "2", "--student"])
+            .arg(&student)
+            .arg("-o")
+            .arg(&report)
+            .arg("--cache")
+            .arg(d.join(format!("cache-{kind:?}")))
+            .arg(d.join("suite"))
+            .env("HOME", d)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let summary: Value =
+            serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap_or_else(
+                |_| panic!("{kind:?}: {}", String::from_utf8_lossy(&output.stderr)),
+            ))
+            .unwrap();
+        let reason = summary["scenes"][0]["reason"].as_str().unwrap_or_default();
+        assert!(
+            reason.contains("do not fit the run's disk space (2 MiB, 32768 files): raise `--disk`"),
+            "{kind:?}: {summary}"
+        );
+    }
+}
+
+/// A class where one student leaves 30,000 nested folders, fills its
+/// disk and starts a daemon is graded to the end: the honest student
+/// matches, class.csv is written, no daemon and nothing of a run is left.
+#[test]
+fn a_class_survives_a_student_who_leaves_a_mess() {
+    let dir = open_folder("grade-class-mess-");
+    let d = dir.path();
+    std::fs::create_dir_all(d.join("suite")).unwrap();
+    std::fs::write(
+        d.join("suite/ball.txt"),
+        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n",
+    )
+    .unwrap();
+    let student = |name: &str, script: &str| {
+        let folder = d.join("class").join(name);
+        std::fs::create_dir_all(&folder).unwrap();
+        std::fs::write(folder.join("tracer.txt"), "bash tracer.sh {scene} {out}\n").unwrap();
+        std::fs::write(folder.join("tracer.sh"), script).unwrap();
+        std::fs::copy(crate::grade_cli::student_binary(), folder.join("renderer")).unwrap();
+        for path in [folder.clone(), d.join("class")] {
+            std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        }
+    };
+    student(
+        "a-mess",
+        &format!(
+            "setsid sleep 4252 </dev/null >/dev/null 2>&1 &\n{}\
+             for i in $(seq 32); do head -c 1048576 /dev/zero > fill$i 2>/dev/null || break; done\n\
+             exit 0\n",
+            nested_folders(30_000)
+        ),
+    );
+    student("b-honest", "exec ./renderer render \"$1\" \"$2\"\n");
+    let tmp = Tmp::new(d);
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let run = format!("{kind:?}, unprotected {unprotected}");
+            let report = d.join(format!("report-{kind:?}-{unprotected}"));
+            let mut command = grader(kind);
+            command
+                .args(["grade", "--disk", "16", "--timeout", "30", "--class"])
+                .arg(d.join("class"))
+                .arg("-o")
+                .arg(&report)
+                .arg("--cache")
+                .arg(d.join(format!("cache-{kind:?}")))
+                .arg(d.join("suite"))
+                .env("HOME", d)
+                .env("TMPDIR", &tmp.0)
+                .stdin(Stdio::null());
+            if unprotected {
+                command.arg("--unprotected");
+                without_namespaces(&mut command);
+            }
+            let output = command.output().unwrap();
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            assert_eq!(output.status.code(), Some(1), "{run}: {stderr}");
+            let csv = std::fs::read_to_string(report.join("class.csv")).unwrap();
+            assert_eq!(csv.lines().count(), 3, "{run}: {csv}");
+            let honest: Value = serde_json::from_slice(
+                &std::fs::read(report.join("b-honest/summary.json")).unwrap(),
+            )
+            .unwrap();
+            assert_eq!(status(&honest["scenes"][0]), "match", "{run}: {honest}");
+            assert_eq!(tmp.left(), Vec::<String>::new(), "{run}: {stderr}");
+            let left = processes_with("4252");
+            assert!(left.is_empty(), "{run}: the daemon survived: {left:?}");
+        }
+    }
+}

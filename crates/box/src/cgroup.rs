@@ -35,6 +35,7 @@ impl ControlGroup {
             file_size: 1 << 20,
             processes: 8,
             output: 0,
+            disk: 0,
         };
         for (controller, _) in CONTROLLERS {
             if let Some(parent) = ControlGroup::parent(controller) {

@@ -39,14 +39,16 @@ pub unsafe fn sh_runs_after(setup: impl FnMut() -> io::Result<()> + Send + Sync 
     probe.status().is_ok_and(|s| s.success())
 }
 
-/// Drop to the run's user and set the limits: the last steps in the
-/// child, box or not.
+/// Mark every inherited descriptor from 3 up close-on-exec, drop to the
+/// run's user and set the limits: the last steps in the child, box or
+/// not.
 ///
 /// # Safety
 /// Only async-signal-safe system calls: called between fork and exec.
 pub(crate) unsafe fn drop_to_user(confinement: &Confinement) -> io::Result<()> {
     let limits = confinement.limits;
     unsafe {
+        close_on_exec_from(3);
         if let Some(id) = confinement.user {
             check(libc::setgroups(0, std::ptr::null()))?;
             check(libc::setgid(id))?;
@@ -74,6 +76,37 @@ pub(crate) unsafe fn drop_to_user(confinement: &Confinement) -> io::Result<()> {
         check(libc::prctl(libc::PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0))?;
     }
     Ok(())
+}
+
+/// Mark every descriptor from `first` up close-on-exec: whatever the
+/// process that started `grade` left open without the flag (a root-only
+/// file, a log) must not reach the program. Marked rather than closed, so
+/// std's own pipe that reports a failed `exec` stays open until then.
+///
+/// # Safety
+/// Async-signal-safe: called between fork and exec.
+pub(crate) unsafe fn close_on_exec_from(first: libc::c_int) {
+    unsafe {
+        let marked = libc::syscall(
+            libc::SYS_close_range,
+            first as libc::c_uint,
+            libc::c_uint::MAX,
+            libc::CLOSE_RANGE_CLOEXEC,
+        );
+        if marked == 0 {
+            return;
+        }
+        // A kernel before 5.11: mark each descriptor below the limit.
+        let mut limit: libc::rlimit = std::mem::zeroed();
+        let highest = if libc::getrlimit(libc::RLIMIT_NOFILE, &mut limit) == 0 {
+            limit.rlim_cur.min(1 << 20) as libc::c_int
+        } else {
+            1 << 16
+        };
+        for fd in first..highest {
+            libc::fcntl(fd, libc::F_SETFD, libc::FD_CLOEXEC);
+        }
+    }
 }
 
 /// The namespaces to unshare: the network's, inside a user namespace of

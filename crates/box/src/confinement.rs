@@ -15,18 +15,35 @@ pub struct Limits {
     pub processes: u64,
     /// Bytes of stdout, and of stderr, kept.
     pub output: usize,
+    /// Bytes of the tmpfs a box gives a run as its working folder
+    /// ([`Share::scratch`]).
+    pub disk: u64,
 }
 
 /// The uid and gid a root grader runs programs as.
 pub const NOBODY: u32 = 65_534;
 
 /// What of the grader's file system a box holds: folders bound
-/// read-write (the run's working folder) and files bound read-only (a
-/// `--tracer` program named by its path), each at its own path.
+/// read-write (a build's folder) and files bound read-only (a `--tracer`
+/// program named by its path), each at its own path; and the run's
+/// working folder, which a box gives as a tmpfs ([`Scratch`]).
 #[derive(Clone, Debug, Default)]
 pub struct Share {
     pub read_write: Vec<PathBuf>,
     pub read_only: Vec<PathBuf>,
+    /// One of `read_write` that a box gives as a tmpfs of its own
+    /// (`crate::scratch`); without a box it is shared as the others.
+    pub scratch: Option<Scratch>,
+}
+
+/// A working folder a box gives the run as a tmpfs of [`Limits::disk`]
+/// bytes and a bounded number of inodes, filled from `folder`; of what
+/// the program leaves there only `keep` (a path relative to `folder`:
+/// its image) comes back into `folder`.
+#[derive(Clone, Debug)]
+pub struct Scratch {
+    pub folder: PathBuf,
+    pub keep: PathBuf,
 }
 
 /// How the child is confined, decided once per grading.

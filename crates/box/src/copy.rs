@@ -10,14 +10,19 @@
 //! a folder is entered only when it is one, a file is read only when it
 //! is one, and a link is copied as a link (its target unread, so the
 //! student's program meets it with its own rights). Anything else (a
-//! FIFO, a socket, a device) is left out. The copy is bounded in bytes and
-//! entries, so a folder cannot fill the disk the grader writes to.
+//! FIFO, a socket, a device) is left out. The copy is bounded in bytes,
+//! entries and depth ([`MAX_DEPTH`]), so a folder cannot fill the disk
+//! the grader writes to nor make the walk recurse without end. A copied
+//! file keeps its permissions but never its set-user-ID, set-group-ID or
+//! sticky bit: the grader's copy of a student's file is no one's way to
+//! another uid.
 
 use std::ffi::{CStr, CString, OsStr};
 use std::fs::File;
 use std::io;
 use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
 use std::os::unix::ffi::OsStrExt;
+use std::os::unix::fs::PermissionsExt;
 use std::path::Path;
 
 /// The most a copied folder may hold.
@@ -34,6 +39,10 @@ pub const STUDENT_FOLDER: Budget = Budget {
     entries: 20_000,
 };
 
+/// How deep a copied folder may nest: far beyond a program's sources and
+/// build, and few enough frames for any thread's stack.
+pub const MAX_DEPTH: u32 = 64;
+
 /// Copy the contents of the folder `from` into the existing folder `to`
 /// (entries already there with the same names are replaced), within
 /// `budget`.
@@ -43,7 +52,7 @@ pub fn copy_folder(from: &Path, to: &Path, budget: Budget) -> io::Result<()> {
         budget,
         left: budget,
     };
-    walk.copy_entries(&source, to)
+    walk.copy_entries(&source, to, MAX_DEPTH)
 }
 
 /// A copy under way: the budget it started with and what is left of it.
@@ -133,8 +142,9 @@ impl Walk {
         ))
     }
 
-    /// Copy every entry of the open folder `dir` into `to`.
-    fn copy_entries(&mut self, dir: &OwnedFd, to: &Path) -> io::Result<()> {
+    /// Copy every entry of the open folder `dir` into `to`, folders at
+    /// most `depth` levels deep.
+    fn copy_entries(&mut self, dir: &OwnedFd, to: &Path, depth: u32) -> io::Result<()> {
         for name in names(dir)? {
             self.left.entries = match self.left.entries.checked_sub(1) {
                 Some(left) => left,
@@ -144,12 +154,17 @@ impl Walk {
             let target = to.join(os_name);
             let kind = kind_at(dir, &name)?;
             if kind == libc::S_IFDIR {
+                let Some(depth) = depth.checked_sub(1) else {
+                    return Err(io::Error::other(format!(
+                        "the folder nests deeper than grading copies ({MAX_DEPTH} levels)"
+                    )));
+                };
                 let inner = open_at(Some(dir), os_name, libc::O_DIRECTORY)?;
                 match std::fs::create_dir(&target) {
                     Err(error) if error.kind() == io::ErrorKind::AlreadyExists => {}
                     other => other?,
                 }
-                self.copy_entries(&inner, &target)?;
+                self.copy_entries(&inner, &target, depth)?;
             } else if kind == libc::S_IFREG {
                 // No program starts while the copy is open for writing.
                 let _writing = crate::spawning::SPAWNING
@@ -164,8 +179,10 @@ impl Walk {
                     Some(left) => left,
                     None => return Err(self.over_budget()),
                 };
-                // The same permissions, so a program stays runnable.
-                out.set_permissions(source.metadata()?.permissions())?;
+                // The same permissions, so a program stays runnable; never
+                // set-user-ID, set-group-ID or sticky.
+                let mode = source.metadata()?.permissions().mode() & 0o777;
+                out.set_permissions(std::fs::Permissions::from_mode(mode))?;
             } else if kind == libc::S_IFLNK {
                 let _ = std::fs::remove_file(&target);
                 std::os::unix::fs::symlink(OsStr::from_bytes(&link_target(dir, &name)?), &target)?;
@@ -178,7 +195,6 @@ impl Walk {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::os::unix::fs::PermissionsExt;
 
     #[test]
     fn files_folders_and_links_are_copied_and_no_link_is_followed() {
@@ -187,8 +203,11 @@ mod tests {
         std::fs::create_dir_all(from.join("sub")).unwrap();
         std::fs::write(from.join("tracer.py"), "print(1)\n").unwrap();
         std::fs::write(from.join("sub/run"), "#!/bin/sh\n").unwrap();
-        std::fs::set_permissions(from.join("sub/run"), std::fs::Permissions::from_mode(0o755))
-            .unwrap();
+        std::fs::set_permissions(
+            from.join("sub/run"),
+            std::fs::Permissions::from_mode(0o6755),
+        )
+        .unwrap();
         let secret = dir.path().join("secret");
         std::fs::create_dir(&secret).unwrap();
         std::fs::write(secret.join("key"), "not for students").unwrap();
@@ -206,7 +225,7 @@ mod tests {
             .unwrap()
             .permissions()
             .mode();
-        assert_eq!(mode & 0o777, 0o755);
+        assert_eq!(mode & 0o7777, 0o755, "runnable, never set-user-ID");
         for link in ["linked", "key"] {
             let meta = std::fs::symlink_metadata(to.join(link)).unwrap();
             assert!(meta.file_type().is_symlink(), "{link} was followed");

@@ -17,8 +17,15 @@
 //! file either, which Landlock does not govern) and `io_uring_setup`
 //! (which could open sockets without `socket`), with `EACCES`; on x86-64
 //! the same calls through the x32 numbers too. `socketpair` stays: it
-//! reaches nothing outside. [`Fence::enter`] installs both in the forked
-//! child after it has become the run's user.
+//! reaches nothing outside. A second filter refuses, with `EPERM`, a mode
+//! with the set-user-ID or set-group-ID bit (`chmod`, `fchmod`,
+//! `fchmodat`, `fchmodat2`, and a file made by `open`, `openat`, `creat`,
+//! `mknod` or `mknodat`), and a third `openat2` (whose mode a filter
+//! cannot read) with `ENOSYS`, as a kernel without it would: no mount can
+//! make the run's folder `nosuid` without a box, so the program cannot
+//! make a file that runs as its uid for another account (which could not
+//! reach it anyway, [`crate::folder`]). [`Fence::enter`] installs them in
+//! the forked child after it has become the run's user.
 
 use std::collections::BTreeMap;
 use std::io;
@@ -29,7 +36,10 @@ use landlock::{
     path_beneath_rules, Access, AccessFs, AccessNet, CompatLevel, Compatible, Ruleset, RulesetAttr,
     RulesetCreatedAttr, Scope, ABI,
 };
-use seccompiler::{BpfProgram, SeccompAction, SeccompFilter};
+use seccompiler::{
+    BpfProgram, SeccompAction, SeccompCmpArgLen, SeccompCmpOp, SeccompCondition, SeccompFilter,
+    SeccompRule,
+};
 
 use crate::child::sh_runs_after;
 use crate::confinement::Share;
@@ -41,13 +51,32 @@ const LANDLOCK_ABI: ABI = ABI::V6;
 /// The system calls refused.
 const REFUSED: &[libc::c_long] = &[libc::SYS_socket, libc::SYS_io_uring_setup];
 
+/// The system calls that give a file a mode, with the index of the mode
+/// among their arguments: refused when it has a set-user-ID or
+/// set-group-ID bit.
+const MODES: &[(libc::c_long, u8)] = &[
+    #[cfg(target_arch = "x86_64")]
+    (libc::SYS_chmod, 1),
+    (libc::SYS_fchmod, 1),
+    (libc::SYS_fchmodat, 2),
+    (libc::SYS_fchmodat2, 2),
+    #[cfg(target_arch = "x86_64")]
+    (libc::SYS_open, 2),
+    (libc::SYS_openat, 3),
+    #[cfg(target_arch = "x86_64")]
+    (libc::SYS_creat, 1),
+    #[cfg(target_arch = "x86_64")]
+    (libc::SYS_mknod, 1),
+    (libc::SYS_mknodat, 2),
+];
+
 /// One run's fence, prepared before the fork.
 #[derive(Debug)]
 pub struct Fence {
     /// The Landlock ruleset, when the kernel has Landlock.
     landlock: Option<OwnedFd>,
-    /// The seccomp filter, when the kernel has seccomp.
-    seccomp: Option<BpfProgram>,
+    /// The seccomp filters, when the kernel has seccomp.
+    seccomp: Option<Vec<BpfProgram>>,
 }
 
 /// What of the fence this kernel allows: Landlock, seccomp. Each is
@@ -113,7 +142,7 @@ impl Fence {
                 return Err(io::Error::last_os_error());
             }
         }
-        if let Some(program) = &self.seccomp {
+        for program in self.seccomp.iter().flatten() {
             seccompiler::apply_filter(program).map_err(|error| match error {
                 seccompiler::Error::Prctl(error) | seccompiler::Error::Seccomp(error) => error,
                 _ => io::Error::from_raw_os_error(libc::EINVAL),
@@ -152,23 +181,58 @@ fn ruleset(share: &Share) -> Option<OwnedFd> {
     created.into()
 }
 
-/// The seccomp filter of the module doc, or `None` on an architecture
+/// The seccomp filters of the module doc, or `None` on an architecture
 /// seccompiler does not know.
-fn filter() -> Option<BpfProgram> {
-    let mut rules = BTreeMap::new();
-    for &call in REFUSED {
-        rules.insert(call, Vec::new());
+fn filter() -> Option<Vec<BpfProgram>> {
+    let arch: seccompiler::TargetArch = std::env::consts::ARCH.try_into().ok()?;
+    // Each call, and on x86-64 its x32 number too.
+    let numbers = |call: libc::c_long| {
         #[cfg(target_arch = "x86_64")]
-        rules.insert(call | 0x4000_0000, Vec::new());
+        return [call, call | 0x4000_0000];
+        #[cfg(not(target_arch = "x86_64"))]
+        return [call];
+    };
+    let compile = |rules: BTreeMap<libc::c_long, Vec<SeccompRule>>, errno: i32| {
+        let filter = SeccompFilter::new(
+            rules,
+            SeccompAction::Allow,
+            SeccompAction::Errno(errno as u32),
+            arch,
+        )
+        .ok()?;
+        BpfProgram::try_from(filter).ok()
+    };
+    let refused = REFUSED
+        .iter()
+        .flat_map(|&call| numbers(call))
+        .map(|call| (call, Vec::new()))
+        .collect();
+    let mut modes = BTreeMap::new();
+    for &(call, argument) in MODES {
+        let rules = [libc::S_ISUID, libc::S_ISGID]
+            .into_iter()
+            .map(|bit| {
+                let condition = SeccompCondition::new(
+                    argument,
+                    SeccompCmpArgLen::Dword,
+                    SeccompCmpOp::MaskedEq(u64::from(bit)),
+                    u64::from(bit),
+                )
+                .ok()?;
+                SeccompRule::new(vec![condition]).ok()
+            })
+            .collect::<Option<Vec<_>>>()?;
+        for number in numbers(call) {
+            modes.insert(number, rules.clone());
+        }
     }
-    let arch = std::env::consts::ARCH.try_into().ok()?;
-    SeccompFilter::new(
-        rules,
-        SeccompAction::Allow,
-        SeccompAction::Errno(libc::EACCES as u32),
-        arch,
-    )
-    .ok()?
-    .try_into()
-    .ok()
+    let openat2 = numbers(libc::SYS_openat2)
+        .into_iter()
+        .map(|call| (call, Vec::new()))
+        .collect();
+    Some(vec![
+        compile(refused, libc::EACCES)?,
+        compile(modes, libc::EPERM)?,
+        compile(openat2, libc::ENOSYS)?,
+    ])
 }

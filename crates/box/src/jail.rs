@@ -17,16 +17,23 @@
 //! links), a minimal `/dev` (null, zero, full, random, urandom; a private
 //! tmpfs `/dev/shm`), private tmpfs `/tmp` and `/var/tmp`, a fresh `/proc`
 //! of the new PID namespace, and [`Share`]'s paths bound at their own
-//! paths (the run's working folder read-write, a `--tracer` program's file
-//! read-only); the grader's own executable is covered by `/dev/null` if it
-//! lies under a bound system folder. It then pivots into that root,
-//! detaches the old one, makes `/` read-only, in a user namespace allows
+//! paths (a build's folder read-write, `nosuid` and `nodev`, a `--tracer`
+//! program's file read-only); a scene's working folder is instead a tmpfs
+//! of `--disk` MiB at its path, filled from the prepared folder
+//! (`scratch.rs`). The grader's own executable is covered by `/dev/null`
+//! if it lies under a bound system folder. It then pivots into that
+//! root, detaches the old one, makes `/` read-only, in a user namespace allows
 //! no user namespace to be made inside it (so the program cannot mount the
 //! control groups it is held in), and forks the program
-//! ("C2"), which drops to the run's uid, takes the limits and
-//! `PR_SET_NO_NEW_PRIVS`, and execs. C1 reaps whatever is reparented to
-//! it and exits when the program does, handing the program's wait status
-//! to C0 through a pipe; C0 exits the same way. When C1 exits, or is
+//! ("C2"), which marks every inherited descriptor close-on-exec, drops to
+//! the run's uid, takes the limits and `PR_SET_NO_NEW_PRIVS`, and execs.
+//! C1 (not dumpable, holding no descriptor of the grader's but its own
+//! pipes and the working folder's) reaps whatever is reparented to it;
+//! when the program ends it kills everything left in the box, copies the
+//! program's image out of the tmpfs, tells the grader whether the tmpfs
+//! was full (a pipe of the run's, [`Plan::report_to`]) and exits, handing
+//! the program's wait status to C0 through a pipe; C0 exits the same
+//! way. When C1 exits, or is
 //! killed with C0's group at the timeout, the kernel kills every process
 //! left in the namespace: nothing the program started survives the run.
 //! Everything else of the grader's file system (its executable, the
@@ -43,6 +50,7 @@ use std::sync::OnceLock;
 
 use crate::child::{check, die_with, drop_to_user, sh_runs_after};
 use crate::confinement::{Confinement, Limits, Share, NOBODY};
+use crate::scratch;
 
 /// The system folders bound read-only (links among them stay links).
 pub(crate) const SYSTEM: &[&str] = &[
@@ -75,6 +83,13 @@ enum Step {
     Touch(CString),
     Symlink(CString, CString),
     Proc(CString),
+    /// The run's working folder `from` as a tmpfs at `to`, with these
+    /// options, filled from it ([`crate::scratch`]).
+    Scratch {
+        from: CString,
+        to: CString,
+        options: CString,
+    },
 }
 
 /// Everything the child needs, prepared before the fork.
@@ -91,6 +106,11 @@ pub struct Plan {
     arguments: Option<(usize, usize)>,
     /// The grader's pid: C0 dies with it ([`enter`]).
     grader: libc::pid_t,
+    /// The folder (relative to the working folder) and name of the file
+    /// C1 copies out of the tmpfs, when there is one.
+    keep: Option<(CString, CString)>,
+    /// The descriptor C1 writes `f` to when the tmpfs was full; -1 for none.
+    report: libc::c_int,
 }
 
 fn c(path: &Path) -> io::Result<CString> {
@@ -220,8 +240,13 @@ impl Plan {
         }
         steps.push(Step::Mkdir(c(&root.join("proc"))?));
         steps.push(Step::Proc(c(&root.join("proc"))?));
+        let mut keep = None;
         for (paths, read_only) in [(&share.read_write, false), (&share.read_only, true)] {
             for path in paths {
+                let scratch = share
+                    .scratch
+                    .as_ref()
+                    .filter(|s| !read_only && s.folder == *path);
                 let meta = path.symlink_metadata()?;
                 let to = inside(path);
                 for ancestor in to.ancestors().collect::<Vec<_>>().into_iter().rev() {
@@ -234,6 +259,22 @@ impl Plan {
                 } else {
                     Step::Touch(c(&to)?)
                 });
+                if let Some(scratch) = scratch {
+                    let options = format!(
+                        "mode=0700,size={},nr_inodes={}",
+                        confinement.limits.disk.max(1 << 20),
+                        scratch::INODES
+                    );
+                    steps.push(Step::Scratch {
+                        from: c(path)?,
+                        to: c(&to)?,
+                        options: CString::new(options).unwrap_or_default(),
+                    });
+                    let folder = scratch.keep.parent().filter(|p| !p.as_os_str().is_empty());
+                    let name = scratch.keep.file_name().unwrap_or_default();
+                    keep = Some((c(folder.unwrap_or(Path::new(".")))?, c(Path::new(name))?));
+                    continue;
+                }
                 steps.push(Step::Bind {
                     from: c(path)?,
                     to: c(&to)?,
@@ -253,7 +294,21 @@ impl Plan {
             arguments: arguments(),
             // SAFETY: `getpid` has no preconditions.
             grader: unsafe { libc::getpid() },
+            keep,
+            report: -1,
         })
+    }
+
+    /// Whether the box gives the run a tmpfs working folder, whose
+    /// fullness C1 reports ([`Plan::report_to`]).
+    pub fn has_scratch(&self) -> bool {
+        self.keep.is_some()
+    }
+
+    /// Have C1 write `f` to the descriptor `fd` (the write end of a pipe,
+    /// close-on-exec) when the run's tmpfs was full.
+    pub fn report_to(&mut self, fd: libc::c_int) {
+        self.report = fd;
     }
 }
 
@@ -326,7 +381,7 @@ pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
         if let Some((start, end)) = plan.arguments {
             std::ptr::write_bytes(start as *mut u8, 0, end - start);
         }
-        build_root(plan)?;
+        let folders = build_root(plan, confinement.user)?;
         if !confinement.root() {
             // No user namespace may be made inside the box's: in one, with
             // a cgroup namespace, the program could mount the control
@@ -334,20 +389,44 @@ pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
             // (`sandbox::ControlGroup`), and raise its own limits.
             write_file(b"/proc/sys/user/max_user_namespaces\0", b"0")?;
         }
+        // Not dumpable before the program exists: it could otherwise reach
+        // the descriptors below through `/proc/1/fd`.
+        libc::prctl(libc::PR_SET_DUMPABLE, 0, 0, 0, 0);
         let program = libc::fork();
         check(program)?;
         if program == 0 {
             libc::close(write_end);
+            if let Some((host, inside)) = folders {
+                libc::close(host);
+                libc::close(inside);
+            }
             libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL, 0, 0, 0);
             return drop_to_user(confinement);
         }
         // Nothing in the box may use the grader's descriptors through us.
-        close_all_but(write_end);
-        libc::prctl(libc::PR_SET_DUMPABLE, 0, 0, 0, 0);
+        let (host, inside) = folders.unwrap_or((-1, -1));
+        close_all_but(&[write_end, host, inside, plan.report]);
         loop {
             let mut status = 0;
             let pid = libc::waitpid(-1, &mut status, 0);
             if pid == program {
+                // Nothing may change the folder while it is read.
+                libc::kill(-1, libc::SIGKILL);
+                while libc::waitpid(-1, std::ptr::null_mut(), 0) != -1
+                    || *libc::__errno_location() == libc::EINTR
+                {}
+                if let (Some((folder, name)), true) = (&plan.keep, inside >= 0) {
+                    if scratch::full(inside) && plan.report >= 0 {
+                        libc::write(plan.report, b"f".as_ptr().cast(), 1);
+                    }
+                    let _ = scratch::keep(
+                        inside,
+                        host,
+                        folder.as_ptr(),
+                        name.as_ptr(),
+                        confinement.user,
+                    );
+                }
                 let bytes = status.to_ne_bytes();
                 libc::write(write_end, bytes.as_ptr().cast(), bytes.len());
                 libc::_exit(0);
@@ -359,13 +438,23 @@ pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
     }
 }
 
-/// Close every descriptor from 3 on but `keep`.
-unsafe fn close_all_but(keep: libc::c_int) {
-    unsafe {
-        if keep > 3 {
-            libc::syscall(libc::SYS_close_range, 3u32, (keep - 1) as u32, 0u32);
+/// Close every descriptor from 3 on but those of `keep` (-1 for none).
+unsafe fn close_all_but(keep: &[libc::c_int]) {
+    let mut kept = [-1; 4];
+    let count = keep.len().min(kept.len());
+    kept[..count].copy_from_slice(&keep[..count]);
+    kept.sort_unstable();
+    let mut first = 3;
+    for &fd in kept.iter().filter(|&&fd| fd >= 3) {
+        unsafe {
+            if fd > first {
+                libc::syscall(libc::SYS_close_range, first as u32, (fd - 1) as u32, 0u32);
+            }
         }
-        libc::syscall(libc::SYS_close_range, (keep + 1) as u32, u32::MAX, 0u32);
+        first = first.max(fd + 1);
+    }
+    unsafe {
+        libc::syscall(libc::SYS_close_range, first as u32, u32::MAX, 0u32);
     }
 }
 
@@ -373,7 +462,7 @@ unsafe fn close_all_but(keep: libc::c_int) {
 unsafe fn keeper(init: libc::pid_t, read_end: libc::c_int, write_end: libc::c_int) -> ! {
     unsafe {
         libc::close(write_end);
-        close_all_but(read_end);
+        close_all_but(&[read_end]);
         let mut bytes = [0u8; 4];
         let mut got = 0;
         while got < 4 {
@@ -412,14 +501,15 @@ fn step_no_links(step: &Step) -> bool {
     matches!(step, Step::Bind { flags, .. } if flags & NO_LINKS != 0)
 }
 
-/// Open `path` as a place (`O_PATH`), refusing a link anywhere on it.
+/// Open `path` with `flags` (`O_PATH`: as a place), refusing a link
+/// anywhere on it.
 ///
 /// # Safety
 /// Async-signal-safe: called between fork and exec.
-unsafe fn open_no_links(path: &CString) -> io::Result<libc::c_int> {
+unsafe fn open_no_links(path: &CString, flags: libc::c_int) -> io::Result<libc::c_int> {
     unsafe {
         let mut how: libc::open_how = std::mem::zeroed();
-        how.flags = (libc::O_PATH | libc::O_NOFOLLOW | libc::O_CLOEXEC) as u64;
+        how.flags = (flags | libc::O_NOFOLLOW | libc::O_CLOEXEC) as u64;
         how.resolve = libc::RESOLVE_NO_SYMLINKS | libc::RESOLVE_NO_MAGICLINKS;
         let fd = libc::syscall(
             libc::SYS_openat2,
@@ -458,9 +548,14 @@ fn fd_path(fd: libc::c_int, buffer: &mut [u8; 32]) -> *const libc::c_char {
 }
 
 /// C1: build the box's root from the plan, pivot into it, and go to the
-/// program's folder.
-unsafe fn build_root(plan: &Plan) -> io::Result<()> {
+/// program's folder; the prepared working folder and its tmpfs, open,
+/// when there is one (`owner` is the run's user when the grader is root).
+unsafe fn build_root(
+    plan: &Plan,
+    owner: Option<u32>,
+) -> io::Result<Option<(libc::c_int, libc::c_int)>> {
     let null = std::ptr::null::<libc::c_char>();
+    let mut folders = None;
     unsafe {
         check(libc::mount(
             null,
@@ -495,7 +590,7 @@ unsafe fn build_root(plan: &Plan) -> io::Result<()> {
                     let mut through = [0u8; 32];
                     let mut fd = -1;
                     let source = if step_no_links(step) {
-                        fd = open_no_links(from)?;
+                        fd = open_no_links(from, libc::O_PATH)?;
                         fd_path(fd, &mut through)
                     } else {
                         from.as_ptr()
@@ -520,10 +615,45 @@ unsafe fn build_root(plan: &Plan) -> io::Result<()> {
                                 | libc::MS_BIND
                                 | libc::MS_RDONLY
                                 | libc::MS_NOSUID
+                                | libc::MS_NODEV
+                                | *flags,
+                            std::ptr::null(),
+                        ))?;
+                    } else if step_no_links(step) {
+                        // A shared folder (a build's) runs no set-user-ID
+                        // file and opens no device.
+                        check(libc::mount(
+                            null,
+                            to.as_ptr(),
+                            null,
+                            libc::MS_REMOUNT
+                                | libc::MS_BIND
+                                | libc::MS_NOSUID
+                                | libc::MS_NODEV
                                 | *flags,
                             std::ptr::null(),
                         ))?;
                     }
+                }
+                Step::Scratch { from, to, options } => {
+                    let host = open_no_links(from, libc::O_RDONLY | libc::O_DIRECTORY)?;
+                    check(libc::mount(
+                        c"tmpfs".as_ptr(),
+                        to.as_ptr(),
+                        c"tmpfs".as_ptr(),
+                        libc::MS_NOSUID | libc::MS_NODEV,
+                        options.as_ptr().cast(),
+                    ))?;
+                    let inside = libc::open(
+                        to.as_ptr(),
+                        libc::O_RDONLY | libc::O_DIRECTORY | libc::O_NOFOLLOW | libc::O_CLOEXEC,
+                    );
+                    check(inside)?;
+                    folders = Some((host, inside));
+                    let mut stat: libc::stat = std::mem::zeroed();
+                    check(libc::fstat(host, &mut stat))?;
+                    scratch::give(inside, stat.st_mode, owner)?;
+                    scratch::fill(host, inside, owner, scratch::DEPTH)?;
                 }
                 Step::Touch(path) => {
                     let fd = libc::open(
@@ -560,7 +690,7 @@ unsafe fn build_root(plan: &Plan) -> io::Result<()> {
         check(libc::chdir(plan.start.as_ptr()))?;
         libc::sethostname(c"box".as_ptr(), 3);
     }
-    Ok(())
+    Ok(folders)
 }
 
 /// Whether a box can be had here: run `sh -c :` in one.
@@ -573,6 +703,7 @@ pub fn available(root: bool) -> bool {
             file_size: 1 << 20,
             processes: 64,
             output: 1024,
+            disk: 1 << 20,
         },
         isolate_network: true,
         user: root.then_some(NOBODY),

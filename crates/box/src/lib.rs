@@ -8,9 +8,14 @@
 //! made ([`cgroup`]); as root, a uid of the student's own ([`uids`]).
 //! Then each command runs under it ([`run::run`]) from a folder closed to
 //! everyone but the grader and given to the run's user ([`folder`]),
-//! with its output captured within a bound ([`capture`]); the grader
-//! copies what a program may write without following a link ([`copy`])
-//! and reads what it wrote the same way ([`output`]).
+//! with its output captured within a bound ([`capture`]), and removed
+//! after by a walk no folder can stop ([`folder::remove_tree`]); in a box
+//! the working folder is a tmpfs of its own, bounded in bytes and inodes
+//! (`scratch.rs`). The grader copies what a program may write without
+//! following a link ([`copy`]) and reads what it wrote the same way
+//! ([`output`]). Nothing the process that started the grader left open
+//! reaches a program: every descriptor from 3 up is close-on-exec in the
+//! child.
 //!
 //! The crate knows nothing of scenes or images: it runs argument vectors
 //! and moves bytes. All of grading's `unsafe` code lives here, each use
@@ -30,10 +35,11 @@ pub mod output;
 pub mod probe;
 mod reason;
 pub mod run;
+mod scratch;
 mod spawning;
 pub mod uids;
 
-pub use confinement::{Confinement, Limits, Share};
+pub use confinement::{Confinement, Limits, Scratch, Share};
 pub use run::{Ended, Run};
 
 /// This process's effective uid.

@@ -5,11 +5,14 @@
 //! and only `PATH`, `HOME` (the folder) and `LANG` in its environment.
 //! Where the kernel allows it ([`crate::probe`]) it runs in a box
 //! ([`crate::jail`]): PID, mount, IPC, UTS and network namespaces and a
-//! root holding only the system folders and what [`Share`] names, so
-//! nothing it starts outlives the run. Without one (`--unprotected`), in
-//! the forked child (`confine`): a process group of its own, a network
+//! root holding only the system folders and what [`Share`] names (the
+//! working folder as a tmpfs of its own, whose fullness the run reports,
+//! [`Run::disk_full`]), so nothing it starts outlives the run. Without
+//! one (`--unprotected`), in the forked child (`confine`): a process
+//! group of its own, a network
 //! namespace when one can be had, and Landlock and a seccomp filter
-//! ([`crate::fence`]). Either way (`drop_to_user`): when
+//! ([`crate::fence`]). Either way (`drop_to_user`): every descriptor
+//! from 3 up that the grader inherited is close-on-exec; when
 //! the grader is root, a uid of the student's own (leased,
 //! [`crate::uids`]), because root ignores the process-count limit; the
 //! resource limits (CPU seconds, address space, file size, processes, no
@@ -26,6 +29,7 @@
 
 use std::ffi::OsString;
 use std::io;
+use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -72,6 +76,9 @@ pub struct Run {
     pub seconds: f64,
     pub stdout: Captured,
     pub stderr: Captured,
+    /// The box's working folder had no byte or no inode left when the
+    /// program ended ([`crate::Scratch`]).
+    pub disk_full: bool,
 }
 
 impl Run {
@@ -83,8 +90,19 @@ impl Run {
             seconds: start.elapsed().as_secs_f64(),
             stdout: Captured::default(),
             stderr: Captured::default(),
+            disk_full: false,
         }
     }
+}
+
+/// A pipe, both ends close-on-exec and non-blocking: the read end and
+/// the write end.
+fn report_pipe() -> io::Result<(OwnedFd, OwnedFd)> {
+    let mut ends = [0; 2];
+    // SAFETY: `pipe2` writes two descriptors into the array.
+    check(unsafe { libc::pipe2(ends.as_mut_ptr(), libc::O_CLOEXEC | libc::O_NONBLOCK) })?;
+    // SAFETY: two fresh descriptors no one else owns.
+    Ok(unsafe { (OwnedFd::from_raw_fd(ends[0]), OwnedFd::from_raw_fd(ends[1])) })
 }
 
 /// Make this process the subreaper of its descendants, so a program's
@@ -119,7 +137,7 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
-    let plan = if confinement.boxed {
+    let mut plan = if confinement.boxed {
         match crate::jail::Plan::new(dir, share, &confinement) {
             Ok(plan) => Some(plan),
             Err(error) => {
@@ -131,6 +149,17 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         }
     } else {
         None
+    };
+    // Where the box's pid 1 says the working folder was full.
+    let report = match plan.as_mut().filter(|plan| plan.has_scratch()) {
+        Some(plan) => match report_pipe() {
+            Ok((read, write)) => {
+                plan.report_to(write.as_raw_fd());
+                Some((read, write))
+            }
+            Err(error) => return Run::not_started(reason(&error), start),
+        },
+        None => None,
     };
     let fence = if confinement.boxed {
         None
@@ -172,6 +201,15 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
     };
     let mut child = match spawned {
         Ok(child) => child,
+        // The box's pid 1 could not fill the working folder's tmpfs.
+        Err(error) if report.is_some() && error.raw_os_error() == Some(libc::ENOSPC) => {
+            let full = format!(
+                "the program's files do not fit the run's disk space ({} MiB, {} files): raise `--disk`",
+                limits.disk >> 20,
+                crate::scratch::INODES
+            );
+            return Run::not_started(full, start);
+        }
         Err(error) => return Run::not_started(start_failure(&argv[0], &error), start),
     };
     let group = child.id() as libc::pid_t;
@@ -204,6 +242,12 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         }
     };
     let seconds = start.elapsed().as_secs_f64();
+    let disk_full = report.is_some_and(|(read, _)| {
+        let mut byte = 0u8;
+        // SAFETY: reading one byte into a byte.
+        let got = unsafe { libc::read(read.as_raw_fd(), (&mut byte as *mut u8).cast(), 1) };
+        got == 1 && byte == b'f'
+    });
     kill_group(group);
     running().retain(|&g| g != group);
     drop(group_of_run);
@@ -212,6 +256,7 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         seconds,
         stdout: stdout.finish(),
         stderr: stderr.finish(),
+        disk_full,
     }
 }
 

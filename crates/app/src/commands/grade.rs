@@ -394,6 +394,9 @@ fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, Gr
         scenes: results,
     };
     summary.sort();
+    if let Some(folder) = prepared {
+        grade::remove_reporting(folder, "the student's prepared folder");
+    }
     report::write(&job.report, &summary).map_err(FileError::writing(&job.report))?;
     Ok(summary)
 }
@@ -418,6 +421,7 @@ fn limits(args: &SandboxArgs) -> Limits {
         file_size: u64::from(args.max_file_size) * MIB,
         processes: args.max_processes.into(),
         output: args.max_output as usize * 1024,
+        disk: u64::from(args.disk) * MIB,
     }
 }
 

@@ -31,7 +31,8 @@ use serde::Serialize;
 use crate::compare::{self, heatmap, FlipStats, Picture, Thresholds};
 use aspects::{AspectResult, AspectThresholds};
 pub use judge::Status;
-use raytracer_box::{run::run, Confinement, Ended, Share};
+use raytracer_box::folder::RunFolder;
+use raytracer_box::{run::run, Confinement, Ended, Scratch, Share};
 use raytracer_render::render::probe::Buffers;
 use suite::SuiteScene;
 use workdir::Template;
@@ -163,7 +164,7 @@ pub fn grade_scene(
     };
     // A folder that cannot be prepared is this scene's failure, not the
     // whole grading's: the student's folder may be what it cannot copy.
-    let dir = match workdir::prepare(scene, folder, plan.confinement.user) {
+    let dir = match workdir::prepare(scene, folder, &plan.confinement) {
         Ok(dir) => dir,
         Err(error) => {
             let reason = format!(
@@ -180,6 +181,10 @@ pub fn grade_scene(
             Programs::Here(_) => program_files(&argv),
             Programs::Folder(_) => Vec::new(),
         },
+        scratch: Some(Scratch {
+            folder: dir.root.clone(),
+            keep: dir.keep(),
+        }),
     };
     let run = run(&argv, &dir.start, &share, plan.confinement);
     let against = judge::Against {
@@ -190,7 +195,17 @@ pub fn grade_scene(
         points: &scene.aspects,
     };
     let mut judged = judge::judge(&run.ended, &dir.out(), &against);
-    drop(dir);
+    remove_reporting(dir.folder, "the scene's working folder");
+    if run.disk_full {
+        let full = format!(
+            "the run's disk space ({} MiB) was full",
+            plan.confinement.limits.disk >> 20
+        );
+        judged.reason = Some(match judged.reason.take() {
+            Some(reason) => format!("{reason}; {full}"),
+            None => full,
+        });
+    }
 
     let mut images = Images {
         reference: reference_image,
@@ -256,6 +271,18 @@ pub(crate) fn program_files(argv: &[std::ffi::OsString]) -> Vec<PathBuf> {
         .filter_map(|path| std::fs::canonicalize(path).ok())
         .filter(|path| path.is_file() && Some(path) != exe.as_ref())
         .collect()
+}
+
+/// Remove a run's `folder` (`what`, for the warning): what cannot be
+/// removed is said on stderr, and grading goes on.
+pub(crate) fn remove_reporting(folder: RunFolder, what: &str) {
+    let path = folder.path().display().to_string();
+    if let Err(error) = folder.remove() {
+        eprintln!(
+            "warning: cannot remove {what} `{path}`: {}",
+            raytracer_scene::diagnostic::io_reason(&error)
+        );
+    }
 }
 
 /// A scene that did not run because of `reason`.

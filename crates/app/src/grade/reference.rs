@@ -245,11 +245,15 @@ impl Cache {
         if let Some(picture) = read_private(&path) {
             return Ok((picture, false));
         }
-        let dir = workdir::prepare(scene, None, confinement.user)?;
+        let dir = workdir::prepare(scene, None, &confinement)?;
         let argv = template.argv(&dir.scene_file, workdir::OUT, Some(cwd));
         let share = Share {
             read_write: vec![dir.root.clone()],
             read_only: super::program_files(&argv),
+            scratch: Some(raytracer_box::Scratch {
+                folder: dir.root.clone(),
+                keep: dir.keep(),
+            }),
         };
         let run = run(&argv, &dir.start, &share, confinement);
         if let Some((_, reason)) = judge::failure(&run.ended) {

@@ -18,12 +18,10 @@ use std::path::{Path, PathBuf};
 
 use miette::Diagnostic;
 
-use tempfile::TempDir;
-
 use super::report::BuildSummary;
 use super::workdir::{Template, TemplateError};
 use raytracer_box::copy::{copy_folder, STUDENT_FOLDER};
-use raytracer_box::folder::{give, private_folder};
+use raytracer_box::folder::{private_folder, RunFolder};
 use raytracer_box::run::run;
 use raytracer_box::{Confinement, Ended, Share};
 use raytracer_scene::diagnostic::FileError;
@@ -109,10 +107,10 @@ impl Student {
         let folder = private_folder()?;
         // Canonical while the folder is still the grader's alone: a box
         // binds it by this path.
-        let path = std::fs::canonicalize(folder.path())?;
+        let path = folder.path().to_path_buf();
         copy_folder(&self.folder, folder.path(), STUDENT_FOLDER)?;
         if let Some(id) = confinement.user {
-            give(folder.path(), id)?;
+            folder.give(id, !confinement.boxed)?;
         }
         let build = self.build(&path, confinement);
         Ok(Prepared { folder, build })
@@ -125,6 +123,7 @@ impl Student {
         let share = Share {
             read_write: vec![folder.to_path_buf()],
             read_only: Vec::new(),
+            scratch: None,
         };
         let run = run(&argv, folder, &share, confinement);
         let (exit_code, signal) = match run.ended {
@@ -149,7 +148,7 @@ impl Student {
 /// A student's folder as grading uses it: a private copy, built.
 pub struct Prepared {
     /// Each scene's working folder starts as a copy of this one.
-    pub folder: TempDir,
+    pub folder: RunFolder,
     pub build: Option<BuildSummary>,
 }
 

@@ -9,12 +9,17 @@
 //! `./raytracer {scene} {out}` run as they do at home, beside the scene
 //! and its textures. Without a student folder (`--tracer`), a program
 //! named by a relative path is taken from the folder `grade` runs in.
-//! When the program runs as another user, the folder is given to it, and
+//! The folder lies in a folder of its own that only the grader may enter
+//! ([`raytracer_box::folder`]), and is removed after the run by a walk
+//! no folder can stop. When the program runs as another user, the folder
+//! is given to it, and
 //! the order of that matters: the folder is created by the grader with
 //! mode 0700, so until its own owner changes no other user can enter it,
 //! rename an entry or put a link in its place. Everything under it is
 //! therefore given away first, without following links, and the folder
-//! itself last; after that the grader changes nothing in it by path.
+//! itself last; after that the grader changes nothing in it by path. In
+//! a box the program works on a tmpfs copy of it (`Scratch`), and only
+//! its image comes back.
 //! The command template is split into words like a shell would split it
 //! (quotes, backslashes) and `{scene}` and `{out}` are replaced inside
 //! each word, so no file name can add a word or run a command.
@@ -22,21 +27,20 @@
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
-use tempfile::TempDir;
-
 use super::suite::SuiteScene;
 use raytracer_box::copy::{copy_folder, STUDENT_FOLDER};
-use raytracer_box::folder::{give, private_folder};
+use raytracer_box::folder::{private_folder, RunFolder};
+use raytracer_box::Confinement;
 
 /// The name of the image the program is asked to write.
 pub const OUT: &str = "out.ppm";
 
-/// A prepared folder: removed when dropped.
+/// A prepared folder: removed when dropped, or by [`RunFolder::remove`].
 pub struct Workdir {
-    pub temp: TempDir,
-    /// `temp`'s canonical path: what a box binds read-write.
+    pub folder: RunFolder,
+    /// `folder`'s canonical path: what a box gives the run.
     pub root: PathBuf,
-    /// Where the program starts: the scene's folder inside `temp`.
+    /// Where the program starts: the scene's folder inside `folder`.
     pub start: PathBuf,
     /// The scene's file name, for `{scene}`.
     pub scene_file: String,
@@ -47,38 +51,47 @@ impl Workdir {
     pub fn out(&self) -> PathBuf {
         self.start.join(OUT)
     }
+
+    /// The image's path relative to the folder: what a box copies out.
+    pub fn keep(&self) -> PathBuf {
+        self.start
+            .strip_prefix(&self.root)
+            .unwrap_or(Path::new(""))
+            .join(OUT)
+    }
 }
 
 /// Copy `scene`'s files into a fresh temporary folder, into the scene's
 /// folder there after the contents of `program` (a student's built
-/// folder) when given; owned by `user` when given.
+/// folder) when given; owned by the run's user of `confinement` when
+/// the grader is root.
 pub fn prepare(
     scene: &SuiteScene,
     program: Option<&Path>,
-    user: Option<u32>,
+    confinement: &Confinement,
 ) -> std::io::Result<Workdir> {
-    let temp = private_folder()?;
+    let folder = private_folder()?;
     let scene_path = Path::new(&scene.name);
     // Canonical while the folder is still the grader's alone, so reading
     // `{out}` later can refuse a link anywhere on its path.
-    let root = std::fs::canonicalize(temp.path())?;
+    let root = folder.path().to_path_buf();
     let start = root.join(scene_path.parent().unwrap_or(Path::new("")));
     std::fs::create_dir_all(&start)?;
-    if let Some(folder) = program {
-        copy_folder(folder, &start, STUDENT_FOLDER)?;
+    if let Some(program) = program {
+        copy_folder(program, &start, STUDENT_FOLDER)?;
         // An image left in the student's folder is not this run's.
         let _ = std::fs::remove_file(start.join(OUT));
     }
     for file in &scene.files {
-        let to = temp.path().join(file);
+        let to = root.join(file);
         if let Some(parent) = to.parent() {
             std::fs::create_dir_all(parent)?;
         }
         let _ = std::fs::remove_file(&to);
         std::fs::copy(scene.root.join(file), &to)?;
     }
-    if let Some(id) = user {
-        give(temp.path(), id)?;
+    if let Some(id) = confinement.user {
+        folder.give(id, !confinement.boxed)?;
     }
     Ok(Workdir {
         root,
@@ -88,7 +101,7 @@ pub fn prepare(
             .unwrap_or_default()
             .to_string_lossy()
             .into_owned(),
-        temp,
+        folder,
     })
 }
 
