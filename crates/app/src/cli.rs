@@ -253,7 +253,7 @@ impl Antialias {
 pub struct SamplingArgs {
     /// Floating-point precision of every ray computation.
     #[arg(long, default_value = "f64",
-          value_parser = PossibleValuesParser::new(["f32", "f64"]).try_map(|s| s.parse::<Precision>()))]
+          value_parser = PossibleValuesParser::new(["f32", "f64"]).map(|s| if s == "f32" { Precision::F32 } else { Precision::F64 }))]
     pub precision: Precision,
     /// Samples per pixel, stratified on a √N×√N grid (1 = pixel centre).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]

@@ -24,7 +24,6 @@ use crate::plot::{self, Chart, Corner};
 use raytracer_render::ir;
 use raytracer_render::output::{self, Format};
 use raytracer_render::render::adaptive::DEFAULT_THRESHOLD;
-use raytracer_render::render::Options;
 use raytracer_scene::diagnostic::{terminal_width, use_color};
 use raytracer_scene::diagnostic::{BoxedDiagnostic, FileError};
 use raytracer_scene::frontend::{load, Loaded};
@@ -53,7 +52,7 @@ pub enum AccuracyError {
 
 /// Run `raytracer accuracy`.
 pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
-    Options::square_spp(args.reference_spp, "--reference-spp")?;
+    super::square_spp(args.reference_spp, "--reference-spp")?;
     let paths: Vec<&PathBuf> = args.scenes.iter().chain(&args.held_out).collect();
     let stems = stems(&paths);
     let assets = match &args.assets {

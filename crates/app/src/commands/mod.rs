@@ -152,6 +152,37 @@ pub(crate) fn thread_pool(
         })
 }
 
+/// Refuse a sample count that is not a square number: the samples of a
+/// pixel lie on a √spp×√spp grid. `option` names where the count came
+/// from (`--spp`), for the message.
+pub(crate) fn square_spp(spp: u32, option: &'static str) -> Result<u32, SppNotSquare> {
+    let grid = spp.isqrt();
+    if grid * grid == spp {
+        Ok(spp)
+    } else {
+        Err(SppNotSquare {
+            option,
+            found: spp,
+            below: grid * grid,
+            above: (grid + 1) * (grid + 1),
+        })
+    }
+}
+
+/// A sample count that is not a square number.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+#[error("expected a square number of samples for `{option}`, found {found}")]
+#[diagnostic(
+    code(usage::spp_not_square),
+    help("samples lie on a √N×√N grid: try {below} or {above}")
+)]
+pub struct SppNotSquare {
+    pub option: &'static str,
+    pub found: u32,
+    pub below: u32,
+    pub above: u32,
+}
+
 /// Run a parsed command line and return the process exit code.
 pub fn run(cli: Cli) -> ExitCode {
     let result = match cli.command {

@@ -50,7 +50,7 @@ pub fn run(args: PreviewArgs) -> Result<Outcome, BoxedDiagnostic> {
     if args.scene == Path::new("-") {
         return Err(Box::new(PreviewStdin));
     }
-    Options::square_spp(args.sampling.spp, "--spp")?;
+    super::square_spp(args.sampling.spp, "--spp")?;
     // A scene that cannot be read at all is refused now, before serving,
     // as `render` refuses it; later reads that fail show on the page.
     read_scene(&args.scene)?;

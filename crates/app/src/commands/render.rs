@@ -178,7 +178,7 @@ fn preflight(args: &RenderArgs) -> Result<(Format, rayon::ThreadPool), BoxedDiag
         output::check_not_input(out, scene)?;
         output::check_writable(out)?;
     }
-    Options::square_spp(args.sampling.spp, "--spp")?;
+    super::square_spp(args.sampling.spp, "--spp")?;
     Ok((format, thread_pool(args.sampling.threads)?))
 }
 

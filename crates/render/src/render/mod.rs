@@ -88,39 +88,6 @@ impl Default for Options {
     }
 }
 
-impl Options {
-    /// Refuse a sample count that is not a square number: the samples of a
-    /// pixel lie on a √spp×√spp grid. `option` names where the count came
-    /// from (`--spp`), for the message.
-    pub fn square_spp(spp: u32, option: &'static str) -> Result<u32, SppNotSquare> {
-        let grid = spp.isqrt();
-        if grid * grid == spp {
-            Ok(spp)
-        } else {
-            Err(SppNotSquare {
-                option,
-                found: spp,
-                below: grid * grid,
-                above: (grid + 1) * (grid + 1),
-            })
-        }
-    }
-}
-
-/// A sample count that is not a square number.
-#[derive(Debug, thiserror::Error, miette::Diagnostic)]
-#[error("expected a square number of samples for `{option}`, found {found}")]
-#[diagnostic(
-    code(usage::spp_not_square),
-    help("samples lie on a √N×√N grid: try {below} or {above}")
-)]
-pub struct SppNotSquare {
-    pub option: &'static str,
-    pub found: u32,
-    pub below: u32,
-    pub above: u32,
-}
-
 /// The floating-point type every ray computation is done in: the type
 /// parameter [`Real`] of [`render`], as a value (what `--precision` reads,
 /// statistics print and the options hash of tiles records).
@@ -145,18 +112,6 @@ impl Precision {
 impl std::fmt::Display for Precision {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for Precision {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Precision, String> {
-        match s {
-            "f32" => Ok(Precision::F32),
-            "f64" => Ok(Precision::F64),
-            _ => Err(format!("expected `f32` or `f64`, found `{s}`")),
-        }
     }
 }
 
