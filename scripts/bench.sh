@@ -31,6 +31,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/lib/splice.sh
 . scripts/lib/commit.sh
+. scripts/lib/median.sh
 REPS=${REPS:-5}
 OUT=target/bench
 BIN=target/release/raytracer
@@ -176,12 +177,12 @@ done
 median() {
   # the median of column $3 of the rows of file $4 whose first columns are $1 and $2
   awk -F, -v a="$1" -v b="$2" -v col="$3" '$1 == a && ($2 == b || b == "") && $col != "" {print $col}' "$4" |
-    sort -g | awk '{v[NR] = $1} END {if (NR == 0) print ""; else if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2}'
+    median_of_lines
 }
 sample() {
   # median of column $3 for scene $1 and "tracer,threads" $2
   awk -F, -v key="$1,$2" -v col="$3" '($1 "," $2 "," $3) == key {print $col}' "$OUT/samples.csv" |
-    sort -g | awk '{v[NR] = $1} END {if (NR == 0) print ""; else if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2}'
+    median_of_lines
 }
 
 # The generated section of docs/performance.md.

@@ -20,6 +20,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/lib/splice.sh
 . scripts/lib/commit.sh
+. scripts/lib/median.sh
 REPS=${REPS:-3}
 OUT=target/bench/diagnostics
 BIN=target/release/raytracer
@@ -47,7 +48,7 @@ median_time() {
   for _ in $(seq "$REPS"); do
     /usr/bin/time -f "%e" -o "$OUT/time" "$BIN" check "$@" >/dev/null 2>&1 || true
     cat "$OUT/time"
-  done | sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'
+  done | median_of_lines
 }
 
 diagnostics() {

@@ -26,6 +26,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/lib/splice.sh
 . scripts/lib/commit.sh
+. scripts/lib/median.sh
 BASE=${BASE:?set BASE to the binary to compare with, e.g. a copy of an older target/release/raytracer}
 # How the tables name BASE (say, the commit it was built from).
 BASE_LABEL=${BASE_LABEL:-$(basename "$BASE")}
@@ -93,8 +94,7 @@ for s in grid10000 grid100000 grid1000000; do
   cmp -s "$OUT/$s.base.ppm" "$OUT/$s.new.ppm" || { echo "bench-profile: $s differs between the builds" >&2; exit 1; }
 done
 median() {
-  awk -F, -v s="$1" -v b="$2" '$1 == s && $2 == b {print $3}' "$OUT/ab.csv" | sort -n |
-    awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}'
+  awk -F, -v s="$1" -v b="$2" '$1 == s && $2 == b {print $3}' "$OUT/ab.csv" | median_of_lines
 }
 
 GEN=$OUT/section.md

@@ -12,6 +12,7 @@ set -euo pipefail
 
 cd "$(dirname "$0")/.."
 . scripts/lib/commit.sh
+. scripts/lib/median.sh
 REPS=${REPS:-3}
 OUT=target/bench
 BIN=target/release/raytracer
@@ -49,7 +50,7 @@ done
 
 median() {
   awk -F, -v key="$1" -v col="$2" '($1 "," $2) == key {print $col}' "$samples" |
-    sort -g | awk '{v[NR] = $1} END {if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2}'
+    median_of_lines
 }
 
 echo "spheres,accel,render_s,rays,mrays_per_s,peak_mb,parse_check_s,commit" >docs/scaling.csv
