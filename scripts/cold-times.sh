@@ -8,7 +8,8 @@
 # - `make test` in a second fresh clone (everything it builds, cold);
 # - in that second clone, `make test` again after a change to one file of
 #   the library (a statement added to the body of `geometry::unit`, a
-#   function of the front end), what a contributor waits for per change.
+#   function of the front end), and `make check` (the fast tier) after a
+#   second such change: what a contributor waits for per change.
 # Each clone is a plain `git clone` with nothing beside it, so the figures
 # include nothing this checkout has built. Cargo's own timing reports for
 # the two cold builds go to target/cold-times/, and the five longest
@@ -72,6 +73,9 @@ TEST_TOP=$(top_units "$WORK/test")
 sed -i 's/^pub fn unit(v: \[f64; 3\]) -> Option<DVec3> {$/&\n    std::hint::black_box(());/' "$WORK/test/crates/scene/src/geometry.rs"
 grep -q 'black_box' "$WORK/test/crates/scene/src/geometry.rs" || { echo "cold-times: crates/scene/src/geometry.rs has no \`pub fn unit\` to edit" >&2; exit 2; }
 REBUILD=$(cd "$WORK/test" && timed make-test-touched make test)
+# The fast tier after another such change, what a contributor runs per edit.
+sed -i 's/^    std::hint::black_box(());$/&\n    std::hint::black_box(());/' "$WORK/test/crates/scene/src/geometry.rs"
+CHECK=$(cd "$WORK/test" && timed make-check-touched make check)
 cp -r "$WORK/run/target/cargo-timings" "$OUT/make-run-timings"
 cp -r "$WORK/test/target/cargo-timings" "$OUT/make-test-timings"
 
@@ -87,6 +91,7 @@ gen=$(mktemp)
   echo "| \`make run\` in a fresh clone | $(mmss "$RUN") |"
   echo "| \`make test\` in a fresh clone (release build, fmt, clippy, the whole suite) | $(mmss "$TEST") |"
   echo "| \`make test\` again after a change to one file of the library (a statement added to \`geometry::unit\`) | $(mmss "$REBUILD") |"
+  echo "| \`make check\` (the fast tier) after another such change | $(mmss "$CHECK") |"
   echo
   echo "The longest compilation units (cargo's \`--timings\`) of the cold \`make run\`:"
   echo
@@ -103,4 +108,4 @@ gen=$(mktemp)
 } >"$gen"
 splice_section "$DOC" cold-times "$gen"
 rm -f "$gen"
-echo "cold-times: make run $(mmss "$RUN"), make test $(mmss "$TEST"), after one file $(mmss "$REBUILD")"
+echo "cold-times: make run $(mmss "$RUN"), make test $(mmss "$TEST"), after one file $(mmss "$REBUILD"), make check after one file $(mmss "$CHECK")"
