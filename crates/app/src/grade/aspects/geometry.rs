@@ -112,9 +112,13 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         fraction,
         thresholds.geometry,
         judged,
-        format!(
-            "{differ} of {judged} pixels that are surely background or a lit object differ ({:.2} %)",
-            100.0 * fraction
-        ),
+        if judged >= 100 {
+            format!(
+                "{differ} of {judged} pixels that are surely background or a lit object differ ({:.2} %)",
+                100.0 * fraction
+            )
+        } else {
+            format!("only {judged} pixels are surely background or a lit object (100 needed)")
+        },
     )
 }

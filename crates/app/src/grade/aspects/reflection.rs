@@ -8,11 +8,12 @@
 
 use super::evidence::{clipped, luminance, Evidence, HIGHLIGHT_CONE};
 use super::fit::{predict, robust_fit, spread};
-use super::{ratio, verdict, Aspect, AspectResult, AspectThresholds};
+use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 
 /// Judge reflection, marking `map`.
 pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
-    let (mut showing, mut mirror_bad, mut mirror_judged) = (0usize, 0usize, 0usize);
+    let (mut showing, mut showing_bad, mut dark, mut dark_bad) = (0usize, 0usize, 0usize, 0usize);
+    let mut mirrors = 0usize;
     let mut weakest_gain = f64::INFINITY;
     for &object in &e.objects {
         let first = e.first_probe(object);
@@ -43,6 +44,7 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         let Some(beta) = robust_fit(&rows) else {
             continue;
         };
+        mirrors += 1;
         // Whether the student's mirror shows what ours shows at all: the
         // fit's gain on it against the mirror's reflectivity, told only
         // where what ours shows varies enough over the mirror to tell a
@@ -59,31 +61,66 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
             let highlight = r > 0.0 && e.buffers.centres[k].highlight > HIGHLIGHT_CONE;
             let shows = x[1] > 0.03;
             let bad = (r.abs() > 0.06 && !highlight) || (missing && shows);
-            showing += usize::from(shows);
-            mirror_judged += 1;
-            mirror_bad += usize::from(bad);
+            if shows {
+                showing += 1;
+                showing_bad += usize::from(bad);
+            } else {
+                dark += 1;
+                dark_bad += usize::from(bad);
+            }
             map[k] = 1 + u8::from(bad);
         }
     }
-    let measure = ratio(mirror_bad, showing).min(1.0);
+    // Each fraction over its own base: the pixels whose reflection shows
+    // something, and those where ours shows nothing (judged when there
+    // are enough of them).
+    let measure = ratio(showing_bad, showing).max(if dark >= 20 {
+        ratio(dark_bad, dark)
+    } else {
+        0.0
+    });
+    let judged = showing >= 20;
+    let detail = if judged {
+        let mut parts: Vec<String> = [
+            fraction_words(
+                showing_bad,
+                showing,
+                "mirror pixels that show something are not what ours shows",
+            ),
+            (dark >= 20)
+                .then(|| {
+                    fraction_words(
+                        dark_bad,
+                        dark,
+                        "mirror pixels where ours shows nothing differ",
+                    )
+                })
+                .flatten(),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        if weakest_gain.is_finite() {
+            parts.push(format!(
+                "the mirror shows {:.0} % of what ours shows (at least {:.0} %)",
+                100.0 * weakest_gain,
+                100.0 * thresholds.reflection_gain
+            ));
+        }
+        parts.join("; ")
+    } else if mirrors == 0 {
+        "no mirror without a texture to judge".to_string()
+    } else {
+        format!(
+            "only {showing} mirror pixels show something ours judges (20 needed): the others show nothing, a texture or another mirror"
+        )
+    };
     verdict(
         Aspect::Reflection,
-        showing >= 20,
+        judged,
         measure,
         thresholds.reflection,
-        mirror_judged,
-        format!(
-            "{mirror_bad} of {mirror_judged} mirror pixels are not what ours shows, against {showing} that show something ({:.1} %){}",
-            100.0 * measure,
-            if weakest_gain.is_finite() {
-                format!(
-                    "; the mirror shows {:.0} % of what ours shows (at least {:.0} %)",
-                    100.0 * weakest_gain,
-                    100.0 * thresholds.reflection_gain
-                )
-            } else {
-                String::new()
-            }
-        ),
+        showing + dark,
+        detail,
     )
 }

@@ -136,17 +136,19 @@ fn row(html: &mut String, scene: &SceneResult) {
         html.push_str("<ul class=\"aspects\">");
         for aspect in &scene.aspects {
             let verdict = match (aspect.judged, aspect.pass) {
-                (false, _) => "not judged",
-                (true, true) => "passes",
-                (true, false) => "fails",
+                (false, _) => "not judged:".to_string(),
+                (true, pass) => format!(
+                    "{} ({} / {} points):",
+                    if pass { "passes" } else { "fails" },
+                    aspect.score,
+                    aspect.points
+                ),
             };
             let _ = write!(
                 html,
-                "<li{}><b>{}</b> {verdict} ({} / {} points): {}</li>",
+                "<li{}><b>{}</b> {verdict} {}</li>",
                 if aspect.pass { "" } else { " class=\"fail\"" },
                 aspect.aspect.name(),
-                aspect.score,
-                aspect.points,
                 escape(&aspect.detail),
             );
         }

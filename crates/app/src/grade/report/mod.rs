@@ -137,18 +137,19 @@ pub fn outcome_lines(scene: &SceneResult) -> Vec<String> {
         ));
     }
     for aspect in &scene.aspects {
-        let verdict = match (aspect.judged, aspect.pass) {
-            (false, _) => "not judged",
-            (true, true) => "passes",
-            (true, false) => "FAILS",
-        };
-        lines.push(format!(
-            "{} {verdict} ({} / {} points): {}",
-            aspect.aspect.name(),
-            aspect.score,
-            aspect.points,
-            aspect.detail
-        ));
+        // An aspect not judged shows what there was too little of, and
+        // no points.
+        lines.push(match (aspect.judged, aspect.pass) {
+            (false, _) => format!("{} not judged: {}", aspect.aspect.name(), aspect.detail),
+            (true, pass) => format!(
+                "{} {} ({} / {} points): {}",
+                aspect.aspect.name(),
+                if pass { "passes" } else { "FAILS" },
+                aspect.score,
+                aspect.points,
+                aspect.detail
+            ),
+        });
     }
     if let Some(reading) = &scene.reading {
         lines.push(reading.clone());
