@@ -76,7 +76,33 @@ fn text(cell: &str) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::text;
+    use super::{csv, text};
+    use crate::grade::class::{Class, Student, StudentSummary};
+
+    #[test]
+    fn robustness_scenes_are_counted_apart() {
+        let summary: StudentSummary = serde_json::from_value(serde_json::json!({
+            "score": 1.0, "max_score": 1.0, "build": null,
+            "scenes": [
+                {"scene": "a.txt", "status": "match", "reason": null, "score": 1.0},
+                {"scene": "b.txt", "status": "match", "reason": null, "score": 0.0, "robustness": true},
+                {"scene": "c.txt", "status": "differs", "reason": "shadows", "score": 0.0, "robustness": true}
+            ]
+        }))
+        .unwrap();
+        let class = Class {
+            students: vec![Student {
+                folder: "alice".into(),
+                summary,
+            }],
+            scenes: vec!["a.txt".into(), "b.txt".into(), "c.txt".into()],
+        };
+        assert_eq!(
+            csv(&class),
+            "student,score,max_score,build,robustness_matched,robustness_scenes,a.txt,b.txt,c.txt\n\
+             alice,1,1,,1,2,1,0,0\n"
+        );
+    }
 
     #[test]
     fn a_formula_is_not_a_formula() {
