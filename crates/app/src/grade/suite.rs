@@ -44,6 +44,10 @@ const BUILT_IN: &[(&str, &[u8])] = &[
         include_bytes!("../../../../suite/colours.txt"),
     ),
     (
+        "facing_mirrors.txt",
+        include_bytes!("../../../../suite/facing_mirrors.txt"),
+    ),
+    (
         "field/2_lights_color.txt",
         include_bytes!("../../../../suite/field/2_lights_color.txt"),
     ),
@@ -509,7 +513,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         export(dir.path()).unwrap();
         let scenes = load(&[dir.path().to_path_buf()]).unwrap().scenes;
-        assert_eq!(scenes.len(), 27);
+        assert_eq!(scenes.len(), 28);
         // Every scene the assignment asks for carries points; the
         // robustness ones, none by default.
         assert!(scenes

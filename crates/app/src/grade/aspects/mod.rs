@@ -177,8 +177,23 @@ const REGISTRY: [(Aspect, Judge); 5] = [
     (Aspect::Shading, shading::judge),
 ];
 
-/// The transform that turns a student's image whose geometry fails back
-/// into one whose geometry passes, and that image; `None` when none does.
+/// Every aspect's verdict on `evidence`, and its maps.
+fn judge_all(
+    evidence: &Evidence,
+    thresholds: &AspectThresholds,
+) -> (Vec<AspectResult>, Vec<Vec<u8>>) {
+    let mut maps = vec![vec![0u8; evidence.n]; Aspect::ALL.len()];
+    let results = REGISTRY
+        .iter()
+        .zip(&mut maps)
+        .map(|((_, judge), map)| judge(evidence, thresholds, map))
+        .collect();
+    (results, maps)
+}
+
+/// The whole-image transform that turns a student's image whose geometry
+/// fails back into one whose geometry passes, and that image; `None` when
+/// none does.
 fn recognise(
     buffers: &Buffers,
     reference: &Picture,
@@ -189,15 +204,18 @@ fn recognise(
         let turned = t.undo(student);
         let evidence = Evidence::new(buffers, reference, &turned);
         let mut map = vec![0u8; evidence.n];
-        let result = geometry::judge(&evidence, thresholds, &mut map);
-        (result.judged && result.pass).then_some((t, turned))
+        let geometry = geometry::judge(&evidence, thresholds, &mut map);
+        (geometry.judged && geometry.pass).then_some((t, turned))
     })
 }
 
 /// Judge `student` (of the reference's size) aspect by aspect. When its
 /// geometry fails but passes with the image turned back by a whole-image
 /// transform ([`transform`]), geometry fails naming it, and the other
-/// aspects are judged on the image turned back.
+/// aspects are judged on the image turned back. (Where the transform
+/// keeps the scene's coverage, geometry cannot tell it, and the image is
+/// judged as it is: deciding it from the other aspects alone would take a
+/// lucky symmetry for a transform.)
 pub fn judge(
     buffers: &Buffers,
     reference: &Picture,
@@ -206,25 +224,32 @@ pub fn judge(
     points: &AspectPoints,
 ) -> Judged {
     let evidence = Evidence::new(buffers, reference, student);
-    let mut maps = vec![vec![0u8; evidence.n]; Aspect::ALL.len()];
-    let mut geometry = geometry::judge(&evidence, thresholds, &mut maps[0]);
-    let recognised = (geometry.judged && !geometry.pass)
+    let (mut results, mut maps) = judge_all(&evidence, thresholds);
+    let recognised = (results[0].judged && !results[0].pass)
         .then(|| recognise(buffers, reference, student, thresholds))
         .flatten();
     let transform = recognised.as_ref().map(|(t, _)| t.words());
+    let evidence = match &recognised {
+        Some((_, turned)) => {
+            let turned_evidence = Evidence::new(buffers, reference, turned);
+            let (turned_results, turned_maps) = judge_all(&turned_evidence, thresholds);
+            // Geometry as the image is; the others turned back.
+            for (k, (result, map)) in turned_results.into_iter().zip(turned_maps).enumerate() {
+                if k > 0 {
+                    results[k] = result;
+                    maps[k] = map;
+                }
+            }
+            turned_evidence
+        }
+        None => evidence,
+    };
     if let Some(words) = transform {
+        let geometry = &mut results[0];
         geometry.detail = format!(
             "{}; turned back, your image fits ours: it is likely {words}",
             geometry.detail
         );
-    }
-    let evidence = match &recognised {
-        Some((_, turned)) => Evidence::new(buffers, reference, turned),
-        None => evidence,
-    };
-    let mut results = vec![geometry];
-    for ((_, judge), map) in REGISTRY.iter().zip(&mut maps).skip(1) {
-        results.push(judge(&evidence, thresholds, map));
     }
     for result in &mut results {
         result.points = points

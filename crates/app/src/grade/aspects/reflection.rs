@@ -3,8 +3,13 @@
 //! sees in the mirror)`; a pixel the fit does not explain differs, and a
 //! mirror whose gain `c` on what ours shows is below a share of its
 //! reflectivity does not show it at all. What a mirror shows of a texture
-//! (the mapping is open) or of another mirror (added or blended) is not
-//! judged, nor where a highlight may brighten it.
+//! (the mapping is open) is not judged, nor what it shows of another
+//! mirror where the readings (added or blended, any depth of two
+//! reflections or more) differ ([`Probe::reflection_settled`]), nor where
+//! a highlight may brighten it. Where they agree, as in a mirror showing a
+//! black mirror that shows a coloured object, recursion is judged.
+//!
+//! [`Probe::reflection_settled`]: raytracer_render::render::probe::Probe::reflection_settled
 
 use super::evidence::{clipped, luminance, Evidence, HIGHLIGHT_CONE};
 use super::fit::{predict, robust_fit, spread};
@@ -27,10 +32,12 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
             .into_iter()
             .filter(|&k| {
                 let p = &e.buffers.centres[k];
-                let indirect = p.reflected.is_some_and(|r| {
-                    e.buffers.textured.get(r as usize) == Some(&true)
-                        || e.buffers.reflective.get(r as usize) == Some(&true)
-                });
+                // What a mirror shows of a texture depends on the
+                // mapping; of another mirror, on the readings, unless
+                // every reading shows the same there (settled).
+                let indirect = !p.reflection_settled
+                    || p.reflected
+                        .is_some_and(|r| e.buffers.textured.get(r as usize) == Some(&true));
                 !clipped(&e.student_px(k)) && p.highlight < 0.95 && !indirect
             })
             .collect();
