@@ -81,7 +81,7 @@ fn the_same_picture_in_three_encodings_matches_exactly() {
 }
 
 #[test]
-fn a_shift_is_a_geometry_difference_and_a_darker_image_an_appearance_one() {
+fn a_shift_is_a_coverage_difference_and_a_darker_image_an_appearance_one() {
     let dir = tempfile::tempdir().unwrap();
     let reference = png(dir.path(), "r.png", &disc(64, 0, 1.0));
     let shifted = png(dir.path(), "s.png", &disc(64, 4, 1.0));
@@ -89,7 +89,7 @@ fn a_shift_is_a_geometry_difference_and_a_darker_image_an_appearance_one() {
 
     let (code, value) = json(&[&reference, &shifted]);
     assert_eq!(code, 1);
-    assert_eq!(value["verdict"], "geometry");
+    assert_eq!(value["verdict"], "coverage");
     let iou = value["metrics"]["coverage_iou"].as_f64().unwrap();
     assert!(iou > 0.6 && iou < 0.9, "{iou}");
 
@@ -217,4 +217,69 @@ fn compare_reads_every_image_render_writes_and_no_larger() {
     assert_eq!(stderr.matches("16385 × 1").count(), 1, "{stderr}");
     assert!(!stderr.contains("texture"), "{stderr}");
     assert!(stderr.contains("up to 16384 × 16384 pixels"), "{stderr}");
+}
+
+/// `compare --scene` gives grade's verdict, aspect by aspect; without a
+/// scene, compare judges pixels and says so. A right image on a
+/// background of its own (6, 6, 6) is no coverage difference either way,
+/// and an image upside down fails geometry alone, named.
+#[test]
+fn with_a_scene_compare_is_grades_judge_and_without_it_says_it_judges_pixels() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = d.join("ball.txt");
+    std::fs::write(
+        &scene,
+        "camera 48\nsphere\ndimension 1\ncenter 0 .3 -5\ncolor .9 .6 .3\n\
+         plane\ndimension 8 8\ncenter 0 -1 -6\nnormal 0 1 0\nheadup 0 0 -1\ncolor .8 .8 .8\n\
+         light\nlocation 3 4 -3\ncolor 1 1 1\n",
+    )
+    .unwrap();
+    let ours = d.join("ours.png");
+    let out = run(&["render", scene.to_str().unwrap(), ours.to_str().unwrap()]);
+    assert!(out.status.success(), "{out:?}");
+    let image = image::open(&ours).unwrap().to_rgb8();
+    let grey = RgbImage::from_fn(48, 48, |x, y| {
+        let p = *image.get_pixel(x, y);
+        if p.0 == [0, 0, 0] {
+            image::Rgb([6, 6, 6])
+        } else {
+            p
+        }
+    });
+    let grey = png(d, "grey.png", &grey);
+    let flipped = png(d, "flipped.png", &image::imageops::flip_vertical(&image));
+    let (ours, scene) = (ours.to_str().unwrap(), scene.to_str().unwrap());
+
+    let human = run(&["compare", ours, &grey]);
+    let text = String::from_utf8(human.stdout).unwrap();
+    assert!(text.contains("judged pixel by pixel"), "{text}");
+    assert!(!text.contains("geometry"), "{text}");
+    let (_, value) = json(&[ours, &grey]);
+    assert_eq!(value["metrics"]["coverage_iou"], 1.0, "{value}");
+    assert_eq!(value["judged_by"], "pixels");
+
+    let (code, value) = json(&["--scene", scene, ours, &grey]);
+    assert_eq!(code, 0, "{value}");
+    assert_eq!(value["judged_by"], "aspects");
+    assert!(value["aspects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|a| a["pass"] == true));
+
+    let (code, value) = json(&["--scene", scene, ours, &flipped]);
+    assert_eq!(code, 1, "{value}");
+    let failed: Vec<&Value> = value["aspects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|a| a["pass"] == false)
+        .map(|a| &a["aspect"])
+        .collect();
+    assert_eq!(failed, ["geometry"], "{value}");
+    assert!(value["transform"].as_str().unwrap().contains("upside down"));
+    let human = run(&["compare", "--scene", scene, ours, &flipped]);
+    let text = String::from_utf8(human.stdout).unwrap();
+    assert!(text.starts_with("verdict: differs: geometry"), "{text}");
 }

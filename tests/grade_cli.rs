@@ -206,12 +206,13 @@ fn a_right_tracer_matches() {
 
 #[test]
 fn moved_darker_and_resized_images_differ_for_their_reasons() {
-    // A moved sphere fails geometry (its other aspects pass); another hue fails shading alone, a tenth of the points; a
-    // darker sphere of the same hue is a reading of the shading constants
-    // and matches.
+    // A moved sphere fails geometry (its other aspects pass); another hue
+    // fails shading alone, which weighs what geometry and shadows weigh (a
+    // third each); a darker sphere of the same hue is a reading of the
+    // shading constants and matches.
     for (edit, reason, score) in [
-        ("s/center 0 0 -5/center .5 0 -5/", "geometry", 0.55),
-        ("s/color .9 .6 .3/color .3 .6 .9/", "shading", 0.9),
+        ("s/center 0 0 -5/center .5 0 -5/", "geometry", 0.666667),
+        ("s/color .9 .6 .3/color .3 .6 .9/", "shading", 0.666667),
         ("s/color .9 .6 .3/color .45 .3 .15/", "", 1.0),
         (
             "s/camera 32/camera 40/",
@@ -464,7 +465,7 @@ fn our_tracer_matches_the_built_in_suite() {
     let first = grade();
     let stderr = String::from_utf8_lossy(&first.stderr);
     assert_eq!(first.status.code(), Some(0), "{stderr}");
-    assert!(stderr.contains("rendered 26 reference images"), "{stderr}");
+    assert!(stderr.contains("rendered 28 reference images"), "{stderr}");
     let second = grade();
     assert_eq!(second.status.code(), Some(0));
     assert!(
@@ -476,7 +477,7 @@ fn our_tracer_matches_the_built_in_suite() {
     let summary: Value =
         serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap()).unwrap();
     let scenes = summary["scenes"].as_array().unwrap();
-    assert_eq!(scenes.len(), 26);
+    assert_eq!(scenes.len(), 28);
     assert!(scenes.iter().all(|s| s["status"] == "match"), "{summary}");
     assert_eq!(summary["score"], summary["max_score"]);
 
@@ -494,7 +495,7 @@ fn our_tracer_matches_the_built_in_suite() {
         serde_json::from_slice(&std::fs::read(report.join("results.json")).unwrap()).unwrap();
     assert_eq!(results["score"], summary["score"]);
     let tests = results["tests"].as_array().unwrap();
-    assert_eq!(tests.len(), 26);
+    assert_eq!(tests.len(), 28);
     for test in tests {
         assert_eq!(test["score"], test["max_score"]);
         assert_eq!(test["visibility"], "visible");
@@ -502,7 +503,7 @@ fn our_tracer_matches_the_built_in_suite() {
     }
 
     let html = std::fs::read_to_string(report.join("index.html")).unwrap();
-    assert_eq!(html.matches("<tr class=\"scene\" id=\"scene-").count(), 26);
+    assert_eq!(html.matches("<tr class=\"scene\" id=\"scene-").count(), 28);
     assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("<script"));
     for scene in scenes {
         for kind in ["reference", "student", "heatmap"] {
@@ -542,4 +543,224 @@ fn the_suite_exports_and_grades_from_its_folder() {
         assert_eq!(check.status.code(), Some(0), "{}", scene.display());
     }
     assert!(out.join("hard/shadow_acne.txt").is_file() && out.join("wood_tex.ppm").is_file());
+}
+
+/// One scene of an exported suite graded alone, as docs/grading.md shows
+/// (`grade --tracer … suite/hard/inside_sphere.txt`): its texture lies in
+/// the suite's folder, above the scene's own, and the scene is graded
+/// from there under its name in the suite.
+#[test]
+fn one_exported_scene_grades_with_its_suites_texture() {
+    let dir = open_folder("grade-one-");
+    let suite = dir.path().join("suite");
+    let output = run(&["grade", "--export-suite", suite.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(0));
+    let report = dir.path().join("report");
+    let tracer = format!("{} render {{scene}} {{out}}", student_binary().display());
+    let out = run(&[
+        "grade",
+        "--tracer",
+        &tracer,
+        "-o",
+        report.to_str().unwrap(),
+        "--cache",
+        dir.path().join("cache").to_str().unwrap(),
+        suite.join("hard/inside_sphere.txt").to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let summary: Value =
+        serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["scenes"][0]["scene"], "hard/inside_sphere.txt");
+    assert_eq!(summary["scenes"][0]["status"], "match", "{summary}");
+}
+
+/// Grade `tracer` on the scenes of `suite` (a folder) into `report`; the
+/// exit code and summary.json.
+fn grade_folder(tracer: &str, suite: &Path, report: &Path) -> (i32, Value) {
+    let out = run(&[
+        "grade",
+        "--tracer",
+        tracer,
+        "-o",
+        report.to_str().unwrap(),
+        "--cache",
+        report.with_extension("cache").to_str().unwrap(),
+        suite.to_str().unwrap(),
+    ]);
+    let summary = std::fs::read(report.join("summary.json"))
+        .unwrap_or_else(|_| panic!("no summary: {}", String::from_utf8_lossy(&out.stderr)));
+    (
+        out.status.code().unwrap(),
+        serde_json::from_slice(&summary).unwrap(),
+    )
+}
+
+/// The aspects a scene of a summary failed.
+fn failed_aspects(scene: &Value) -> Vec<&str> {
+    scene["aspects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|a| a["pass"] == false)
+        .map(|a| a["aspect"].as_str().unwrap())
+        .collect()
+}
+
+/// A light's colour ignored (every light drawn white) is a shading error
+/// wherever it shows, on a textured plane as on a plain sphere: it fails
+/// shading alone, never textures, and costs the scene what a missing
+/// shadow costs it (shading and shadows weigh the same).
+#[test]
+fn a_light_colour_ignored_costs_shading_alone() {
+    let dir = open_folder("grade-light-colour-");
+    let d = dir.path();
+    let suite = d.join("suite");
+    std::fs::create_dir(&suite).unwrap();
+    // A bold two-colour checker, 8 × 8 texels.
+    let mut ppm = String::from("P3\n8 8\n255\n");
+    for y in 0..8 {
+        for x in 0..8 {
+            ppm += if (x + y) % 2 == 0 {
+                "230 200 40\n"
+            } else {
+                "40 120 220\n"
+            };
+        }
+    }
+    std::fs::write(suite.join("checker.ppm"), ppm).unwrap();
+    std::fs::write(
+        suite.join("tinted.txt"),
+        "camera 64\n\nsphere\ndimension .8\ncenter .8 .2 -5\ncolor .9 .9 .9\n\n\
+         plane\ndimension 8 8\ncenter 0 -1 -6\nnormal 0 1 0\nheadup 0 0 -1\ntexture checker.ppm\n\n\
+         light\nlocation -2 4 -3\ncolor 1 .5 .2\n",
+    )
+    .unwrap();
+    let student = d.join("white_lights.sh");
+    std::fs::write(
+        &student,
+        "#!/bin/sh\nsed 's/^color 1 .5 .2$/color 1 1 1/' \"$1\" > white.txt && exec \"$3\" render white.txt \"$2\"\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&student, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let tracer = format!(
+        "{} {{scene}} {{out}} {}",
+        student.display(),
+        student_binary().display()
+    );
+    let (code, summary) = grade_folder(&tracer, &suite, &d.join("report"));
+    assert_eq!(code, 1, "{summary}");
+    let scene = &summary["scenes"][0];
+    assert_eq!(failed_aspects(scene), ["shading"], "{scene}");
+    let points = |name: &str| {
+        scene["aspects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|a| a["aspect"] == name)
+            .unwrap()["points"]
+            .as_f64()
+            .unwrap()
+    };
+    assert_eq!(points("shading"), points("shadows"), "{scene}");
+    assert_eq!(points("shading"), points("textures"), "{scene}");
+}
+
+/// An image written upside down (the scene rendered mirrored in y, so
+/// exactly our image turned over) fails geometry, with the transform
+/// named as the likely cause, and the other aspects, judged on the image
+/// turned back, pass. The report's words: no fraction over an empty base,
+/// and an aspect not judged says what it lacked, with no points.
+#[test]
+fn an_upside_down_image_is_named_and_costs_geometry_alone() {
+    let dir = open_folder("grade-upside-down-");
+    let d = dir.path();
+    let suite = d.join("suite");
+    std::fs::create_dir(&suite).unwrap();
+    std::fs::write(suite.join("ball.txt"), SCENE).unwrap();
+    let flipped = d.join("flipped.txt");
+    std::fs::write(
+        &flipped,
+        SCENE
+            .replace(
+                "center 0 -1 -10\n  normal 0 1 0",
+                "center 0 1 -10\n  normal 0 -1 0",
+            )
+            .replace("location 6 4 -3", "location 6 -4 -3"),
+    )
+    .unwrap();
+    assert_ne!(std::fs::read_to_string(&flipped).unwrap(), SCENE);
+    // The flipped scene and the renderer are words of the command, so the
+    // box holds them.
+    let student = d.join("upside_down.sh");
+    std::fs::write(&student, "#!/bin/sh\nexec \"$4\" render \"$3\" \"$2\"\n").unwrap();
+    std::fs::set_permissions(&student, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let tracer = format!(
+        "{} {{scene}} {{out}} {} {}",
+        student.display(),
+        flipped.display(),
+        student_binary().display()
+    );
+    let (code, summary) = grade_folder(&tracer, &suite, &d.join("report"));
+    assert_eq!(code, 1, "{summary}");
+    let scene = &summary["scenes"][0];
+    assert_eq!(failed_aspects(scene), ["geometry"], "{scene}");
+    let reason = scene["reason"].as_str().unwrap();
+    assert!(reason.contains("upside down"), "{reason}");
+
+    let results: Value =
+        serde_json::from_slice(&std::fs::read(d.join("report/results.json")).unwrap()).unwrap();
+    let output = results["tests"][0]["output"].as_str().unwrap();
+    assert!(!output.contains(" of 0 "), "{output}");
+    for line in output.lines().filter(|l| l.contains("not judged")) {
+        assert!(!line.contains("points"), "{line}");
+    }
+    assert!(
+        output.contains("reflection not judged: no mirror"),
+        "{output}"
+    );
+}
+
+/// The scenes beyond what the assignment asks (suite.json's `robustness`)
+/// are judged and reported, and carry points only where the suite opts in
+/// (`robustness_points`); class.csv counts them apart.
+#[test]
+fn robustness_scenes_carry_points_only_where_a_course_opts_in() {
+    let dir = open_folder("grade-robustness-");
+    let d = dir.path();
+    let tracer = format!("{} render {{scene}} {{out}}", student_binary().display());
+    for opt_in in [false, true] {
+        let suite = d.join(format!("suite-{opt_in}"));
+        std::fs::create_dir(&suite).unwrap();
+        std::fs::write(suite.join("ball.txt"), SCENE).unwrap();
+        std::fs::write(
+            suite.join("far.txt"),
+            SCENE.replace("camera 32", "camera 24"),
+        )
+        .unwrap();
+        std::fs::write(
+            suite.join("suite.json"),
+            format!(
+                r#"{{"robustness_points": {opt_in}, "scenes": [
+                    {{"scene": "ball.txt", "points": 1}},
+                    {{"scene": "far.txt", "points": 1, "robustness": true}}]}}"#
+            ),
+        )
+        .unwrap();
+        let report = d.join(format!("report-{opt_in}"));
+        let (code, summary) = grade_folder(&tracer, &suite, &report);
+        assert_eq!(code, 0, "{summary}");
+        let far = &summary["scenes"].as_array().unwrap()[1];
+        assert_eq!(far["robustness"], true, "{far}");
+        assert_eq!(far["status"], "match", "{far}");
+        let expected = if opt_in { 2.0 } else { 1.0 };
+        assert_eq!(summary["max_score"], expected, "{summary}");
+        let results: Value =
+            serde_json::from_slice(&std::fs::read(report.join("results.json")).unwrap()).unwrap();
+        let text = results.to_string();
+        assert!(
+            text.contains("robustness: beyond what the assignment asks"),
+            "{text}"
+        );
+    }
 }

@@ -12,7 +12,7 @@
 //! chosen on `tune/` and `judge/` together and then judged, unchanged, on
 //! `held_out/` (JavaScript), written after them (docs/grading.md, "How the
 //! thresholds were chosen"). To keep `make test` short, each class is
-//! graded on eight scenes (`SCENES`), which between them exercise every
+//! graded on ten scenes (`SCENES`), which between them exercise every
 //! bug, one scene at a time. The tracers need `cc`, `javac`/`java`,
 //! `python3` and `node`. Last, the instructor's reference
 //! (`--reference-tracer`, `--references`) and our renderer with a course's
@@ -26,8 +26,10 @@ use serde_json::Value;
 use crate::support::{self, run};
 
 /// The scenes graded, by their path in the built-in suite.
-const SCENES: [&str; 8] = [
+const SCENES: [&str; 10] = [
     "big_shadow.txt",
+    "beyond_light.txt",
+    "facing_mirrors.txt",
     "colours.txt",
     "mirror.txt",
     "reflection.txt",
@@ -53,8 +55,11 @@ const CORRECT: [&str; 9] = [
 /// The structural aspects: those a correct reading must never fail.
 const STRUCTURAL: [&str; 4] = ["geometry", "shadows", "reflection", "textures"];
 
-/// Each bug's aspect and the scenes where it must fail, in both classes.
-const BUGS: [(&str, &str, &[&str]); 7] = [
+/// Each bug's aspect and the scenes where it must fail, in every class
+/// that has it.
+const BUGS: [(&str, &str, &[&str]); 9] = [
+    ("unbounded_shadow", "shadows", &["beyond_light.txt"]),
+    ("no_recursion", "reflection", &["facing_mirrors.txt"]),
     (
         "shadow_acne",
         "shadows",
@@ -99,7 +104,7 @@ const WRONG_ROOT: [(&str, &str, &[&str]); 2] = [
 /// Each class: its folder under tests/students, the programs its tracers
 /// need, and how many students it has (all of them must be graded).
 const CLASSES: [(&str, &[&str], usize); 3] = [
-    ("tune", &["cc"], 16),
+    ("tune", &["cc"], 18),
     ("judge", &["javac", "python3"], 17),
     ("held_out", &["node"], 6),
 ];

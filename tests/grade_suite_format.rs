@@ -119,3 +119,52 @@ fn the_reader_refuses_what_the_format_does_not_have() {
     assert!(!read("camera 4\nsphere\n  dimension 1 center 0 0 -5\n"));
     assert!(!read("camera 4\ncube\n"));
 }
+
+/// A scene as its lines' words, comments dropped and numbers read, so
+/// `.7` and `0.7` agree.
+fn values(text: &str) -> Vec<(String, Vec<String>)> {
+    text.lines()
+        .map(|line| line.split('#').next().unwrap_or(""))
+        .filter_map(|line| {
+            let mut words = line.split_whitespace().map(|w| match w.parse::<f64>() {
+                Ok(number) => format!("{number}"),
+                Err(_) => w.to_string(),
+            });
+            let keyword = words.next()?;
+            Some((keyword, words.collect()))
+        })
+        .collect()
+}
+
+/// The suite's sample and scenes/sample.txt are the assignment's sample
+/// scene, both lights and all. The lines below are the assignment's
+/// sample scene file, value for value.
+#[test]
+fn the_sample_is_the_assignments_sample_scene() {
+    let assignment = "camera 400
+        sphere
+        dimension 1
+        center 0 1 -5
+        reflectivity .7
+        color .3 .3 .3
+        plane
+        dimension 4 4
+        center 0 -1 -5
+        normal 0 1 0
+        headup 0 0 1
+        texture wood_tex.ppm
+        light
+        location -1 2 -2
+        color 1 .7 .7
+        light
+        location 1 0 -6
+        color .3 .3 1";
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(&["grade", "--export-suite", dir.path().to_str().unwrap()]);
+    assert!(out.status.success(), "{out:?}");
+    let suite = std::fs::read_to_string(dir.path().join("sample.txt")).unwrap();
+    let shipped =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sample.txt")).unwrap();
+    assert_eq!(values(&suite), values(assignment), "the suite's sample");
+    assert_eq!(values(&shipped), values(assignment), "scenes/sample.txt");
+}

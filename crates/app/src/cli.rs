@@ -664,6 +664,11 @@ pub struct CompareArgs {
     /// Write the ꟻLIP error map, in ꟻLIP's colour map, to this PNG.
     #[arg(long, value_name = "OUT.png")]
     pub heatmap: Option<PathBuf>,
+    /// The scene both images are of: judge the candidate aspect by aspect
+    /// against the reference, as `grade` does (geometry, shadows,
+    /// reflection, textures, shading), instead of pixel by pixel.
+    #[arg(long, value_name = "SCENE")]
+    pub scene: Option<PathBuf>,
     /// Output format.
     #[arg(long, value_enum, default_value_t = CompareFormat::Human)]
     pub format: CompareFormat,

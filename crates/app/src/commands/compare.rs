@@ -2,7 +2,10 @@
 //! measure them with [`crate::compare`], print the findings (human or
 //! JSON), write the ꟻLIP heat map when asked, and exit 0 when they match,
 //! 1 when they differ (a different size included), 2 when either cannot be
-//! read or the heat map cannot be written.
+//! read or the heat map cannot be written. Without a scene the verdict is
+//! pixel by pixel, and says so; with `--scene`, it is `grade`'s, aspect by
+//! aspect ([`crate::grade::aspects`]) against what our renderer sees at
+//! each pixel of that scene.
 
 use std::io::Write;
 
@@ -35,6 +38,15 @@ pub enum CompareError {
     #[error(transparent)]
     #[diagnostic(transparent)]
     Heatmap(#[from] output::OutputError),
+
+    /// `--scene` could not be read or checked, or names a texture outside
+    /// its folder.
+    #[error(transparent)]
+    #[diagnostic(
+        code(compare::scene),
+        help("`--scene` takes the scene file both images were rendered from")
+    )]
+    Scene(#[from] crate::grade::suite::SuiteError),
 }
 
 impl CompareError {
@@ -68,6 +80,16 @@ struct Report<'a> {
     thresholds: Thresholds,
     /// The heat map written, if any.
     heatmap: Option<String>,
+    /// How the verdict was reached: `"pixels"` (no scene) or `"aspects"`
+    /// (`--scene`, grade's judge).
+    judged_by: &'static str,
+    /// With `--scene`: each aspect's verdict, as grade's summary.json
+    /// gives it (points shared as for a scene worth 1).
+    aspects: Option<Vec<crate::grade::aspects::AspectResult>>,
+    /// With `--scene`: the whole-image transform that explains a failed
+    /// geometry, and the pixel reading the image fits, when they tell.
+    transform: Option<&'static str>,
+    reading: Option<String>,
 }
 
 /// One of the two images.
@@ -104,6 +126,19 @@ pub fn run(args: CompareArgs) -> Result<Outcome, BoxedDiagnostic> {
         width: picture.width,
         height: picture.height,
     };
+    let judged = match &args.scene {
+        Some(scene) if comparison.metrics.is_some() => {
+            Some(judge_aspects(scene, &reference, &candidate)?)
+        }
+        _ => None,
+    };
+    let (aspects, transform, reading) = match judged {
+        Some(j) => (Some(j.results), j.transform, j.reading),
+        None => (None, None, None),
+    };
+    let passed = aspects
+        .as_ref()
+        .map(|results| results.iter().all(|r| r.pass));
     let report = Report {
         verdict: comparison.verdict,
         reference: side(&args.reference, reference_format, &reference),
@@ -111,6 +146,14 @@ pub fn run(args: CompareArgs) -> Result<Outcome, BoxedDiagnostic> {
         metrics: comparison.metrics,
         thresholds,
         heatmap,
+        judged_by: if args.scene.is_some() {
+            "aspects"
+        } else {
+            "pixels"
+        },
+        aspects,
+        transform,
+        reading,
     };
     let text = match args.format {
         CompareFormat::Json => serde_json::to_string_pretty(&report).expect("plain data") + "\n",
@@ -119,10 +162,42 @@ pub fn run(args: CompareArgs) -> Result<Outcome, BoxedDiagnostic> {
     std::io::stdout()
         .write_all(text.as_bytes())
         .map_err(WriteStdoutError::from)?;
-    Ok(match comparison.verdict {
-        Verdict::Match => Outcome::Success,
+    Ok(match (passed, comparison.verdict) {
+        (Some(true), _) | (None, Verdict::Match) => Outcome::Success,
         _ => Outcome::Differs,
     })
+}
+
+/// Judge `candidate` against `reference` aspect by aspect on `scene`, as
+/// `grade` does with our renderer's default constants.
+fn judge_aspects(
+    scene: &std::path::Path,
+    reference: &compare::Picture,
+    candidate: &compare::Picture,
+) -> Result<crate::grade::aspects::Judged, CompareError> {
+    let suite = crate::grade::suite::load(&[scene.to_path_buf()])?;
+    let options = suite.reference_options()?.unwrap_or_default();
+    let scene = &suite.scenes[0];
+    let buffers =
+        raytracer_render::render::probe::buffers(&scene.scene, options.max_depth, options.model);
+    if buffers.size != reference.width || reference.width != reference.height {
+        return Err(CompareError::Scene(
+            crate::grade::suite::SuiteError::Manifest {
+                path: scene.name.clone(),
+                reason: format!(
+                    "the scene is {0} × {0} pixels, the images {1} × {2}",
+                    buffers.size, reference.width, reference.height
+                ),
+            },
+        ));
+    }
+    Ok(crate::grade::aspects::judge(
+        &buffers,
+        reference,
+        candidate,
+        &crate::grade::aspects::AspectThresholds::default(),
+        &scene.aspects,
+    ))
 }
 
 /// A format's name in reports.
@@ -136,7 +211,44 @@ pub fn format_name(format: raytracer_scene::texture::TextureFormat) -> &'static 
 
 /// The findings as lines for a person.
 fn human(report: &Report, heatmap_asked: bool) -> String {
-    let mut lines = vec![format!("verdict: {}", report.verdict.describe())];
+    let mut lines = match &report.aspects {
+        Some(aspects) => {
+            let failed: Vec<&str> = aspects
+                .iter()
+                .filter(|a| !a.pass)
+                .map(|a| a.aspect.name())
+                .collect();
+            let mut lines = vec![if failed.is_empty() {
+                "verdict: match (grade's aspects)".to_string()
+            } else {
+                format!("verdict: differs: {} (grade's aspects)", failed.join(", "))
+            }];
+            for a in aspects {
+                lines.push(if a.judged {
+                    format!(
+                        "{} {}: {}",
+                        a.aspect.name(),
+                        if a.pass { "passes" } else { "FAILS" },
+                        a.detail
+                    )
+                } else {
+                    format!("{} not judged: {}", a.aspect.name(), a.detail)
+                });
+            }
+            if let Some(words) = report.transform {
+                lines.push(format!("the image is likely {words}"));
+            }
+            if let Some(reading) = &report.reading {
+                lines.push(reading.clone());
+            }
+            lines.push("pixel measures (shown, not judged):".into());
+            lines
+        }
+        None => vec![
+            format!("verdict: {}", report.verdict.describe()),
+            "judged pixel by pixel: without the scene, a background colour of your own, other constants or rays through pixel corners can differ here and still be right; `--scene SCENE` gives grade's verdict, aspect by aspect".into(),
+        ],
+    };
     let t = &report.thresholds;
     match &report.metrics {
         None => {

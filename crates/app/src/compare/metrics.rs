@@ -1,7 +1,8 @@
 //! The three measures of a comparison, each on its own: ꟻLIP (NVIDIA's
 //! perceptual error for rendered images, computed by its reference code
 //! through `nv-flip`), RMSE with PSNR, and coverage, the intersection over
-//! union of the two images' non-black pixel masks.
+//! union of the pixels that show something: the reference's non-black
+//! ones, and the candidate's that differ from its own background colour.
 
 use schemars::JsonSchema;
 use serde::Serialize;
@@ -89,12 +90,37 @@ fn rmse(a: &[u8], b: &[u8]) -> f64 {
     (squares / a.len() as f64).sqrt() / 255.0
 }
 
-/// Intersection over union of the pixels that are not black in `a` and in `b`.
+/// Intersection over union of the pixels that show something in `a` (the
+/// reference, on black) and in `b` (the candidate, on a background of its
+/// own): a pixel of `b` shows something when it is more than
+/// `black_level` from `b`'s background, its commonest colour where `a` is
+/// black. A background colour is the candidate's choice, not
+/// a difference in what the pixels see.
 fn coverage_iou(a: &[u8], b: &[u8], black_level: u8) -> f64 {
     let lit = |p: &[u8]| p.iter().any(|&c| c > black_level);
+    let background: [u8; 3] = {
+        let mut counts = std::collections::HashMap::<[u8; 3], u64>::new();
+        for (pa, pb) in a.chunks_exact(3).zip(b.chunks_exact(3)) {
+            if !lit(pa) {
+                *counts.entry([pb[0], pb[1], pb[2]]).or_default() += 1;
+            }
+        }
+        // The commonest colour; of equals, the darkest.
+        counts
+            .into_iter()
+            .max_by_key(|&(p, n)| {
+                (
+                    n,
+                    std::cmp::Reverse(p.iter().map(|&c| u32::from(c)).sum::<u32>()),
+                    std::cmp::Reverse(p),
+                )
+            })
+            .map_or([0; 3], |(p, _)| p)
+    };
+    let shows = |p: &[u8]| (0..3).any(|c| p[c].abs_diff(background[c]) > black_level);
     let (mut both, mut either) = (0u64, 0u64);
     for (pa, pb) in a.chunks_exact(3).zip(b.chunks_exact(3)) {
-        let (la, lb) = (lit(pa), lit(pb));
+        let (la, lb) = (lit(pa), shows(pb));
         both += u64::from(la && lb);
         either += u64::from(la || lb);
     }
@@ -135,6 +161,13 @@ mod tests {
         let b = picture(8, 1, |x, _| if x < 6 { [0, 9, 0] } else { [2, 2, 2] });
         assert!((coverage_iou(&a.rgb, &b.rgb, 2) - 2.0 / 3.0).abs() < 1e-12);
         assert_eq!(coverage_iou(&[0; 6], &[1; 6], 2), 1.0);
+    }
+
+    #[test]
+    fn a_background_of_the_candidates_own_is_no_coverage_difference() {
+        let a = picture(8, 8, |x, _| if x < 4 { [200, 90, 40] } else { [0, 0, 0] });
+        let b = picture(8, 8, |x, _| if x < 4 { [200, 90, 40] } else { [6, 6, 6] });
+        assert_eq!(coverage_iou(&a.rgb, &b.rgb, 2), 1.0);
     }
 
     #[test]

@@ -9,9 +9,11 @@
 //! reported on its own ([`metrics`]): the perceptual error ꟻLIP, RMSE with
 //! its PSNR, and the coverage of the two images' non-black pixels. The
 //! [`Thresholds`] turn them into a [`Verdict`]: a different size, a
-//! coverage below its bound (the geometry differs: camera, intersections,
-//! which pixels see an object) and a ꟻLIP mean above its bound (only the
-//! appearance differs: shading, colours) are each a reason of their own.
+//! coverage below its bound (which pixels show something differs) and a
+//! ꟻLIP mean above its bound (only the appearance differs) are each a
+//! reason of their own. These are pixel measures, blind to the scene:
+//! `grade` (and `compare --scene`) judge by aspect instead
+//! ([`crate::grade::aspects`]).
 
 pub mod heatmap;
 pub mod metrics;
@@ -109,8 +111,10 @@ pub enum Verdict {
     Match,
     /// The images have different sizes; nothing else was measured.
     Size,
-    /// The coverage is below its bound: the geometry differs.
-    Geometry,
+    /// The coverage is below its bound: which pixels show something
+    /// differs. Told pixel by pixel, without the scene: it is not grade's
+    /// `geometry`.
+    Coverage,
     /// The coverage holds but the ꟻLIP mean is above its bound: only the
     /// appearance (shading, colours) differs.
     Appearance,
@@ -122,7 +126,7 @@ impl Verdict {
         match self {
             Verdict::Match => "match",
             Verdict::Size => "differs: size",
-            Verdict::Geometry => "differs: geometry",
+            Verdict::Coverage => "differs: coverage (which pixels show something)",
             Verdict::Appearance => "differs: appearance",
         }
     }
@@ -149,7 +153,7 @@ pub fn compare(reference: &Picture, candidate: &Picture, thresholds: &Thresholds
     }
     let (metrics, error_map) = metrics::measure(reference, candidate, thresholds.black_level);
     let verdict = if metrics.coverage_iou < thresholds.min_coverage {
-        Verdict::Geometry
+        Verdict::Coverage
     } else if f64::from(metrics.flip.mean) > thresholds.max_flip {
         Verdict::Appearance
     } else {

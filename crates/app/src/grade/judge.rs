@@ -112,10 +112,16 @@ pub fn judge(ended: &Ended, out: &Path, against: &Against) -> Judgement {
                 .filter(|r| !r.pass)
                 .map(|r| r.aspect.name())
                 .collect();
-            if failed.is_empty() {
-                (Status::Match, None)
-            } else {
-                (Status::Differs, Some(failed.join(", ")))
+            match (failed.is_empty(), judged.transform) {
+                (true, _) => (Status::Match, None),
+                (false, None) => (Status::Differs, Some(failed.join(", "))),
+                (false, Some(words)) => (
+                    Status::Differs,
+                    Some(format!(
+                        "{}; the image is likely {words}",
+                        failed.join(", ")
+                    )),
+                ),
             }
         }
     };

@@ -55,6 +55,9 @@ pub struct SceneResult {
     pub reason: Option<String>,
     /// The points the scene is worth.
     pub points: f64,
+    /// A robustness scene (suite.json's `robustness`): beyond what the
+    /// assignment asks, worth points only where the suite opts in.
+    pub robustness: bool,
     /// The points earned: those of every aspect that passed, none when
     /// no image of the scene's size was judged.
     pub score: f64,
@@ -243,6 +246,7 @@ pub fn grade_scene(
         status: judged.status,
         reason: judged.reason,
         points: scene.points,
+        robustness: scene.robustness,
         score,
         aspects: aspect_results,
         reading,
@@ -293,6 +297,7 @@ fn not_run(scene: &SuiteScene, reference_image: String, reason: &str) -> SceneRe
         status: Status::Crashed,
         reason: Some(reason.to_string()),
         points: scene.points,
+        robustness: scene.robustness,
         score: 0.0,
         aspects: Vec::new(),
         reading: None,

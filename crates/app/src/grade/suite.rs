@@ -24,6 +24,10 @@ use raytracer_scene::frontend::{self, Loaded};
 /// The files of the built-in suite, by their path inside it.
 const BUILT_IN: &[(&str, &[u8])] = &[
     (
+        "beyond_light.txt",
+        include_bytes!("../../../../suite/beyond_light.txt"),
+    ),
+    (
         "big_shadow.txt",
         include_bytes!("../../../../suite/big_shadow.txt"),
     ),
@@ -38,6 +42,10 @@ const BUILT_IN: &[(&str, &[u8])] = &[
     (
         "colours.txt",
         include_bytes!("../../../../suite/colours.txt"),
+    ),
+    (
+        "facing_mirrors.txt",
+        include_bytes!("../../../../suite/facing_mirrors.txt"),
     ),
     (
         "field/2_lights_color.txt",
@@ -143,6 +151,10 @@ pub struct SuiteScene {
     pub name: String,
     /// The points the scene is worth: the sum of `aspects`.
     pub points: f64,
+    /// A scene beyond what the assignment asks (suite.json's
+    /// `robustness`): judged and reported, worth its points only when its
+    /// suite.json sets `robustness_points`, else none.
+    pub robustness: bool,
     /// The points of each aspect it is judged on.
     pub aspects: AspectPoints,
     pub description: String,
@@ -162,6 +174,9 @@ struct Manifest {
     /// `--reference-options` is given ([`Suite::reference_options`]).
     #[serde(default)]
     reference: Option<serde_json::Value>,
+    /// Whether the scenes marked `robustness` carry their points.
+    #[serde(default)]
+    robustness_points: bool,
 }
 
 /// The scenes of a suite, and the `reference` objects its suite.json
@@ -177,6 +192,10 @@ struct ManifestEntry {
     points: Points,
     #[serde(default)]
     description: String,
+    /// Beyond what the assignment asks: points only where the suite opts
+    /// in.
+    #[serde(default)]
+    robustness: bool,
 }
 
 /// A scene's points in suite.json: per aspect, or a total that
@@ -188,30 +207,24 @@ enum Points {
     PerAspect(BTreeMap<Aspect, f64>),
 }
 
-/// The share of a scene's total that goes to shading: the assignment
-/// leaves the shading model and its constants open, so the colours are
-/// the aspect a correct tracer is likeliest to get "wrong" by our
-/// measure; a tenth keeps a correct reading above 90 %.
-pub const SHADING_SHARE: f64 = 0.1;
-
-/// A total shared out: [`SHADING_SHARE`] to shading, the rest evenly
-/// among geometry and the effects the scene has (shadows with a light,
-/// reflection with a mirror, textures with a texture).
+/// A total shared out evenly among geometry, the effects the scene has
+/// (shadows with a light, reflection with a mirror, textures with a
+/// texture) and shading: a wrong light colour costs a scene what a
+/// missing shadow costs it.
 pub fn split(total: f64, effects: ir::Effects) -> AspectPoints {
-    let mut structural = vec![Aspect::Geometry];
+    let mut aspects = vec![Aspect::Geometry];
     if effects.shadows {
-        structural.push(Aspect::Shadows);
+        aspects.push(Aspect::Shadows);
     }
     if effects.reflection {
-        structural.push(Aspect::Reflection);
+        aspects.push(Aspect::Reflection);
     }
     if effects.textures {
-        structural.push(Aspect::Textures);
+        aspects.push(Aspect::Textures);
     }
-    let each = total * (1.0 - SHADING_SHARE) / structural.len() as f64;
-    let mut points: AspectPoints = structural.into_iter().map(|a| (a, each)).collect();
-    points.push((Aspect::Shading, total * SHADING_SHARE));
-    points
+    aspects.push(Aspect::Shading);
+    let each = total / aspects.len() as f64;
+    aspects.into_iter().map(|a| (a, each)).collect()
 }
 
 /// Points to a millionth, so tenths that add up show as they should.
@@ -264,17 +277,50 @@ pub fn load(paths: &[PathBuf]) -> Result<Suite, SuiteError> {
         if path.is_dir() {
             load_folder(path, &mut suite)?;
         } else {
-            let root = raytracer_scene::folder::folder_of(path);
-            let name = path
-                .file_name()
-                .unwrap_or_default()
-                .to_string_lossy()
-                .into_owned();
-            let scene = load_scene(root, &name, Points::Total(1.0), String::new())?;
+            let (root, name) = file_root(path);
+            let entry = ManifestEntry {
+                scene: name,
+                points: Points::Total(1.0),
+                description: String::new(),
+                robustness: false,
+            };
+            let scene = load_scene(&root, entry, true)?;
             suite.scenes.push(scene);
         }
     }
     Ok(suite)
+}
+
+/// The folder a scene file given alone is graded from, and its path
+/// inside it: the nearest folder above it with a suite.json (an exported
+/// suite, whose scenes may name textures in a folder above their own,
+/// as hard/inside_sphere.txt names wood_tex.ppm), else its own folder.
+fn file_root(path: &Path) -> (PathBuf, String) {
+    let own = raytracer_scene::folder::folder_of(path);
+    let file = path.file_name().unwrap_or_default();
+    let mut inside = PathBuf::from(file);
+    let mut folder = own;
+    loop {
+        if folder.join("suite.json").is_file() {
+            return (folder.to_path_buf(), slashed(&inside));
+        }
+        match folder.file_name() {
+            Some(name) => {
+                inside = Path::new(name).join(inside);
+                folder = folder
+                    .parent()
+                    .filter(|p| !p.as_os_str().is_empty())
+                    .unwrap_or(Path::new("."));
+            }
+            None => break,
+        }
+    }
+    (own.to_path_buf(), file.to_string_lossy().into_owned())
+}
+
+/// A relative path, `/`-separated.
+fn slashed(path: &Path) -> String {
+    path.to_string_lossy().replace('\\', "/")
 }
 
 impl Suite {
@@ -311,6 +357,7 @@ impl Suite {
 /// (and its `reference`, if any), or every scene file.
 fn load_folder(root: &Path, suite: &mut Suite) -> Result<(), SuiteError> {
     let manifest_path = root.join("suite.json");
+    let mut robustness_points = false;
     let entries = if manifest_path.is_file() {
         let text =
             std::fs::read_to_string(&manifest_path).map_err(FileError::reading(&manifest_path))?;
@@ -321,6 +368,7 @@ fn load_folder(root: &Path, suite: &mut Suite) -> Result<(), SuiteError> {
         if let Some(reference) = manifest.reference {
             suite.references.push((manifest_path, reference));
         }
+        robustness_points = manifest.robustness_points;
         manifest.scenes
     } else {
         let mut names = Vec::new();
@@ -332,6 +380,7 @@ fn load_folder(root: &Path, suite: &mut Suite) -> Result<(), SuiteError> {
                 scene,
                 points: Points::Total(1.0),
                 description: String::new(),
+                robustness: false,
             })
             .collect()
     };
@@ -341,7 +390,7 @@ fn load_folder(root: &Path, suite: &mut Suite) -> Result<(), SuiteError> {
         });
     }
     for e in entries {
-        let scene = load_scene(root, &e.scene, e.points, e.description)?;
+        let scene = load_scene(root, e, robustness_points)?;
         suite.scenes.push(scene);
     }
     Ok(())
@@ -366,13 +415,20 @@ fn find_scenes(root: &Path, folder: &Path, names: &mut Vec<String>) -> Result<()
     Ok(())
 }
 
-/// Check the scene `name` of the suite in `root` and list its files.
+/// Check the scene of `entry` in the suite in `root` and list its files;
+/// a robustness scene keeps its points only with `robustness_points`.
 fn load_scene(
     root: &Path,
-    name: &str,
-    points: Points,
-    description: String,
+    entry: ManifestEntry,
+    robustness_points: bool,
 ) -> Result<SuiteScene, SuiteError> {
+    let ManifestEntry {
+        scene: name,
+        points,
+        description,
+        robustness,
+    } = entry;
+    let name = name.as_str();
     let path = root.join(name);
     let shown = path.display().to_string();
     let Loaded { checked, .. } = frontend::load(&path)?;
@@ -398,13 +454,20 @@ fn load_scene(
     files.sort();
     files.dedup();
     let scene = ir::lower(checked);
-    let aspects = match points {
+    let mut aspects = match points {
         Points::Total(total) => split(total, scene.effects),
         Points::PerAspect(map) => map.into_iter().collect(),
     };
+    if robustness && !robustness_points {
+        // Judged and reported, for no points.
+        for (_, points) in &mut aspects {
+            *points = 0.0;
+        }
+    }
     Ok(SuiteScene {
         name: name.to_string(),
         points: round_points(aspects.iter().map(|(_, p)| p).sum()),
+        robustness,
         aspects,
         description,
         root: root.to_path_buf(),
@@ -447,10 +510,13 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         export(dir.path()).unwrap();
         let scenes = load(&[dir.path().to_path_buf()]).unwrap().scenes;
-        assert_eq!(scenes.len(), 26);
+        assert_eq!(scenes.len(), 28);
+        // Every scene the assignment asks for carries points; the
+        // robustness ones, none by default.
         assert!(scenes
             .iter()
-            .all(|s| s.points > 0.0 && !s.description.is_empty()));
+            .all(|s| (s.points > 0.0) != s.robustness && !s.description.is_empty()));
+        assert_eq!(scenes.iter().filter(|s| s.robustness).count(), 7);
         let inside = scenes
             .iter()
             .find(|s| s.name == "hard/inside_sphere.txt")

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 use glam::DVec3;
 
 use super::geometry::{offset_origin, Ray};
+use super::model::Reflection;
 use super::real::Real;
 use super::trace::{Counters, Tracer};
 use super::{camera_ray, Accel, Model};
@@ -22,6 +23,10 @@ use crate::ir;
 
 /// The most lights whose visibility [`Probe::visible`] records.
 pub const MAX_PROBED_LIGHTS: usize = 64;
+
+/// How far apart two readings' reflected luminances may be and still be
+/// the same: two steps of an 8-bit channel.
+pub const SETTLED: f64 = 2.0 / 255.0;
 
 /// What one camera ray of our reference meets.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -44,6 +49,13 @@ pub struct Probe {
     /// The luminance of our radiance along the mirror direction, each
     /// channel clamped to 1 (only on a reflective object).
     pub reflected_radiance: f64,
+    /// Whether [`Probe::reflected_radiance`] is the same, within
+    /// [`SETTLED`], under every reading the assignment allows: reflection
+    /// added or blended, and any depth that recurses at all (two
+    /// reflections from the camera or more). Where it is, what a mirror
+    /// shows is judged even when it shows another mirror (a black one
+    /// showing a coloured object, say); where not, it depends on a choice.
+    pub reflection_settled: bool,
     /// The largest cosine between the mirror direction and the direction
     /// to a light that reaches the point: near 1 where a specular highlight
     /// may lie.
@@ -110,8 +122,45 @@ impl Buffers {
 /// `max_depth` times under `model` for [`Probe::reflected_radiance`].
 pub fn buffers(scene: &ir::Scene, max_depth: u32, model: Model) -> Buffers {
     let mut main = probe_all(scene, max_depth, model);
+    settle(&mut main, scene, max_depth, model);
     main.swapped = swapped_planes(scene).map(|other| Box::new(probe_all(&other, max_depth, model)));
     main
+}
+
+/// Fill in [`Probe::reflection_settled`] of `main` (probed at
+/// `max_depth` under `model`) from two more passes over the scene when it
+/// has a mirror: two reflections from the camera, and the other way of
+/// combining a reflection with a mirror's own colour.
+fn settle(main: &mut Buffers, scene: &ir::Scene, max_depth: u32, model: Model) {
+    let mirrors = main.reflective.iter().any(|&r| r);
+    let passes = mirrors.then(|| {
+        let other = Model {
+            reflection: match model.reflection {
+                Reflection::Added => Reflection::Blended,
+                Reflection::Blended => Reflection::Added,
+            },
+            ..model
+        };
+        // The probe's radiance starts after the first reflection: depth 1
+        // there is the second reflection as well.
+        [
+            probe_all(scene, max_depth.min(1), model),
+            probe_all(scene, max_depth, other),
+        ]
+    });
+    let settle = |probes: &mut [Probe], pick: &dyn Fn(&Buffers) -> &[Probe]| {
+        for (k, probe) in probes.iter_mut().enumerate() {
+            probe.reflection_settled = match &passes {
+                None => true,
+                Some(readings) => readings.iter().all(|reading| {
+                    (probe.reflected_radiance - pick(reading)[k].reflected_radiance).abs()
+                        <= SETTLED
+                }),
+            };
+        }
+    };
+    settle(&mut main.centres, &|b| &b.centres);
+    settle(&mut main.corners, &|b| &b.corners);
 }
 
 /// `scene` with each plane's width and height swapped, or `None` when
@@ -266,5 +315,34 @@ mod tests {
         // The top row misses everything.
         assert_eq!(b.centre(0, 0).object, None);
         assert!(b.stable(0, 0, |p| p.object));
+        // A mirror showing a plain sphere shows it under every reading.
+        assert!(floor.reflection_settled);
+    }
+
+    #[test]
+    fn what_a_mirror_shows_of_a_mirror_is_settled_only_when_every_reading_agrees() {
+        // A mirror wall facing the camera; in front of it and to the
+        // right, a mirror ball, black or grey, lit: the wall shows it
+        // beside the ball itself.
+        let text = |ball: &str| {
+            format!(
+                "camera 21\nplane\ndimension 20 20\ncenter 0 0 -8\nnormal 0 0 1\nheadup 0 1 0\n\
+                 color 0 0 0\nreflectivity .8\nsphere\ndimension 1\ncenter 2 0 -4\ncolor {ball}\n\
+                 reflectivity .8\nsphere\ndimension 1.5\ncenter 0 0 3\ncolor 1 0 0\n\
+                 light\nlocation 0 4 0\ncolor 1 1 1\n"
+            )
+        };
+        let settled = |ball: &str| {
+            let b = buffers(&scene(&text(ball)), 8, Model::default());
+            // A pixel of the wall left of the ball, whose mirror
+            // direction meets the ball.
+            let p = b.centre(14, 10);
+            assert_eq!((p.object, p.reflected), (Some(0), Some(1)), "{ball}");
+            p.reflection_settled
+        };
+        // Black, the ball shows the red one alike whether a reflection is
+        // added or blended; grey, the readings differ by its own colour.
+        assert!(settled("0 0 0"));
+        assert!(!settled(".5 .5 .5"));
     }
 }

@@ -16,17 +16,15 @@ const BACKGROUND_TOLERANCE: u8 = 6;
 
 /// Whether ours surely shows an object at a probe (`Some(true)`), surely
 /// shows nothing (`Some(false)`), or shows too dark an object to tell.
+/// A mirror counts by its own light alone, at its weight when blended,
+/// `1 − k`, the least either reading gives it: what it shows is
+/// reflection's to judge, so a mirror that shows the wrong thing (or, in
+/// a tracer that does not recurse, a black mirror's own black) costs
+/// reflection, not geometry.
 fn expect(probe: &Probe) -> Option<bool> {
     match probe.object {
         None => Some(false),
-        // A mirror's own light counts at its weight when blended,
-        // `1 − k`, the least either reading gives it.
-        Some(_)
-            if (1.0 - probe.reflectivity) * probe.lit > 0.01
-                || probe.reflectivity * probe.reflected_radiance > 0.02 =>
-        {
-            Some(true)
-        }
+        Some(_) if (1.0 - probe.reflectivity) * probe.lit > 0.01 => Some(true),
         Some(_) => None,
     }
 }
@@ -112,9 +110,13 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         fraction,
         thresholds.geometry,
         judged,
-        format!(
-            "{differ} of {judged} pixels that are surely background or a lit object differ ({:.2} %)",
-            100.0 * fraction
-        ),
+        if judged >= 100 {
+            format!(
+                "{differ} of {judged} pixels that are surely background or a lit object differ ({:.2} %)",
+                100.0 * fraction
+            )
+        } else {
+            format!("only {judged} pixels are surely background or a lit object (100 needed)")
+        },
     )
 }

@@ -43,6 +43,7 @@ mod reflection;
 mod shading;
 mod shadows;
 mod textures;
+mod transform;
 
 /// What a scene's image is judged on.
 #[derive(
@@ -147,13 +148,17 @@ pub struct AspectResult {
     pub image: Option<String>,
 }
 
-/// What [`judge`] found: each aspect, a map per aspect, and the pixel
-/// reading the image fits, when it tells.
+/// What [`judge`] found: each aspect, a map per aspect, the pixel
+/// reading the image fits, when it tells, and the whole-image transform
+/// that explains a failed geometry, when one does.
 pub struct Judged {
     pub results: Vec<AspectResult>,
     /// Per aspect, per pixel: 0 not judged, 1 agrees, 2 differs.
     pub maps: Vec<Vec<u8>>,
     pub reading: Option<String>,
+    /// What the image is, in words ("upside down (…)"), when geometry
+    /// fails as it is and passes once the image is turned back.
+    pub transform: Option<&'static str>,
 }
 
 /// The points of each aspect on a scene.
@@ -172,7 +177,45 @@ const REGISTRY: [(Aspect, Judge); 5] = [
     (Aspect::Shading, shading::judge),
 ];
 
-/// Judge `student` (of the reference's size) aspect by aspect.
+/// Every aspect's verdict on `evidence`, and its maps.
+fn judge_all(
+    evidence: &Evidence,
+    thresholds: &AspectThresholds,
+) -> (Vec<AspectResult>, Vec<Vec<u8>>) {
+    let mut maps = vec![vec![0u8; evidence.n]; Aspect::ALL.len()];
+    let results = REGISTRY
+        .iter()
+        .zip(&mut maps)
+        .map(|((_, judge), map)| judge(evidence, thresholds, map))
+        .collect();
+    (results, maps)
+}
+
+/// The whole-image transform that turns a student's image whose geometry
+/// fails back into one whose geometry passes, and that image; `None` when
+/// none does.
+fn recognise(
+    buffers: &Buffers,
+    reference: &Picture,
+    student: &Picture,
+    thresholds: &AspectThresholds,
+) -> Option<(transform::Transform, Picture)> {
+    transform::Transform::ALL.into_iter().find_map(|t| {
+        let turned = t.undo(student);
+        let evidence = Evidence::new(buffers, reference, &turned);
+        let mut map = vec![0u8; evidence.n];
+        let geometry = geometry::judge(&evidence, thresholds, &mut map);
+        (geometry.judged && geometry.pass).then_some((t, turned))
+    })
+}
+
+/// Judge `student` (of the reference's size) aspect by aspect. When its
+/// geometry fails but passes with the image turned back by a whole-image
+/// transform ([`transform`]), geometry fails naming it, and the other
+/// aspects are judged on the image turned back. (Where the transform
+/// keeps the scene's coverage, geometry cannot tell it, and the image is
+/// judged as it is: deciding it from the other aspects alone would take a
+/// lucky symmetry for a transform.)
 pub fn judge(
     buffers: &Buffers,
     reference: &Picture,
@@ -181,12 +224,33 @@ pub fn judge(
     points: &AspectPoints,
 ) -> Judged {
     let evidence = Evidence::new(buffers, reference, student);
-    let mut maps = vec![vec![0u8; evidence.n]; Aspect::ALL.len()];
-    let mut results: Vec<AspectResult> = REGISTRY
-        .iter()
-        .zip(&mut maps)
-        .map(|((_, judge), map)| judge(&evidence, thresholds, map))
-        .collect();
+    let (mut results, mut maps) = judge_all(&evidence, thresholds);
+    let recognised = (results[0].judged && !results[0].pass)
+        .then(|| recognise(buffers, reference, student, thresholds))
+        .flatten();
+    let transform = recognised.as_ref().map(|(t, _)| t.words());
+    let evidence = match &recognised {
+        Some((_, turned)) => {
+            let turned_evidence = Evidence::new(buffers, reference, turned);
+            let (turned_results, turned_maps) = judge_all(&turned_evidence, thresholds);
+            // Geometry as the image is; the others turned back.
+            for (k, (result, map)) in turned_results.into_iter().zip(turned_maps).enumerate() {
+                if k > 0 {
+                    results[k] = result;
+                    maps[k] = map;
+                }
+            }
+            turned_evidence
+        }
+        None => evidence,
+    };
+    if let Some(words) = transform {
+        let geometry = &mut results[0];
+        geometry.detail = format!(
+            "{}; turned back, your image fits ours: it is likely {words}",
+            geometry.detail
+        );
+    }
     for result in &mut results {
         result.points = points
             .iter()
@@ -200,6 +264,7 @@ pub fn judge(
         results,
         maps,
         reading: geometry::pixel_reading(&evidence),
+        transform,
     }
 }
 
@@ -211,7 +276,9 @@ fn ratio(a: usize, b: usize) -> f64 {
     }
 }
 
-/// A verdict whose measure must not exceed `threshold`.
+/// A verdict whose measure must not exceed `threshold`; `detail` says
+/// what was measured, or, when not `judged`, what there was too little
+/// of.
 fn verdict(
     aspect: Aspect,
     judged: bool,
@@ -229,13 +296,20 @@ fn verdict(
         pixels,
         points: 0.0,
         score: 0.0,
-        detail: if judged {
-            detail
-        } else {
-            "too few pixels tell this aspect on this scene".into()
-        },
+        detail,
         image: None,
     }
+}
+
+/// `part of whole` with its percentage, or "none of 0" never: `None`
+/// when `whole` is 0.
+fn fraction_words(part: usize, whole: usize, what: &str) -> Option<String> {
+    (whole > 0).then(|| {
+        format!(
+            "{part} of {whole} {what} ({:.1} %)",
+            100.0 * part as f64 / whole as f64
+        )
+    })
 }
 
 /// The picture of where an aspect differs: our image dimmed, the judged

@@ -3,16 +3,22 @@
 //! sees in the mirror)`; a pixel the fit does not explain differs, and a
 //! mirror whose gain `c` on what ours shows is below a share of its
 //! reflectivity does not show it at all. What a mirror shows of a texture
-//! (the mapping is open) or of another mirror (added or blended) is not
-//! judged, nor where a highlight may brighten it.
+//! (the mapping is open) is not judged, nor what it shows of another
+//! mirror where the readings (added or blended, any depth of two
+//! reflections or more) differ ([`Probe::reflection_settled`]), nor where
+//! a highlight may brighten it. Where they agree, as in a mirror showing a
+//! black mirror that shows a coloured object, recursion is judged.
+//!
+//! [`Probe::reflection_settled`]: raytracer_render::render::probe::Probe::reflection_settled
 
 use super::evidence::{clipped, luminance, Evidence, HIGHLIGHT_CONE};
 use super::fit::{predict, robust_fit, spread};
-use super::{ratio, verdict, Aspect, AspectResult, AspectThresholds};
+use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 
 /// Judge reflection, marking `map`.
 pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
-    let (mut showing, mut mirror_bad, mut mirror_judged) = (0usize, 0usize, 0usize);
+    let (mut showing, mut showing_bad, mut dark, mut dark_bad) = (0usize, 0usize, 0usize, 0usize);
+    let mut mirrors = 0usize;
     let mut weakest_gain = f64::INFINITY;
     for &object in &e.objects {
         let first = e.first_probe(object);
@@ -26,10 +32,12 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
             .into_iter()
             .filter(|&k| {
                 let p = &e.buffers.centres[k];
-                let indirect = p.reflected.is_some_and(|r| {
-                    e.buffers.textured.get(r as usize) == Some(&true)
-                        || e.buffers.reflective.get(r as usize) == Some(&true)
-                });
+                // What a mirror shows of a texture depends on the
+                // mapping; of another mirror, on the readings, unless
+                // every reading shows the same there (settled).
+                let indirect = !p.reflection_settled
+                    || p.reflected
+                        .is_some_and(|r| e.buffers.textured.get(r as usize) == Some(&true));
                 !clipped(&e.student_px(k)) && p.highlight < 0.95 && !indirect
             })
             .collect();
@@ -43,6 +51,7 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         let Some(beta) = robust_fit(&rows) else {
             continue;
         };
+        mirrors += 1;
         // Whether the student's mirror shows what ours shows at all: the
         // fit's gain on it against the mirror's reflectivity, told only
         // where what ours shows varies enough over the mirror to tell a
@@ -59,31 +68,66 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
             let highlight = r > 0.0 && e.buffers.centres[k].highlight > HIGHLIGHT_CONE;
             let shows = x[1] > 0.03;
             let bad = (r.abs() > 0.06 && !highlight) || (missing && shows);
-            showing += usize::from(shows);
-            mirror_judged += 1;
-            mirror_bad += usize::from(bad);
+            if shows {
+                showing += 1;
+                showing_bad += usize::from(bad);
+            } else {
+                dark += 1;
+                dark_bad += usize::from(bad);
+            }
             map[k] = 1 + u8::from(bad);
         }
     }
-    let measure = ratio(mirror_bad, showing).min(1.0);
+    // Each fraction over its own base: the pixels whose reflection shows
+    // something, and those where ours shows nothing (judged when there
+    // are enough of them).
+    let measure = ratio(showing_bad, showing).max(if dark >= 20 {
+        ratio(dark_bad, dark)
+    } else {
+        0.0
+    });
+    let judged = showing >= 20;
+    let detail = if judged {
+        let mut parts: Vec<String> = [
+            fraction_words(
+                showing_bad,
+                showing,
+                "mirror pixels that show something are not what ours shows",
+            ),
+            (dark >= 20)
+                .then(|| {
+                    fraction_words(
+                        dark_bad,
+                        dark,
+                        "mirror pixels where ours shows nothing differ",
+                    )
+                })
+                .flatten(),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        if weakest_gain.is_finite() {
+            parts.push(format!(
+                "the mirror shows {:.0} % of what ours shows (at least {:.0} %)",
+                100.0 * weakest_gain,
+                100.0 * thresholds.reflection_gain
+            ));
+        }
+        parts.join("; ")
+    } else if mirrors == 0 {
+        "no mirror without a texture to judge".to_string()
+    } else {
+        format!(
+            "only {showing} mirror pixels show something ours judges (20 needed): the others show nothing, a texture or another mirror"
+        )
+    };
     verdict(
         Aspect::Reflection,
-        showing >= 20,
+        judged,
         measure,
         thresholds.reflection,
-        mirror_judged,
-        format!(
-            "{mirror_bad} of {mirror_judged} mirror pixels are not what ours shows, against {showing} that show something ({:.1} %){}",
-            100.0 * measure,
-            if weakest_gain.is_finite() {
-                format!(
-                    "; the mirror shows {:.0} % of what ours shows (at least {:.0} %)",
-                    100.0 * weakest_gain,
-                    100.0 * thresholds.reflection_gain
-                )
-            } else {
-                String::new()
-            }
-        ),
+        showing + dark,
+        detail,
     )
 }

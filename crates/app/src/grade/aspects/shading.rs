@@ -1,13 +1,25 @@
-//! Shading: the colours of lit objects, by the median chromaticity of
-//! each lit plain object against ours (brightness is the tracer's to
-//! choose, the hue the lights' and the object's colours give is not),
-//! away from highlights and clamped channels.
+//! Shading: the colours of lit objects, which the lights' colours and the
+//! objects' (or their textures') colours give, and which no constant the
+//! assignment leaves open changes much (brightness is the tracer's to
+//! choose, the hue is not). On each lit plain object, its median
+//! chromaticity against ours; on each textured object whose texture shows
+//! (its contrast passes [`super::textures`], so a texture left out is
+//! textures' failure alone), its mean chromaticity against ours. Both
+//! away from highlights and clamped channels. A light's colour ignored
+//! shows here, on plain and textured objects alike.
 
-use super::evidence::{chroma, clipped, Evidence};
+use super::evidence::{chroma, clipped, Evidence, HIGHLIGHT_CONE};
+use super::textures::{textured, LEAST_PIXELS};
 use super::{verdict, Aspect, AspectResult, AspectThresholds};
 
-/// Judge shading, marking `map`.
-pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
+/// The L1 distance between two chromaticities.
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|c| (a[c] - b[c]).abs()).sum()
+}
+
+/// The worst distance of a lit plain object's median chromaticity from
+/// ours, and the pixels judged, marking `map`.
+fn plain(e: &Evidence, bound: f64, map: &mut [u8]) -> (f64, usize) {
     let (mut worst, mut shaded) = (0.0f64, 0usize);
     for &object in &e.plain {
         let ks: Vec<usize> = e
@@ -25,30 +37,98 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         if ks.len() < 20 {
             continue;
         }
-        let median = |pic, c: usize| {
-            let mut v: Vec<f64> = ks
-                .iter()
-                .filter_map(|&k| chroma(&e.px(pic, k)))
-                .map(|v| v[c])
-                .collect();
-            v.sort_by(f64::total_cmp);
-            v[v.len() / 2]
+        let median = |pic| {
+            [0, 1, 2].map(|c| {
+                let mut v: Vec<f64> = ks
+                    .iter()
+                    .filter_map(|&k| chroma(&e.px(pic, k)))
+                    .map(|v| v[c])
+                    .collect();
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2]
+            })
         };
-        let distance = (0..3)
-            .map(|c| (median(e.reference, c) - median(e.student, c)).abs())
-            .sum::<f64>();
-        worst = worst.max(distance);
+        let d = distance(median(e.reference), median(e.student));
+        worst = worst.max(d);
         shaded += ks.len();
         for &k in &ks {
-            map[k] = 1 + u8::from(distance > thresholds.shading);
+            map[k] = 1 + u8::from(d > bound);
         }
     }
+    (worst, shaded)
+}
+
+/// The worst distance of a textured object's mean chromaticity from ours,
+/// over the objects whose texture shows, and the pixels judged, marking
+/// `map`.
+fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> (f64, usize) {
+    let (mut worst, mut shaded) = (0.0f64, 0usize);
+    for object in textured(e) {
+        if object.theirs / object.ours < thresholds.texture_contrast {
+            continue;
+        }
+        // Away from highlights (a highlight the tracer chose to draw
+        // whitens it) and clamped channels.
+        let ks: Vec<usize> = object
+            .ks
+            .iter()
+            .copied()
+            .filter(|&k| {
+                e.buffers.centres[k].highlight <= HIGHLIGHT_CONE
+                    && !clipped(&e.student_px(k))
+                    && !clipped(&e.px(e.reference, k))
+            })
+            .collect();
+        if ks.len() < LEAST_PIXELS {
+            continue;
+        }
+        let mean = |pic| -> [f64; 3] {
+            let all: Vec<[f64; 3]> = ks.iter().filter_map(|&k| chroma(&e.px(pic, k))).collect();
+            let count = all.len().max(1) as f64;
+            [0, 1, 2].map(|c| all.iter().map(|v| v[c]).sum::<f64>() / count)
+        };
+        let d = distance(mean(e.reference), mean(e.student));
+        worst = worst.max(d);
+        shaded += ks.len();
+        for &k in &ks {
+            map[k] = 1 + u8::from(d > thresholds.texture_colour);
+        }
+    }
+    (worst, shaded)
+}
+
+/// Judge shading, marking `map`. The measure is the worst distance over
+/// its bound (plain objects' [`AspectThresholds::shading`], textured
+/// ones' [`AspectThresholds::texture_colour`]), so 1 is at the bound.
+pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
+    let (plain_worst, plain_pixels) = plain(e, thresholds.shading, map);
+    let (textured_worst, textured_pixels) = textured_colour(e, thresholds, map);
+    let measure =
+        (plain_worst / thresholds.shading).max(textured_worst / thresholds.texture_colour);
+    let mut parts = Vec::new();
+    if plain_pixels > 0 {
+        parts.push(format!(
+            "the colour of lit plain objects is {plain_worst:.3} from ours (chromaticity, at most {:.2})",
+            thresholds.shading
+        ));
+    }
+    if textured_pixels > 0 {
+        parts.push(format!(
+            "the mean colour of textured objects is {textured_worst:.3} from ours (at most {:.2})",
+            thresholds.texture_colour
+        ));
+    }
+    let judged = !parts.is_empty();
     verdict(
         Aspect::Shading,
-        shaded > 0,
-        worst,
-        thresholds.shading,
-        shaded,
-        format!("the colour of lit objects is {worst:.3} from ours (chromaticity)"),
+        judged,
+        measure,
+        1.0,
+        plain_pixels + textured_pixels,
+        if judged {
+            parts.join("; ")
+        } else {
+            "no lit plain object with 20 stable pixels away from highlights, and no textured object whose texture shows with 30".to_string()
+        },
     )
 }

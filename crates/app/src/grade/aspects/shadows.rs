@@ -7,7 +7,7 @@
 
 use super::evidence::{clipped, luminance, Evidence};
 use super::fit::robust_fit;
-use super::{ratio, verdict, Aspect, AspectResult, AspectThresholds};
+use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 
 /// Judge shadows, marking `map`.
 pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
@@ -53,16 +53,33 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
     let spurious = ratio(lit_bad, lit);
     let measure =
         if shadowed >= 20 { missing } else { 0.0 }.max(if lit >= 20 { spurious } else { 0.0 });
+    let judged = shadowed >= 20 || lit >= 20;
+    let parts: Vec<String> = [
+        (shadowed >= 20)
+            .then(|| fraction_words(shadowed_bad, shadowed, "shadowed pixels look lit"))
+            .flatten(),
+        (lit >= 20)
+            .then(|| fraction_words(lit_bad, lit, "fully lit pixels look shadowed"))
+            .flatten(),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    let detail = if judged {
+        parts.join("; ")
+    } else if e.plain.is_empty() {
+        "no object that neither reflects nor is textured, where shadows are judged".to_string()
+    } else {
+        format!(
+            "only {shadowed} shadowed and {lit} fully lit pixels on objects that neither reflect nor are textured (20 of either needed)"
+        )
+    };
     verdict(
         Aspect::Shadows,
-        shadowed >= 20 || lit >= 20,
+        judged,
         measure,
         thresholds.shadows,
         shadowed + lit,
-        format!(
-            "{shadowed_bad} of {shadowed} shadowed pixels look lit ({:.1} %); {lit_bad} of {lit} lit pixels look shadowed ({:.1} %)",
-            100.0 * missing,
-            100.0 * spurious
-        ),
+        detail,
     )
 }

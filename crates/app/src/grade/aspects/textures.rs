@@ -1,15 +1,16 @@
 //! Textures: that a textured object shows its texture, by the contrast
 //! between neighbouring pixels over the object (relative to its mean
-//! brightness) against ours, and by its mean chromaticity away from
-//! highlights and clamped channels.
+//! brightness) against ours, which no mapping changes. The texture's
+//! colour under the lights is shading's ([`super::shading`]): a light's
+//! colour ignored on a textured object costs shading, not textures.
 
-use super::evidence::{chroma, clipped, luminance, Evidence, HIGHLIGHT_CONE};
+use super::evidence::{luminance, Evidence};
 use super::{Aspect, AspectResult, AspectThresholds};
 use crate::compare::Picture;
 
 /// The least number of pixels an object needs for its texture to be
 /// judged, and for its colour.
-const LEAST_PIXELS: usize = 30;
+pub(super) const LEAST_PIXELS: usize = 30;
 
 /// The mean absolute difference between neighbouring pixels of `ks` in
 /// `picture`, over their mean luminance.
@@ -38,10 +39,18 @@ fn contrast(e: &Evidence, picture: &Picture, ks: &[usize], inside: &[bool]) -> f
     }
 }
 
-/// Judge textures, marking `map`.
-pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
-    let (mut worst_ratio, mut worst_colour, mut textured) = (f64::INFINITY, 0.0f64, 0usize);
-    let mut colour_judged = false;
+/// A textured object whose texture shows in our image: its stable
+/// pixels and the contrast of ours and of the student's over them.
+pub(super) struct Textured {
+    pub ks: Vec<usize>,
+    pub ours: f64,
+    pub theirs: f64,
+}
+
+/// Every textured object with [`LEAST_PIXELS`] stable pixels or more whose
+/// texture shows in our image.
+pub(super) fn textured(e: &Evidence) -> Vec<Textured> {
+    let mut found = Vec::new();
     for &object in &e.objects {
         if e.first_probe(object).uv.is_none() {
             continue;
@@ -59,71 +68,45 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
             continue;
         }
         let theirs = contrast(e, e.student, &ks, &inside);
-        // The colour only away from highlights and clamped channels: a
-        // highlight the tracer chose to draw whitens it (a smooth one
-        // barely changes the contrast).
-        let coloured: Vec<usize> = ks
-            .iter()
-            .copied()
-            .filter(|&k| {
-                e.buffers.centres[k].highlight <= HIGHLIGHT_CONE
-                    && !clipped(&e.student_px(k))
-                    && !clipped(&e.px(e.reference, k))
-            })
-            .collect();
-        let mean_chroma = |pic| -> [f64; 3] {
-            let all: Vec<[f64; 3]> = coloured
-                .iter()
-                .filter_map(|&k| chroma(&e.px(pic, k)))
-                .collect();
-            let count = all.len().max(1) as f64;
-            [0, 1, 2].map(|c| all.iter().map(|v| v[c]).sum::<f64>() / count)
-        };
-        colour_judged |= coloured.len() >= LEAST_PIXELS;
-        let distance = if coloured.len() >= LEAST_PIXELS {
-            let (a, b) = (mean_chroma(e.reference), mean_chroma(e.student));
-            (0..3).map(|c| (a[c] - b[c]).abs()).sum::<f64>()
-        } else {
-            0.0
-        };
-        worst_ratio = worst_ratio.min(theirs / ours);
-        worst_colour = worst_colour.max(distance);
-        textured += ks.len();
-        let bad =
-            theirs / ours < thresholds.texture_contrast || distance > thresholds.texture_colour;
-        for &k in &ks {
+        found.push(Textured { ks, ours, theirs });
+    }
+    found
+}
+
+/// Judge textures, marking `map`.
+pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
+    let (mut worst_ratio, mut pixels) = (f64::INFINITY, 0usize);
+    let objects = textured(e);
+    for object in &objects {
+        let ratio = object.theirs / object.ours;
+        worst_ratio = worst_ratio.min(ratio);
+        pixels += object.ks.len();
+        let bad = ratio < thresholds.texture_contrast;
+        for &k in &object.ks {
             map[k] = 1 + u8::from(bad);
         }
     }
-    let judged = textured > 0;
-    let pass = !judged
-        || (worst_ratio >= thresholds.texture_contrast
-            && worst_colour <= thresholds.texture_colour);
+    let judged = !objects.is_empty();
     AspectResult {
         aspect: Aspect::Textures,
         judged,
-        pass,
+        // Less contrast is worse: the bound is a least one.
+        pass: !judged || worst_ratio >= thresholds.texture_contrast,
         measure: judged.then_some(worst_ratio),
         threshold: thresholds.texture_contrast,
-        pixels: textured,
+        pixels,
         points: 0.0,
         score: 0.0,
         detail: if judged {
             format!(
-                "texture contrast {:.0} % of ours (at least {:.0} %); {}",
+                "texture contrast {:.0} % of ours (at least {:.0} %)",
                 100.0 * worst_ratio,
-                100.0 * thresholds.texture_contrast,
-                if colour_judged {
-                    format!(
-                        "colour {worst_colour:.3} from ours (at most {:.3})",
-                        thresholds.texture_colour
-                    )
-                } else {
-                    "colour not judged (a highlight may lie anywhere on it)".to_string()
-                }
+                100.0 * thresholds.texture_contrast
             )
         } else {
-            "no textured object to judge".into()
+            format!(
+                "no textured object with {LEAST_PIXELS} stable pixels whose texture shows in ours"
+            )
         },
         image: None,
     }

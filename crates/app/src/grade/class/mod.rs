@@ -48,6 +48,9 @@ pub struct SceneSummary {
     pub status: Status,
     pub reason: Option<String>,
     pub score: f64,
+    /// A robustness scene (judged for no points unless the suite opts in).
+    #[serde(default)]
+    pub robustness: bool,
 }
 
 /// One student: the name of their report's folder and their summary.

@@ -106,13 +106,18 @@ fn row(html: &mut String, scene: &SceneResult) {
     let name = status_name(scene.status);
     let _ = write!(
         html,
-        "<tr class=\"scene\" id=\"{}\"><td><b>{}</b><br>{}<br>{} / {} points</td>\
+        "<tr class=\"scene\" id=\"{}\"><td><b>{}</b><br>{}<br>{} / {} points{}</td>\
 <td><span class=\"status {name}\">{name}</span><br>{}</td><td>",
         anchor(&scene.scene),
         escape(&scene.scene),
         escape(&scene.description),
         scene.score,
         scene.points,
+        if scene.robustness {
+            format!("<br><i>{}</i>", escape(&super::robustness_words(scene)))
+        } else {
+            String::new()
+        },
         escape(scene.reason.as_deref().unwrap_or("")),
     );
     // The three images side by side in one row that never wraps (its
@@ -136,17 +141,19 @@ fn row(html: &mut String, scene: &SceneResult) {
         html.push_str("<ul class=\"aspects\">");
         for aspect in &scene.aspects {
             let verdict = match (aspect.judged, aspect.pass) {
-                (false, _) => "not judged",
-                (true, true) => "passes",
-                (true, false) => "fails",
+                (false, _) => "not judged:".to_string(),
+                (true, pass) => format!(
+                    "{} ({} / {} points):",
+                    if pass { "passes" } else { "fails" },
+                    aspect.score,
+                    aspect.points
+                ),
             };
             let _ = write!(
                 html,
-                "<li{}><b>{}</b> {verdict} ({} / {} points): {}</li>",
+                "<li{}><b>{}</b> {verdict} {}</li>",
                 if aspect.pass { "" } else { " class=\"fail\"" },
                 aspect.aspect.name(),
-                aspect.score,
-                aspect.points,
                 escape(&aspect.detail),
             );
         }

@@ -130,6 +130,9 @@ pub fn outcome_lines(scene: &SceneResult) -> Vec<String> {
         Some(reason) => format!("status: {} ({reason})", status_name(scene.status)),
         None => format!("status: {}", status_name(scene.status)),
     }];
+    if scene.robustness {
+        lines.push(robustness_words(scene));
+    }
     if let (Some(iou), Some(flip), Some(rmse)) = (scene.coverage_iou, scene.flip, scene.rmse) {
         lines.push(format!(
             "coverage IoU {iou:.4}; ꟻLIP mean {:.4}, p99 {:.4}; RMSE {rmse:.5}",
@@ -137,18 +140,19 @@ pub fn outcome_lines(scene: &SceneResult) -> Vec<String> {
         ));
     }
     for aspect in &scene.aspects {
-        let verdict = match (aspect.judged, aspect.pass) {
-            (false, _) => "not judged",
-            (true, true) => "passes",
-            (true, false) => "FAILS",
-        };
-        lines.push(format!(
-            "{} {verdict} ({} / {} points): {}",
-            aspect.aspect.name(),
-            aspect.score,
-            aspect.points,
-            aspect.detail
-        ));
+        // An aspect not judged shows what there was too little of, and
+        // no points.
+        lines.push(match (aspect.judged, aspect.pass) {
+            (false, _) => format!("{} not judged: {}", aspect.aspect.name(), aspect.detail),
+            (true, pass) => format!(
+                "{} {} ({} / {} points): {}",
+                aspect.aspect.name(),
+                if pass { "passes" } else { "FAILS" },
+                aspect.score,
+                aspect.points,
+                aspect.detail
+            ),
+        });
     }
     if let Some(reading) = &scene.reading {
         lines.push(reading.clone());
@@ -163,6 +167,15 @@ pub fn outcome_lines(scene: &SceneResult) -> Vec<String> {
         lines.push(format!("stderr:\n{}", scene.stderr.trim_end()));
     }
     lines
+}
+
+/// What a robustness scene is, in words.
+pub fn robustness_words(scene: &SceneResult) -> String {
+    if scene.points > 0.0 {
+        "robustness: beyond what the assignment asks; this course gives it points".to_string()
+    } else {
+        "robustness: beyond what the assignment asks, judged and reported for no points".to_string()
+    }
 }
 
 /// A status as summary.json spells it.
