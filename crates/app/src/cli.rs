@@ -59,9 +59,9 @@ or a file that cannot be read or written.";
     pub const PREVIEW: &str = "Exit codes: 130 stopped by Ctrl-C, its normal end; 2 it \
 could not start (SCENE `-` or unreadable, an --spp that is not a square, an address that \
 cannot be bound).";
-    pub const COMPARE: &str = "Exit codes: 0 the images match; 1 they differ (in geometry, \
-appearance or size); 2 an image cannot be read or decoded, or the heat map cannot be \
-written.";
+    pub const COMPARE: &str = "Exit codes: 0 the images match (with --scene, every aspect \
+passes); 1 they differ (in coverage, appearance or size; with --scene, in an aspect); 2 an \
+image or the scene cannot be read, or the heat map cannot be written.";
     pub const GRADE: &str = "Exit codes: 0 every scene matches (with --class, every scene \
 of every student); 1 a scene does not; 2 a usage error, a student folder without a usable \
 tracer.txt or build.txt, a suite that cannot be read or has a scene with errors, a summary \
@@ -100,7 +100,8 @@ pub enum Command {
     #[command(after_help = exit::PREVIEW)]
     Preview(PreviewArgs),
     /// Compare a candidate image with a reference: ꟻLIP, RMSE and PSNR,
-    /// and the coverage of their non-black pixels.
+    /// and the coverage of their pixels off the background; with --scene,
+    /// grade's judge, aspect by aspect.
     #[command(after_help = exit::COMPARE)]
     Compare(CompareArgs),
     /// Grade a ray tracer: run it on a suite of scenes in a sandbox and
@@ -624,14 +625,15 @@ pub enum CompareFormat {
 /// The bounds within which two images match (`compare` and `grade`).
 #[derive(Debug, Args)]
 pub struct ThresholdArgs {
-    /// The least intersection over union of the two images' non-black
-    /// pixels; below it the geometry differs.
+    /// The least intersection over union of the pixels each image covers
+    /// (off its background colour); below it the verdict is `coverage`.
     #[arg(long, value_name = "IOU", default_value_t = crate::compare::DEFAULT_MIN_COVERAGE, value_parser = unit_interval)]
     pub min_coverage: f64,
     /// The largest mean ꟻLIP error; above it the appearance differs.
     #[arg(long, value_name = "FLIP", default_value_t = crate::compare::DEFAULT_MAX_FLIP, value_parser = unit_interval)]
     pub max_flip: f64,
-    /// A pixel is black (not covered) when no channel exceeds this (0–255).
+    /// A pixel is background (not covered) when no channel is further than
+    /// this from the image's background colour (0–255).
     #[arg(long, value_name = "VALUE", default_value_t = crate::compare::DEFAULT_BLACK_LEVEL)]
     pub black_level: u8,
 }

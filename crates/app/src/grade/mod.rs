@@ -140,6 +140,15 @@ fn aspect_pictures(
     Ok((results, found.reading))
 }
 
+/// `reason` with the run's full disk (of `disk` bytes) told after it.
+fn with_full_disk(reason: Option<String>, disk: u64) -> String {
+    let full = format!("the run's disk space ({} MiB) was full", disk >> 20);
+    match reason {
+        Some(reason) => format!("{reason}; {full}"),
+        None => full,
+    }
+}
+
 /// Grade one scene against its `reference`; `index` names its images.
 pub fn grade_scene(
     plan: &Plan,
@@ -200,14 +209,10 @@ pub fn grade_scene(
     let mut judged = judge::judge(&run.ended, &dir.out(), &against);
     remove_reporting(dir.folder, "the scene's working folder");
     if run.disk_full {
-        let full = format!(
-            "the run's disk space ({} MiB) was full",
-            plan.confinement.limits.disk >> 20
-        );
-        judged.reason = Some(match judged.reason.take() {
-            Some(reason) => format!("{reason}; {full}"),
-            None => full,
-        });
+        judged.reason = Some(with_full_disk(
+            judged.reason.take(),
+            plan.confinement.limits.disk,
+        ));
     }
 
     let mut images = Images {
