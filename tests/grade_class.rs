@@ -381,3 +381,59 @@ fn a_student_folder_runs_as_at_home_and_is_only_read() {
     assert!(!stderr.contains("top-secret-line"), "{stderr}");
     assert!(stderr.contains("tracer.txt"), "{stderr}");
 }
+
+/// Student folders named as the class's own report files, or holding an
+/// escape sequence, a line break or a spreadsheet formula, are graded like
+/// any: class.csv and class.html are written, each student has a report
+/// of its own, the terminal is shown every control character escaped, and
+/// no name is a formula in class.csv.
+#[test]
+fn student_folder_names_cannot_take_a_report_file_forge_a_line_or_a_formula() {
+    let dir = open_folder("grade-class-names-");
+    let d = dir.path();
+    for (name, text) in SCENES {
+        support::write(d, &format!("suite/{name}"), text);
+    }
+    let names = [
+        "class.csv",
+        "class.html",
+        "red\u{1b}[31m\nforged: 9 of 9",
+        " =1+1",
+        "＝2+2",
+    ];
+    for name in names {
+        let folder = d.join("students").join(name);
+        std::fs::create_dir_all(&folder).unwrap();
+        std::fs::set_permissions(&folder, std::fs::Permissions::from_mode(0o777)).unwrap();
+        std::fs::copy(student_binary(), folder.join("renderer")).unwrap();
+        write_executable(
+            &folder.join("tracer.sh"),
+            "#!/bin/sh\nexec ./renderer render \"$1\" \"$2\"\n",
+        );
+        write_executable(&folder.join("tracer.txt"), "./tracer.sh {scene} {out}\n");
+    }
+    let output = support::command(&["grade", "--class", "students", "suite", "-o", "report"])
+        .current_dir(d)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stdout}{stderr}");
+    assert!(!stdout.contains('\u{1b}'), "{stdout}");
+    assert!(stdout.contains("red\\u{1b}[31m\\nforged"), "{stdout}");
+    assert!(!stdout.lines().any(|l| l.starts_with("forged")), "{stdout}");
+    let report = d.join("report");
+    assert!(report.join("class.csv").is_file());
+    assert!(report.join("class.html").is_file());
+    for folder in ["class.csv~", "class.html~"] {
+        assert!(
+            report.join(folder).join("summary.json").is_file(),
+            "{folder}"
+        );
+    }
+    let csv = read(&report.join("class.csv"));
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert!(rows.iter().any(|r| r.starts_with("class.csv,")), "{csv}");
+    assert!(rows.iter().any(|r| r.starts_with("' =1+1,")), "{csv}");
+    assert!(rows.iter().any(|r| r.starts_with("'＝2+2,")), "{csv}");
+}

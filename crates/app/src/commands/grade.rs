@@ -154,7 +154,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
                 cwd: here.join(&student.folder),
                 student: Some(student),
                 report: if args.class.is_some() {
-                    report_folder.join(&student.name)
+                    report_folder.join(class::report_folder(&student.name))
                 } else {
                     report_folder.clone()
                 },
@@ -299,7 +299,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
             .filter(|s| s.status == grade::Status::Match)
             .count();
         let who = match (job.student, &args.class) {
-            (Some(student), Some(_)) => format!("{}: ", student.name.to_string_lossy()),
+            (Some(student), Some(_)) => format!("{}: ", shown(&student.name.to_string_lossy())),
             _ => String::new(),
         };
         let build = match &summary.build {
@@ -311,7 +311,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
             summary.scenes.len(),
             summary.score,
             summary.max_score,
-            job.report.join("index.html").display()
+            shown(&job.report.join("index.html").display().to_string())
         );
     }
     if args.class.is_some() {
@@ -406,9 +406,25 @@ fn print_class(report: &Path, class: &class::Class) {
     println!(
         "class of {}: {} and {}",
         class.students.len(),
-        report.join(class::HTML).display(),
-        report.join(class::CSV).display()
+        shown(&report.join(class::HTML).display().to_string()),
+        shown(&report.join(class::CSV).display().to_string())
     );
+}
+
+/// A name from a student's folder as the terminal may show it: every
+/// control character (an escape sequence, a line break) and text
+/// direction control written as Rust writes it (`\u{1b}`, `\n`), so no
+/// folder name can move the cursor, recolour or forge a line.
+fn shown(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_control() || raytracer_scene::escape::is_text_direction_control(c) {
+                c.escape_default().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
 }
 
 /// The sandbox limits of the options.

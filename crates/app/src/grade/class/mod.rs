@@ -12,6 +12,7 @@ pub mod table;
 
 use std::collections::BTreeSet;
 use std::ffi::OsString;
+use std::os::unix::ffi::OsStrExt;
 use std::path::Path;
 
 use miette::Diagnostic;
@@ -60,10 +61,43 @@ pub struct Student {
     pub summary: StudentSummary,
 }
 
+/// The class report's own files, whose names no student's report folder
+/// may take.
+const RESERVED: [&str; 2] = [HTML, CSV];
+
+/// The folder of a student's report in the class's: the student's folder
+/// name, with a `~` added where that name, less any `~` it ends with, is
+/// one of the class report's files (`class.csv`, `class.csv~`), so no
+/// student's report takes a report file's place and no two share one.
+pub fn report_folder(student: &std::ffi::OsStr) -> OsString {
+    let bytes = student.as_bytes();
+    let base = bytes.strip_suffix(b"~").map_or(bytes, |_| {
+        let end = bytes.iter().rposition(|&b| b != b'~').map_or(0, |i| i + 1);
+        &bytes[..end]
+    });
+    let mut folder = student.to_os_string();
+    if RESERVED.iter().any(|name| name.as_bytes() == base) {
+        folder.push("~");
+    }
+    folder
+}
+
+/// The student a report folder is of: [`report_folder`] undone.
+fn student_of(folder: &std::ffi::OsStr) -> OsString {
+    let bytes = folder.as_bytes();
+    match bytes.strip_suffix(b"~") {
+        Some(less) if report_folder(std::ffi::OsStr::from_bytes(less)) == folder => {
+            std::ffi::OsStr::from_bytes(less).to_os_string()
+        }
+        _ => folder.to_os_string(),
+    }
+}
+
 impl Student {
-    /// The name to show: the folder's, any byte that is not UTF-8 replaced.
+    /// The name to show: the student's folder's, any byte that is not
+    /// UTF-8 replaced.
     pub fn name(&self) -> String {
-        self.folder.to_string_lossy().into_owned()
+        student_of(&self.folder).to_string_lossy().into_owned()
     }
 
     /// The scene `name` of this student, if they were graded on it.
@@ -159,4 +193,24 @@ pub fn merge(report: &Path) -> Result<Class, ClassError> {
 /// The status name of a scene, as summary.json spells it.
 fn status_name(status: Status) -> &'static str {
     super::report::status_name(status)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{report_folder, student_of};
+    use std::ffi::OsStr;
+
+    #[test]
+    fn a_student_named_as_a_report_file_gets_a_folder_of_its_own() {
+        for (student, folder) in [
+            ("alice", "alice"),
+            ("class.csv", "class.csv~"),
+            ("class.html", "class.html~"),
+            ("class.csv~", "class.csv~~"),
+            ("alice~", "alice~"),
+        ] {
+            assert_eq!(report_folder(OsStr::new(student)), OsStr::new(folder));
+            assert_eq!(student_of(OsStr::new(folder)), OsStr::new(student));
+        }
+    }
 }

@@ -65,9 +65,13 @@ pub fn csv(class: &Class) -> String {
         .expect("the cells are UTF-8")
 }
 
-/// A text cell, never read as a formula.
+/// A text cell, never read as a formula: one whose first character, or
+/// first after white space, starts a formula in a spreadsheet (`=`, `+`,
+/// `-`, `@`, or their fullwidth forms, which some spreadsheets fold to
+/// them), or that starts with a tab or a carriage return, is quoted.
 fn text(cell: &str) -> String {
-    if cell.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+    const STARTS: [char; 8] = ['=', '+', '-', '@', '＝', '＋', '－', '＠'];
+    if cell.starts_with(['\t', '\r']) || cell.trim_start().starts_with(STARTS) {
         format!("'{cell}")
     } else {
         cell.to_string()
@@ -107,6 +111,10 @@ mod tests {
     #[test]
     fn a_formula_is_not_a_formula() {
         assert_eq!(text("=HYPERLINK(\"x\")"), "'=HYPERLINK(\"x\")");
+        assert_eq!(text(" =1+1"), "' =1+1");
+        assert_eq!(text("\u{3000}=1+1"), "'\u{3000}=1+1");
+        assert_eq!(text("＝1+1"), "'＝1+1");
         assert_eq!(text("alice"), "alice");
+        assert_eq!(text("alice = bob"), "alice = bob");
     }
 }
