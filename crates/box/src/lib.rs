@@ -8,6 +8,7 @@
 //! made ([`cgroup`]); as root, a uid of the student's own ([`uids`]).
 //! Then each command runs under it ([`run::run`]) from a folder closed to
 //! everyone but the grader and given to the run's user ([`folder`]),
+//! without a box with a temporary folder of its own inside it ([`scratch`]),
 //! with its output captured within a bound ([`capture`]); the grader
 //! copies what a program may write without following a link ([`copy`])
 //! and reads what it wrote the same way ([`output`]).
@@ -30,6 +31,7 @@ pub mod output;
 pub mod probe;
 mod reason;
 pub mod run;
+pub mod scratch;
 mod spawning;
 pub mod uids;
 

@@ -119,6 +119,17 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
+    // Without a box, no /tmp: a temporary folder of the run's own.
+    let scratch = if confinement.boxed {
+        None
+    } else {
+        let folder = crate::scratch::folder(dir);
+        command.envs(crate::scratch::environment(&folder));
+        match crate::scratch::path(&folder) {
+            Ok(path) => Some(path),
+            Err(error) => return Run::not_started(reason(&error), start),
+        }
+    };
     let plan = if confinement.boxed {
         match crate::jail::Plan::new(dir, share, &confinement) {
             Ok(plan) => Some(plan),
@@ -160,7 +171,7 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
             }
             match &plan {
                 Some(plan) => crate::jail::enter(plan, &confinement),
-                None => confine(&confinement, fence.as_ref(), grader),
+                None => confine(&confinement, fence.as_ref(), grader, scratch.as_ref()),
             }
         });
     }
@@ -217,12 +228,14 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
 
 /// In the forked child, before `exec`, without a box: a process group of
 /// its own, a network namespace when one can be had, then
-/// [`drop_to_user`], the fence ([`super::fence`]), and last (a change of
+/// [`drop_to_user`], the run's temporary folder ([`crate::scratch`]), the
+/// fence ([`super::fence`]), and last (a change of
 /// uid forgets it) death with `grader` ([`crate::jail::die_with`]).
 fn confine(
     confinement: &Confinement,
     fence: Option<&crate::fence::Fence>,
     grader: libc::pid_t,
+    scratch: Option<&std::ffi::CString>,
 ) -> io::Result<()> {
     // SAFETY: plain system calls on this (single-threaded) child.
     unsafe {
@@ -231,6 +244,9 @@ fn confine(
             check(libc::unshare(network_namespaces(confinement.root())))?;
         }
         drop_to_user(confinement)?;
+        if let Some(scratch) = scratch {
+            crate::scratch::make(scratch)?;
+        }
         if let Some(fence) = fence {
             fence.enter()?;
         }
