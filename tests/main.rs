@@ -28,6 +28,7 @@ mod grade_cli;
 mod grade_sandbox;
 mod grade_students;
 mod grade_suite_format;
+mod gradescope;
 mod hostile_inputs;
 mod hostile_text;
 mod install;
