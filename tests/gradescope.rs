@@ -18,7 +18,10 @@
 //! container; the attacker scores what the honest Python student does,
 //! every attack it printed is `refused`, the bundle's files are unchanged;
 //! and results.json exists, a score of 0 with the reason, when grading
-//! cannot run. Podman, runc, unzip and the profile are Debian packages
+//! cannot run. No submission renders a reference (the bundle's cache
+//! serves). A second bundle, with the course's constants
+//! (`REFERENCE_OPTIONS`), grades the Python student as `grade
+//! --reference-options` does outside, from its cache too. Podman, runc, unzip and the profile are Debian packages
 //! that .ci/run installs; without them the test fails under CI.
 
 use std::path::{Path, PathBuf};
@@ -75,6 +78,18 @@ cp -R /students/python/. /autograder/submission/
 mv /autograder/source/raytracer /autograder/source/raytracer.gone
 /autograder/run_autograder > /out/no_grader.log 2>&1
 cp /autograder/results/results.json /out/no_grader.json
+"#;
+
+/// One Python submission graded by a bundle with the course's options.
+const OPTIONS_SCRIPT: &str = r#"
+set -eu
+mkdir -p /autograder/source /autograder/submission
+unzip -q /bundle/autograder.zip -d /autograder/source
+bash /autograder/source/setup.sh
+cp -R /students/python/. /autograder/submission/
+/autograder/run_autograder > /out/options.log 2>&1
+cp /autograder/results/results.json /out/options.json
+cp /autograder/report/summary.json /out/options.summary.json
 "#;
 
 fn json(path: &Path) -> Value {
@@ -142,6 +157,108 @@ fn students(dir: &Path) -> PathBuf {
     students
 }
 
+/// `scripts/gradescope.sh`'s bundle in `out` of `suite`, with the course's
+/// `options` when given, checked to hold what Gradescope runs at its root.
+fn make_bundle(out: &Path, suite: &Path, options: Option<&Path>) -> PathBuf {
+    let mut make =
+        Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/gradescope.sh"));
+    make.arg(out).env("SUITE", suite).env("RAYTRACER", bin());
+    if let Some(options) = options {
+        make.env("REFERENCE_OPTIONS", options);
+    }
+    let made = make.output().expect("run scripts/gradescope.sh");
+    assert!(
+        made.status.success(),
+        "{}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+    let listing = Command::new("unzip")
+        .arg("-Z1")
+        .arg(out.join("autograder.zip"))
+        .output()
+        .expect("run unzip");
+    let listing = String::from_utf8_lossy(&listing.stdout);
+    let mut roots = vec![
+        "setup.sh",
+        "run_autograder",
+        "raytracer",
+        "suite/",
+        "cache/",
+    ];
+    if options.is_some() {
+        roots.push("reference.json");
+    }
+    for root in roots {
+        assert!(
+            listing.lines().any(|l| l == root),
+            "{root} not at the zip's root: {listing}"
+        );
+    }
+    out.to_path_buf()
+}
+
+/// The score `grade --student` gives `student` here, as run_autograder
+/// grades (`--memory 8192`, the course's `options`).
+fn grade_outside(dir: &Path, student: &Path, suite: &Path, options: Option<&Path>) -> f64 {
+    let report = dir.join("outside").join(student.file_name().unwrap());
+    let mut command = support::command(&["grade", "--student"]);
+    command
+        .arg(student)
+        .arg(suite)
+        .arg("--cache")
+        .arg(dir.join("cache"))
+        .args(["--memory", "8192", "-o"])
+        .arg(&report);
+    if let Some(options) = options {
+        command.arg("--reference-options").arg(options);
+    }
+    let output = command.output().expect("run raytracer");
+    assert!(
+        output.status.code().is_some_and(|c| c <= 1),
+        "{}: {}",
+        student.display(),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let score = json(&report.join("results.json"))["score"]
+        .as_f64()
+        .unwrap();
+    let build = &json(&report.join("summary.json"))["build"];
+    assert!(
+        score > 0.0,
+        "{} scores nothing outside: {build}",
+        student.display()
+    );
+    std::fs::remove_dir_all(&report).unwrap();
+    score
+}
+
+/// Run `script` with bash in a container as Gradescope's (Docker's
+/// default seccomp profile and capabilities, no network), the bundle in
+/// /bundle, the students in /students and `out` in /out.
+fn in_container(bundle: &Path, students: &Path, out: &Path, script: &str) -> std::process::Output {
+    let volume = |from: &Path, to: &str| format!("{}:{to}", from.display());
+    Command::new("timeout")
+        .args(["900", "podman", "run", "--rm", "--runtime", "runc"])
+        .args(["--cgroup-manager=cgroupfs", "--network", "none"])
+        .args(["--security-opt", &format!("seccomp={PROFILE}")])
+        .args(["--cap-drop", "all", "--cap-add", DOCKER_CAPABILITIES])
+        .args([
+            "--ulimit",
+            "nofile=4096:4096",
+            "--ulimit",
+            "nproc=4096:4096",
+        ])
+        // The host's graders lease uids in the host's /run: a range
+        // they do not use, or one's lease would kill the other's runs.
+        .args(["-e", "GRADE_UIDS=65200-65209"])
+        .args(["-v", &volume(bundle, "/bundle:ro")])
+        .args(["-v", &volume(students, "/students:ro")])
+        .args(["-v", &volume(out, "/out")])
+        .args(["--rootfs", "/:O", "bash", "-c", script])
+        .output()
+        .expect("run podman")
+}
+
 #[test]
 fn gradescope_bundle_grades_in_dockers_default_container() {
     if !engine_available() {
@@ -163,94 +280,21 @@ fn gradescope_bundle_grades_in_dockers_default_container() {
     }
     let students = students(dir);
 
-    let bundle = dir.join("bundle");
-    let made = Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/gradescope.sh"))
-        .arg(&bundle)
-        .env("SUITE", &suite)
-        .env("RAYTRACER", bin())
-        .output()
-        .expect("run scripts/gradescope.sh");
-    assert!(
-        made.status.success(),
-        "{}",
-        String::from_utf8_lossy(&made.stderr)
-    );
-    let listing = Command::new("unzip")
-        .arg("-Z1")
-        .arg(bundle.join("autograder.zip"))
-        .output()
-        .expect("run unzip");
-    let listing = String::from_utf8_lossy(&listing.stdout);
-    for root in [
-        "setup.sh",
-        "run_autograder",
-        "raytracer",
-        "suite/",
-        "cache/",
-    ] {
-        assert!(
-            listing.lines().any(|l| l == root),
-            "{root} not at the zip's root: {listing}"
-        );
-    }
-
-    // Outside: each student as `grade --student` grades it here.
+    let bundle = make_bundle(&dir.join("bundle"), &suite, None);
     let outside: Vec<f64> = STUDENTS[..6]
         .iter()
-        .map(|student| {
-            let report = dir.join("outside").join(student);
-            let output = support::run(&[
-                "grade",
-                "--student",
-                students.join(student).to_str().unwrap(),
-                suite.to_str().unwrap(),
-                "--cache",
-                dir.join("cache").to_str().unwrap(),
-                // As run_autograder grades.
-                "--memory",
-                "8192",
-                "-o",
-                report.to_str().unwrap(),
-            ]);
-            assert!(
-                output.status.code().is_some_and(|c| c <= 1),
-                "{student}: {}",
-                String::from_utf8_lossy(&output.stderr)
-            );
-            let score = json(&report.join("results.json"))["score"]
-                .as_f64()
-                .unwrap();
-            let build = &json(&report.join("summary.json"))["build"];
-            assert!(score > 0.0, "{student} scores nothing outside: {build}");
-            score
-        })
+        .map(|student| grade_outside(dir, &students.join(student), &suite, None))
         .collect();
 
     let out = dir.join("out");
     std::fs::create_dir(&out).unwrap();
     let started = Instant::now();
-    let volume = |from: &Path, to: &str| format!("{}:{to}", from.display());
-    let ran = Command::new("timeout")
-        .args(["900", "podman", "run", "--rm", "--runtime", "runc"])
-        .args(["--cgroup-manager=cgroupfs", "--network", "none"])
-        .args(["--security-opt", &format!("seccomp={PROFILE}")])
-        .args(["--cap-drop", "all", "--cap-add", DOCKER_CAPABILITIES])
-        .args([
-            "--ulimit",
-            "nofile=4096:4096",
-            "--ulimit",
-            "nproc=4096:4096",
-        ])
-        // The host's graders lease uids in the host's /run: a range
-        // they do not use, or one's lease would kill the other's runs.
-        .args(["-e", "GRADE_UIDS=65200-65209"])
-        .args(["-v", &volume(&bundle, "/bundle:ro")])
-        .args(["-v", &volume(&students, "/students:ro")])
-        .args(["-v", &volume(&out, "/out")])
-        .args(["--rootfs", "/:O", "bash", "-c"])
-        .arg(SCRIPT.replace("STUDENTS", &STUDENTS.join(" ")))
-        .output()
-        .expect("run podman");
+    let ran = in_container(
+        &bundle,
+        &students,
+        &out,
+        &SCRIPT.replace("STUDENTS", &STUDENTS.join(" ")),
+    );
     let seconds = started.elapsed().as_secs_f64();
     assert!(
         ran.status.success(),
@@ -333,4 +377,48 @@ fn gradescope_bundle_grades_in_dockers_default_container() {
         assert!(output.contains("grading could not run"), "{case}: {output}");
         assert!(output.contains(reason), "{case}: {output}");
     }
+
+    // The course's constants: the bundle's references are rendered with
+    // them, and run_autograder grades with them, from the cache alone.
+    for student in STUDENTS[..6].iter() {
+        let log = log(student).unwrap();
+        assert!(
+            !log.contains("rendered"),
+            "{student} rendered a reference: {log}"
+        );
+    }
+    let options = support::write(dir, "course.json", r#"{"ambient": 0.3}"#);
+    let options = Path::new(&options);
+    let bundle = make_bundle(&dir.join("bundle_options"), &suite, Some(options));
+    let expected = grade_outside(dir, &students.join("python"), &suite, Some(options));
+    let ran = in_container(&bundle, &students, &out, OPTIONS_SCRIPT);
+    assert!(
+        ran.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    let results = json(&out.join("options.json"));
+    support::skipped(&format!(
+        "(not skipped) python with the course's constants: {} inside, {expected} outside",
+        results["score"]
+    ));
+    assert_eq!(results["score"].as_f64(), Some(expected), "{results}");
+    let log = std::fs::read_to_string(out.join("options.log")).unwrap();
+    assert!(!log.contains("rendered"), "a reference was rendered: {log}");
+    let rmse = |summary: &str| {
+        let summary = json(&out.join(summary));
+        let mut scenes: Vec<(String, String)> = summary["scenes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| (s["scene"].to_string(), s["rmse"].to_string()))
+            .collect();
+        scenes.sort();
+        scenes
+    };
+    assert_ne!(
+        rmse("python.summary.json"),
+        rmse("options.summary.json"),
+        "the course's constants changed nothing"
+    );
 }
