@@ -56,7 +56,8 @@ test-web: web
 # target/gradescope/autograder.zip, with setup.sh and run_autograder at its
 # root, the binary, the suite (SUITE=folder, default the built-in one) and
 # our references rendered into its cache (scripts/gradescope.sh);
-# REFERENCE_OPTIONS=file gives the course's constants.
+# REFERENCE_OPTIONS=file gives the course's constants, or
+# REFERENCE_TRACER='./tracer {scene} {out}' REFERENCE_TRACER_DIR=folder its own tracer.
 gradescope: build
 	scripts/gradescope.sh target/gradescope
 

@@ -7,19 +7,25 @@
 # default target/release/raytracer, which `make gradescope` builds), the
 # suite (`suite/`: $SUITE, a suite folder, or the built-in suite), the
 # course's reference options when $REFERENCE_OPTIONS names their file
-# (`reference.json`), and `cache/`, our reference image of every scene,
+# (`reference.json`), or the course's own tracer when $REFERENCE_TRACER is
+# its command (`--reference-tracer`, like `./tracer {scene} {out}`) and
+# $REFERENCE_TRACER_DIR the folder it runs from (`reference/`, its command
+# in `reference.txt`), and `cache/`, our reference image of every scene,
 # rendered here by that same binary, so no submission renders one (the
 # cache is keyed by the binary's hash: a bundle's cache fits its binary).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 out=${1:-target/gradescope}
+mkdir -p "$out"
+out=$(cd "$out" && pwd)
 bin=${RAYTRACER:-target/release/raytracer}
 stage="$out/autograder"
 rm -rf "$stage" "$out/autograder.zip"
 mkdir -p "$stage"
 
 cp "$bin" "$stage/raytracer"
+here=$stage
 cp scripts/gradescope/setup.sh scripts/gradescope/run_autograder "$stage/"
 chmod 0755 "$stage/setup.sh" "$stage/run_autograder" "$stage/raytracer"
 if [ -n "${SUITE:-}" ]; then
@@ -32,14 +38,26 @@ if [ -n "${REFERENCE_OPTIONS:-}" ]; then
     cp "$REFERENCE_OPTIONS" "$stage/reference.json"
     options=(--reference-options "$stage/reference.json")
 fi
+if [ -n "${REFERENCE_TRACER:-}" ]; then
+    if [ -z "${REFERENCE_TRACER_DIR:-}" ]; then
+        echo "REFERENCE_TRACER needs REFERENCE_TRACER_DIR, the folder it runs from" >&2
+        exit 2
+    fi
+    cp -R "$REFERENCE_TRACER_DIR" "$stage/reference"
+    printf '%s\n' "$REFERENCE_TRACER" >"$stage/reference.txt"
+    options+=(--reference-tracer "$REFERENCE_TRACER")
+    # Its images are cached by its command and files, from this folder:
+    # run_autograder grades from the same.
+    here=$stage/reference
+fi
 
 # The references: `grade` renders every scene's before it runs a tracer,
 # and `true` writes no image (exit 1, every scene `bad_image`, is expected).
 warm=$(mktemp -d)
 trap 'rm -rf "$warm"' EXIT
 status=0
-"$stage/raytracer" grade --tracer 'true {scene} {out}' "$stage/suite" "${options[@]}" \
-    --cache "$stage/cache" --unprotected -o "$warm/report" >"$warm/log" 2>&1 || status=$?
+(cd "$here" && "$stage/raytracer" grade --tracer 'true {scene} {out}' "$stage/suite" "${options[@]}" \
+    --cache "$stage/cache" --unprotected -o "$warm/report" >"$warm/log" 2>&1) || status=$?
 if [ "$status" -gt 1 ]; then
     cat "$warm/log" >&2
     echo "cannot render the references (exit $status)" >&2

@@ -21,7 +21,9 @@
 //! cannot run. No submission renders a reference (the bundle's cache
 //! serves). A second bundle, with the course's constants
 //! (`REFERENCE_OPTIONS`), grades the Python student as `grade
-//! --reference-options` does outside, from its cache too. Podman, runc, unzip and the profile are Debian packages
+//! --reference-options` does outside, from its cache too; a third, with
+//! the course's own tracer (`REFERENCE_TRACER`), grades the Python student
+//! without shadows as `grade --reference-tracer` does outside. Podman, runc, unzip and the profile are Debian packages
 //! that .ci/run installs; without them the test fails under CI.
 
 use std::path::{Path, PathBuf};
@@ -157,14 +159,32 @@ fn students(dir: &Path) -> PathBuf {
     students
 }
 
+/// The course's own command for its reference tracer.
+const INSTRUCTOR: &str = "./tracer {scene} {out}";
+
+/// Where the references come from besides our renderer's defaults.
+enum Reference<'a> {
+    /// The course's constants (`--reference-options`).
+    Options(&'a Path),
+    /// The course's tracer, [`INSTRUCTOR`] run from this folder.
+    Tracer(&'a Path),
+}
+
 /// `scripts/gradescope.sh`'s bundle in `out` of `suite`, with the course's
-/// `options` when given, checked to hold what Gradescope runs at its root.
-fn make_bundle(out: &Path, suite: &Path, options: Option<&Path>) -> PathBuf {
+/// `reference` when given, checked to hold what Gradescope runs at its root.
+fn make_bundle(out: &Path, suite: &Path, reference: Option<&Reference>) -> PathBuf {
     let mut make =
         Command::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/gradescope.sh"));
     make.arg(out).env("SUITE", suite).env("RAYTRACER", bin());
-    if let Some(options) = options {
-        make.env("REFERENCE_OPTIONS", options);
+    match reference {
+        Some(Reference::Options(options)) => {
+            make.env("REFERENCE_OPTIONS", options);
+        }
+        Some(Reference::Tracer(folder)) => {
+            make.env("REFERENCE_TRACER", INSTRUCTOR)
+                .env("REFERENCE_TRACER_DIR", folder);
+        }
+        None => {}
     }
     let made = make.output().expect("run scripts/gradescope.sh");
     assert!(
@@ -185,8 +205,10 @@ fn make_bundle(out: &Path, suite: &Path, options: Option<&Path>) -> PathBuf {
         "suite/",
         "cache/",
     ];
-    if options.is_some() {
-        roots.push("reference.json");
+    match reference {
+        Some(Reference::Options(_)) => roots.push("reference.json"),
+        Some(Reference::Tracer(_)) => roots.extend(["reference.txt", "reference/"]),
+        None => {}
     }
     for root in roots {
         assert!(
@@ -198,8 +220,8 @@ fn make_bundle(out: &Path, suite: &Path, options: Option<&Path>) -> PathBuf {
 }
 
 /// The score `grade --student` gives `student` here, as run_autograder
-/// grades (`--memory 8192`, the course's `options`).
-fn grade_outside(dir: &Path, student: &Path, suite: &Path, options: Option<&Path>) -> f64 {
+/// grades (`--memory 8192`, the course's `reference`).
+fn grade_outside(dir: &Path, student: &Path, suite: &Path, reference: Option<&Reference>) -> f64 {
     let report = dir.join("outside").join(student.file_name().unwrap());
     let mut command = support::command(&["grade", "--student"]);
     command
@@ -209,8 +231,16 @@ fn grade_outside(dir: &Path, student: &Path, suite: &Path, options: Option<&Path
         .arg(dir.join("cache"))
         .args(["--memory", "8192", "-o"])
         .arg(&report);
-    if let Some(options) = options {
-        command.arg("--reference-options").arg(options);
+    match reference {
+        Some(Reference::Options(options)) => {
+            command.arg("--reference-options").arg(options);
+        }
+        Some(Reference::Tracer(folder)) => {
+            command
+                .args(["--reference-tracer", INSTRUCTOR])
+                .current_dir(folder);
+        }
+        None => {}
     }
     let output = command.output().expect("run raytracer");
     assert!(
@@ -389,8 +419,9 @@ fn gradescope_bundle_grades_in_dockers_default_container() {
     }
     let options = support::write(dir, "course.json", r#"{"ambient": 0.3}"#);
     let options = Path::new(&options);
-    let bundle = make_bundle(&dir.join("bundle_options"), &suite, Some(options));
-    let expected = grade_outside(dir, &students.join("python"), &suite, Some(options));
+    let options = Reference::Options(options);
+    let bundle = make_bundle(&dir.join("bundle_options"), &suite, Some(&options));
+    let expected = grade_outside(dir, &students.join("python"), &suite, Some(&options));
     let ran = in_container(&bundle, &students, &out, OPTIONS_SCRIPT);
     assert!(
         ran.status.success(),
@@ -421,4 +452,39 @@ fn gradescope_bundle_grades_in_dockers_default_container() {
         rmse("options.summary.json"),
         "the course's constants changed nothing"
     );
+
+    // The course's own tracer (the C student's, built here): the bundle
+    // caches its images, and run_autograder grades against them as
+    // `grade --reference-tracer` does outside, rendering nothing.
+    let instructor = dir.join("instructor");
+    std::fs::create_dir(&instructor).unwrap();
+    let classes = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/students");
+    let built = Command::new("cc")
+        .args(["-O2", "-o"])
+        .arg(instructor.join("tracer"))
+        .arg(classes.join("tune/correct_centres/tracer.c"))
+        .arg("-lm")
+        .status()
+        .expect("run cc");
+    assert!(built.success());
+    let tracer = Reference::Tracer(&instructor);
+    let bundle = make_bundle(&dir.join("bundle_tracer"), &suite, Some(&tracer));
+    let expected = grade_outside(dir, &students.join("no_shadows"), &suite, Some(&tracer));
+    let script = OPTIONS_SCRIPT
+        .replace("/students/python/", "/students/no_shadows/")
+        .replace("options.", "instructor.");
+    let ran = in_container(&bundle, &students, &out, &script);
+    assert!(
+        ran.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    let results = json(&out.join("instructor.json"));
+    support::skipped(&format!(
+        "(not skipped) no_shadows against the course's tracer: {} inside, {expected} outside",
+        results["score"]
+    ));
+    assert_eq!(results["score"].as_f64(), Some(expected), "{results}");
+    let log = std::fs::read_to_string(out.join("instructor.log")).unwrap();
+    assert!(!log.contains("rendered"), "a reference was rendered: {log}");
 }
