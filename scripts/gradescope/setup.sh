@@ -16,7 +16,6 @@ command -v cc >/dev/null 2>&1 || need+=(gcc)
 command -v c++ >/dev/null 2>&1 || need+=(g++)
 command -v javac >/dev/null 2>&1 || need+=(default-jdk-headless)
 command -v python3 >/dev/null 2>&1 || need+=(python3)
-command -v zip >/dev/null 2>&1 || need+=(zip)
 if [ "${#need[@]}" -gt 0 ]; then
     apt-get update -qq
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${need[@]}" >/dev/null
