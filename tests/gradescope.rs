@@ -94,6 +94,13 @@ cp /autograder/results/results.json /out/options.json
 cp /autograder/report/summary.json /out/options.summary.json
 "#;
 
+/// Say what the test measured where `cargo test` shows it (libtest
+/// captures `eprintln!` of a passing test, not a write to the handle).
+fn note(what: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "gradescope: {what}");
+}
+
 fn json(path: &Path) -> Value {
     let text = std::fs::read_to_string(path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
@@ -332,9 +339,7 @@ fn gradescope_bundle_grades_in_dockers_default_container() {
         String::from_utf8_lossy(&ran.stdout),
         String::from_utf8_lossy(&ran.stderr)
     );
-    support::skipped(&format!(
-        "(not skipped) the container ran for {seconds:.0} s"
-    ));
+    note(&format!("the container ran for {seconds:.0} s"));
 
     let log = |student: &str| std::fs::read_to_string(out.join(format!("{student}.log")));
     for (student, score) in STUDENTS[..6].iter().zip(&outside) {
@@ -342,8 +347,8 @@ fn gradescope_bundle_grades_in_dockers_default_container() {
         let inside = results["score"].as_f64().unwrap();
         let summary = json(&out.join(format!("{student}.summary.json")));
         let mechanisms = &summary["sandbox"]["mechanisms"];
-        support::skipped(&format!(
-            "(not skipped) {student}: {inside} inside, {score} outside, {mechanisms}"
+        note(&format!(
+            "{student}: {inside} inside, {score} outside, {mechanisms}"
         ));
         assert!(
             (inside - score).abs() < 1e-9,
@@ -429,8 +434,8 @@ fn gradescope_bundle_grades_in_dockers_default_container() {
         String::from_utf8_lossy(&ran.stderr)
     );
     let results = json(&out.join("options.json"));
-    support::skipped(&format!(
-        "(not skipped) python with the course's constants: {} inside, {expected} outside",
+    note(&format!(
+        "python with the course's constants: {} inside, {expected} outside",
         results["score"]
     ));
     assert_eq!(results["score"].as_f64(), Some(expected), "{results}");
@@ -480,8 +485,8 @@ fn gradescope_bundle_grades_in_dockers_default_container() {
         String::from_utf8_lossy(&ran.stderr)
     );
     let results = json(&out.join("instructor.json"));
-    support::skipped(&format!(
-        "(not skipped) no_shadows against the course's tracer: {} inside, {expected} outside",
+    note(&format!(
+        "no_shadows against the course's tracer: {} inside, {expected} outside",
         results["score"]
     ));
     assert_eq!(results["score"].as_f64(), Some(expected), "{results}");
