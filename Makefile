@@ -8,7 +8,7 @@ CARGO_FLAGS ?=
 BIN := target/release/raytracer
 
 .PHONY: all build check test test-times man web test-web cold-times run render-scenes bench bench-profile bench-scaling accuracy fuzz fuzz-cmin clean \
-	vsix preview-screenshot preview-latency grading-screenshot playground-screenshot
+	vsix preview-screenshot preview-latency grading-screenshot playground-screenshot gradescope
 
 all: raytracer
 
@@ -73,6 +73,15 @@ web:
 # `make web` built; .ci/run runs it after `make test`.
 test-web: web
 	$(CARGO) test --release --locked --test playground $(CARGO_FLAGS)
+
+# Gradescope's autograder (docs/grading.md, "Gradescope"):
+# target/gradescope/autograder.zip, with setup.sh and run_autograder at its
+# root, the binary, the suite (SUITE=folder, default the built-in one) and
+# our references rendered into its cache (scripts/gradescope.sh);
+# REFERENCE_OPTIONS=file gives the course's constants, or
+# REFERENCE_TRACER='./tracer {scene} {out}' REFERENCE_TRACER_DIR=folder its own tracer.
+gradescope: build
+	scripts/gradescope.sh target/gradescope
 
 # The man pages, generated from the command line's definition (clap_mangen):
 # raytracer.1 and one per command (raytracer-grade.1, ...) with its options

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 use serde_json::Value;
 
-use crate::support::{bin, run};
+use crate::support::{self, bin, run};
 
 /// A small scene: a sphere on a lit floor, 32 pixels.
 const SCENE: &str = "camera 32\n\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n\n\
@@ -419,6 +419,39 @@ fn usage_errors_exit_2() {
         assert!(words.contains(missing), "{stderr}");
         assert!(
             words.contains("e.g. `--tracer './mytracer {scene} {out}'`"),
+            "{stderr}"
+        );
+        assert!(!unused.exists());
+    }
+    // A script beside the program (docs/grading.md's forms) would be
+    // missing from every box: refused at once, with the --student form.
+    support::write(dir.path(), "tracer.py", "");
+    support::write(dir.path(), "run.sh", "");
+    for (tracer, word) in [
+        ("python3 tracer.py {scene} {out}", "tracer.py"),
+        ("java -cp . Main {scene} {out}", "."),
+        ("sh run.sh {scene} {out}", "run.sh"),
+    ] {
+        let output = support::command(&["grade", "--tracer", tracer, "-o"])
+            .arg(&unused)
+            .current_dir(dir.path())
+            .output()
+            .expect("run raytracer");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{stderr}");
+        let words: Vec<&str> = stderr.split_whitespace().filter(|w| *w != "│").collect();
+        let words = words.join(" ");
+        assert!(words.contains("usage::tracer_files"), "{stderr}");
+        assert!(
+            words.contains(&format!("names `{word}`, a file beside it")),
+            "{stderr}"
+        );
+        assert!(
+            words.contains("raytracer grade --student FOLDER"),
+            "{stderr}"
+        );
+        assert!(
+            words.contains(&format!("put `{tracer}` in its `tracer.txt`")),
             "{stderr}"
         );
         assert!(!unused.exists());

@@ -11,7 +11,8 @@
 //! with its output captured within a bound ([`capture`]), and removed
 //! after by a walk no folder can stop ([`folder::remove_tree`]); in a box
 //! the working folder is a tmpfs of its own, bounded in bytes and inodes
-//! (`scratch.rs`). The grader copies what a program may write without
+//! (`scratch.rs`); without a box it has a temporary folder of its own
+//! inside it ([`tmpdir`]). The grader copies what a program may write without
 //! following a link ([`copy`]) and reads what it wrote the same way
 //! ([`output`]). Nothing the process that started the grader left open
 //! reaches a program: every descriptor from 3 up is close-on-exec in the
@@ -36,6 +37,7 @@ pub mod probe;
 mod reason;
 pub mod run;
 mod scratch;
+pub mod tmpdir;
 mod spawning;
 pub mod uids;
 

@@ -137,6 +137,17 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
+    // Without a box, no /tmp: a temporary folder of the run's own.
+    let tmpdir = if confinement.boxed {
+        None
+    } else {
+        let folder = crate::tmpdir::folder(dir);
+        command.envs(crate::tmpdir::environment(&folder));
+        match crate::tmpdir::path(&folder) {
+            Ok(path) => Some(path),
+            Err(error) => return Run::not_started(reason(&error), start),
+        }
+    };
     let mut plan = if confinement.boxed {
         match crate::jail::Plan::new(dir, share, &confinement) {
             Ok(plan) => Some(plan),
@@ -189,7 +200,7 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
             }
             match &plan {
                 Some(plan) => crate::jail::enter(plan, &confinement),
-                None => confine(&confinement, fence.as_ref(), grader),
+                None => confine(&confinement, fence.as_ref(), grader, tmpdir.as_ref()),
             }
         });
     }
@@ -262,12 +273,14 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
 
 /// In the forked child, before `exec`, without a box: a process group of
 /// its own, a network namespace when one can be had, then
-/// [`drop_to_user`], the fence ([`super::fence`]), and last (a change of
+/// [`drop_to_user`], the run's temporary folder ([`crate::tmpdir`]), the
+/// fence ([`super::fence`]), and last (a change of
 /// uid forgets it) death with `grader` ([`crate::jail::die_with`]).
 fn confine(
     confinement: &Confinement,
     fence: Option<&crate::fence::Fence>,
     grader: libc::pid_t,
+    tmpdir: Option<&std::ffi::CString>,
 ) -> io::Result<()> {
     // SAFETY: plain system calls on this (single-threaded) child.
     unsafe {
@@ -276,6 +289,9 @@ fn confine(
             check(libc::unshare(network_namespaces(confinement.root())))?;
         }
         drop_to_user(confinement)?;
+        if let Some(tmpdir) = tmpdir {
+            crate::tmpdir::make(tmpdir)?;
+        }
         if let Some(fence) = fence {
             fence.enter()?;
         }

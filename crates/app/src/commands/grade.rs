@@ -53,6 +53,13 @@ pub enum GradeError {
     )]
     Template(#[from] TemplateError),
 
+    #[error("the tracer's command names `{word}`, a file beside it, but a `--tracer` program runs without the files beside it")]
+    #[diagnostic(
+        code(usage::tracer_files),
+        help("grade the folder that holds it as a student: put `{command}` in its `tracer.txt` and run `raytracer grade --student FOLDER -o REPORT` (docs/grading.md, \"A whole class\")")
+    )]
+    LocalFile { word: String, command: String },
+
     #[error(transparent)]
     #[diagnostic(code(io::grade))]
     File(#[from] FileError),
@@ -141,7 +148,7 @@ pub fn run(args: GradeArgs) -> Result<Outcome, BoxedDiagnostic> {
     let jobs: Vec<Job> = match &args.tracer {
         Some(tracer) => vec![Job {
             tracer: tracer.clone(),
-            template: Template::tracer(tracer).map_err(GradeError::from)?,
+            template: tracer_template(tracer, &here)?,
             cwd: here,
             student: None,
             report: report_folder.clone(),
@@ -399,6 +406,19 @@ fn grade_job(job: &Job, graded: &Graded, args: &GradeArgs) -> Result<Summary, Gr
     }
     report::write(&job.report, &summary).map_err(FileError::writing(&job.report))?;
     Ok(summary)
+}
+
+/// `--tracer`'s command, refused when it names a file beside the program
+/// (a script by a relative path): the box would hold the program alone.
+fn tracer_template(tracer: &str, here: &Path) -> Result<Template, GradeError> {
+    let template = Template::tracer(tracer)?;
+    match template.local_file(here) {
+        Some(word) => Err(GradeError::LocalFile {
+            word: word.to_string(),
+            command: tracer.to_string(),
+        }),
+        None => Ok(template),
+    }
 }
 
 /// Say where the class overview is.

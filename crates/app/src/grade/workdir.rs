@@ -145,6 +145,21 @@ impl Template {
         Err(TemplateError::Placeholder { missing })
     }
 
+    /// The first word after the program that names, relative to `cwd`,
+    /// a file or folder that exists there (`tracer.py` in `python3
+    /// tracer.py {scene} {out}`, `.` in `java -cp . Main`): a `--tracer`
+    /// program runs without the files beside it, so such a command could
+    /// only crash on every scene.
+    pub fn local_file(&self, cwd: &Path) -> Option<&str> {
+        self.0[1..]
+            .iter()
+            .filter(|word| !word.contains("{scene}") && !word.contains("{out}"))
+            .filter(|word| !word.is_empty() && !word.starts_with('-'))
+            .filter(|word| Path::new(word).is_relative())
+            .find(|word| cwd.join(word).symlink_metadata().is_ok())
+            .map(String::as_str)
+    }
+
     /// The argument vector for one scene. A program given as a relative
     /// path with a `/` is taken from `cwd` when given (the folder `grade`
     /// runs in), else left relative, to be found where the program starts.
@@ -180,6 +195,28 @@ impl Template {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_file_named_beside_the_program_is_found() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("tracer.py"), "").unwrap();
+        std::fs::write(dir.path().join("run.sh"), "").unwrap();
+        let local = |command: &str| {
+            Template::tracer(command)
+                .unwrap()
+                .local_file(dir.path())
+                .map(String::from)
+        };
+        assert_eq!(
+            local("python3 tracer.py {scene} {out}").as_deref(),
+            Some("tracer.py")
+        );
+        assert_eq!(local("java -cp . Main {scene} {out}").as_deref(), Some("."));
+        assert_eq!(local("sh run.sh {scene} {out}").as_deref(), Some("run.sh"));
+        assert_eq!(local("./tracer.py {scene} {out}"), None);
+        assert_eq!(local("python3 /abs/tracer.py {scene} {out}"), None);
+        assert_eq!(local("python3 missing.py {scene} {out}"), None);
+    }
 
     #[test]
     fn a_scene_name_never_adds_a_word() {
