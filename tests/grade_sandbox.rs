@@ -1771,3 +1771,98 @@ fn a_class_survives_a_student_who_leaves_a_mess() {
         }
     }
 }
+
+/// Adds a key to the user keyring of its uid (`add`), or looks for it there and
+/// prints what it found (`find`): what one run could leave for the next.
+const KEYRING: &str = r#"
+#include <stdio.h>
+#include <string.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+int main(int argc, char **argv) {
+    const long user = -4; /* KEY_SPEC_USER_KEYRING: the uid's own, kept between its processes */
+    if (argc == 2 && strcmp(argv[1], "add") == 0) {
+        long key = syscall(SYS_add_key, "user", "raytracer-left", "secret 4252", 11, user);
+        printf("added %s\n", key < 0 ? "no" : "yes");
+        return 0;
+    }
+    long key = syscall(SYS_keyctl, 10 /* KEYCTL_SEARCH */, user, "user", "raytracer-left", 0);
+    char found[64] = {0};
+    if (key >= 0) syscall(SYS_keyctl, 11 /* KEYCTL_READ */, key, found, sizeof found - 1);
+    printf("found %s\n", key < 0 ? "nothing" : found);
+    return 0;
+}
+"#;
+
+/// A key one run leaves in its uid's keyring is not there for the next
+/// run, of another grader taking the same uid: a lease empties the uid's
+/// keyrings, each run joins a session keyring of its own, and without a
+/// box the fence refuses the keyring calls (root and user graders).
+#[test]
+fn a_key_one_run_leaves_is_not_there_for_the_next() {
+    if !support::tool_available("cc", "the keyring attack", "apt-get install gcc") {
+        return;
+    }
+    let dir = open_folder("grade-keyring-");
+    let source = dir.path().join("keyring.c");
+    std::fs::write(&source, KEYRING).unwrap();
+    let program = dir.path().join("keyring");
+    let built = Command::new("cc")
+        .arg("-o")
+        .arg(&program)
+        .arg(&source)
+        .output()
+        .unwrap();
+    assert!(
+        built.status.success(),
+        "{}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    // The program is named on the command line, so a box holds it.
+    let add = Attack::new("\"$4\" add\nexec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let find = Attack::new("\"$4\" find\nexec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let tracer = |attack: &Attack| {
+        format!(
+            "{} {{scene}} {{out}} {} {}",
+            attack.path().join("tracer.sh").display(),
+            crate::grade_cli::student_binary().display(),
+            program.display()
+        )
+    };
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let grade = |attack: &Attack| -> Value {
+                let tracer = tracer(attack);
+                let command = if unprotected {
+                    let mut command = attack.command(kind, Some(&tracer), &["--unprotected"], &[]);
+                    without_namespaces(&mut command);
+                    command
+                } else {
+                    attack.command(kind, Some(&tracer), &[], &[])
+                };
+                attack.grade_by(kind, command).1
+            };
+            let added = grade(&add);
+            assert_eq!(status(&added), "match", "{kind:?} {unprotected}: {added}");
+            // In a box the key is made, in the uid's keyring, which the next
+            // lease of the uid empties; without one the fence refuses it.
+            let made = if unprotected {
+                "added no\n"
+            } else {
+                "added yes\n"
+            };
+            assert_eq!(
+                added["stdout"].as_str(),
+                Some(made),
+                "{kind:?} {unprotected}"
+            );
+            let found = grade(&find);
+            assert_eq!(
+                found["stdout"].as_str(),
+                Some("found nothing\n"),
+                "{kind:?} {unprotected}: {found}"
+            );
+        }
+    }
+}

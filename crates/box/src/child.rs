@@ -39,8 +39,38 @@ pub unsafe fn sh_runs_after(setup: impl FnMut() -> io::Result<()> + Send + Sync 
     probe.status().is_ok_and(|s| s.success())
 }
 
+/// Join a new, empty session keyring, the run's own: without it a
+/// program inherits the grader's session keyring, where one run could
+/// leave a key for the next to read. Where the kernel or a seccomp filter
+/// refuses the keyring calls (Docker's default profile does), no program
+/// can reach a keyring either, and nothing is needed.
+///
+/// # Safety
+/// Async-signal-safe: called between fork and exec.
+unsafe fn fresh_session_keyring() -> io::Result<()> {
+    const KEYCTL_JOIN_SESSION_KEYRING: libc::c_long = 1;
+    // SAFETY: a plain system call; a null name asks for an anonymous keyring.
+    let joined = unsafe {
+        libc::syscall(
+            libc::SYS_keyctl,
+            KEYCTL_JOIN_SESSION_KEYRING,
+            std::ptr::null::<libc::c_char>(),
+        )
+    };
+    if joined == -1 {
+        let error = io::Error::last_os_error();
+        if !matches!(
+            error.raw_os_error(),
+            Some(libc::EPERM | libc::ENOSYS | libc::EACCES)
+        ) {
+            return Err(error);
+        }
+    }
+    Ok(())
+}
+
 /// Mark every inherited descriptor from 3 up close-on-exec, drop to the
-/// run's user and set the limits: the last steps in the child, box or
+/// run's user (in a session keyring of the run's own) and set the limits: the last steps in the child, box or
 /// not.
 ///
 /// # Safety
@@ -54,6 +84,7 @@ pub(crate) unsafe fn drop_to_user(confinement: &Confinement) -> io::Result<()> {
             check(libc::setgid(id))?;
             check(libc::setuid(id))?;
         }
+        fresh_session_keyring()?;
         let limit = |resource, value: u64| {
             let rlimit = libc::rlimit {
                 rlim_cur: value as libc::rlim_t,

@@ -82,6 +82,20 @@ fn open_at(dir: Option<&OwnedFd>, name: &OsStr, flags: libc::c_int) -> io::Resul
     Ok(unsafe { OwnedFd::from_raw_fd(fd) })
 }
 
+/// `name` in `dir` opened for reading when it is, as opened, a regular
+/// file; `None` when it is anything else. A program running meanwhile may
+/// have swapped the file it was for a FIFO (which would block an open
+/// without `O_NONBLOCK` for ever) or a link (`O_NOFOLLOW` refuses it), so
+/// what is checked is the descriptor, not the name.
+fn open_regular_at(dir: &OwnedFd, name: &OsStr) -> io::Result<Option<File>> {
+    let file = match open_at(Some(dir), name, libc::O_NONBLOCK) {
+        Ok(fd) => File::from(fd),
+        Err(error) if error.raw_os_error() == Some(libc::ELOOP) => return Ok(None),
+        Err(error) => return Err(error),
+    };
+    Ok(file.metadata()?.is_file().then_some(file))
+}
+
 /// The kind of `name` in `dir`, the link itself when it is one.
 fn kind_at(dir: &OwnedFd, name: &CStr) -> io::Result<libc::mode_t> {
     // SAFETY: `stat` is plain data, filled by the call.
@@ -170,7 +184,11 @@ impl Walk {
                 let _writing = crate::spawning::SPAWNING
                     .read()
                     .unwrap_or_else(|poisoned| poisoned.into_inner());
-                let mut source = File::from(open_at(Some(dir), os_name, 0)?);
+                let Some(mut source) = open_regular_at(dir, os_name)? else {
+                    // Swapped for something else since it was looked at:
+                    // left out, as anything but a file, folder or link is.
+                    continue;
+                };
                 let _ = std::fs::remove_file(&target);
                 let mut out = File::create_new(&target)?;
                 let limit = self.left.bytes + 1;
@@ -266,5 +284,25 @@ mod tests {
         let to = dir.path().join("to");
         std::fs::create_dir(&to).unwrap();
         assert!(copy_folder(&link, &to, STUDENT_FOLDER).is_err());
+    }
+
+    #[test]
+    fn a_file_swapped_for_a_fifo_or_a_link_is_not_opened_and_nothing_blocks() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = std::ffi::CString::new(dir.path().join("fifo").as_os_str().as_bytes()).unwrap();
+        // SAFETY: a NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o644) }, 0);
+        std::os::unix::fs::symlink("/etc/passwd", dir.path().join("link")).unwrap();
+        std::fs::write(dir.path().join("file"), "x").unwrap();
+        let folder = open_at(None, dir.path().as_os_str(), libc::O_DIRECTORY).unwrap();
+        assert!(open_regular_at(&folder, OsStr::new("fifo"))
+            .unwrap()
+            .is_none());
+        assert!(open_regular_at(&folder, OsStr::new("link"))
+            .unwrap()
+            .is_none());
+        assert!(open_regular_at(&folder, OsStr::new("file"))
+            .unwrap()
+            .is_some());
     }
 }

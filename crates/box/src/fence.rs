@@ -14,8 +14,10 @@
 //! stopped or killed. The whole ruleset is a hard requirement: a kernel
 //! without Landlock ABI 6 gets no Landlock at all, and the report says
 //! so. The seccomp filter refuses `socket` (any family, so no UNIX socket
-//! file either, which Landlock does not govern) and `io_uring_setup`
-//! (which could open sockets without `socket`), with `EACCES`; on x86-64
+//! file either, which Landlock does not govern), `io_uring_setup`
+//! (which could open sockets without `socket`) and the keyring calls
+//! (`add_key`, `request_key`, `keyctl`: a user's grader's keys are its
+//! uid's), with `EACCES`; on x86-64
 //! the same calls through the x32 numbers too. `socketpair` stays: it
 //! reaches nothing outside. A second filter refuses, with `EPERM`, a mode
 //! with the set-user-ID or set-group-ID bit (`chmod`, `fchmod`,
@@ -49,7 +51,15 @@ use crate::jail::{DEVICES, SYSTEM};
 const LANDLOCK_ABI: ABI = ABI::V6;
 
 /// The system calls refused.
-const REFUSED: &[libc::c_long] = &[libc::SYS_socket, libc::SYS_io_uring_setup];
+const REFUSED: &[libc::c_long] = &[
+    libc::SYS_socket,
+    libc::SYS_io_uring_setup,
+    // The kernel's keyrings: without a box the run's uid may be the
+    // grader's own (a user's grader), whose keys it must not reach.
+    libc::SYS_add_key,
+    libc::SYS_request_key,
+    libc::SYS_keyctl,
+];
 
 /// The system calls that give a file a mode, with the index of the mode
 /// among their arguments: refused when it has a set-user-ID or

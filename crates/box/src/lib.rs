@@ -37,8 +37,8 @@ pub mod probe;
 mod reason;
 pub mod run;
 mod scratch;
-pub mod tmpdir;
 mod spawning;
+pub mod tmpdir;
 pub mod uids;
 
 pub use confinement::{Confinement, Limits, Scratch, Share};

@@ -316,12 +316,25 @@ fn kill_group(group: libc::pid_t) {
 /// Kill and reap the processes reparented to this one (orphans of
 /// programs that ended): those of `group`, or, once no program runs, all
 /// of them. A program's own leader is reaped by its `Child` before this.
+/// Killing one reparents its children here, and a child may have a lower
+/// pid than its parent (pids wrap around), which a pass over `/proc` in
+/// order has gone by: so passes repeat until one finds no orphan.
 pub fn reap_orphans(group: Option<libc::pid_t>) {
+    for _ in 0..1000 {
+        if reap_orphans_once(group) == 0 {
+            return;
+        }
+    }
+}
+
+/// One pass of [`reap_orphans`] over `/proc`: how many it killed.
+fn reap_orphans_once(group: Option<libc::pid_t>) -> usize {
     // SAFETY: `getpid` has no preconditions.
     let me = unsafe { libc::getpid() };
     let Ok(entries) = std::fs::read_dir("/proc") else {
-        return;
+        return 0;
     };
+    let mut killed = 0;
     for entry in entries.flatten() {
         let Some(pid) = entry
             .file_name()
@@ -341,7 +354,9 @@ pub fn reap_orphans(group: Option<libc::pid_t>) {
             libc::kill(pid, libc::SIGKILL);
             libc::waitpid(pid, std::ptr::null_mut(), 0);
         }
+        killed += 1;
     }
+    killed
 }
 
 /// The parent and process group of `pid`, from `/proc/PID/stat`.

@@ -99,8 +99,10 @@ fn has_account(id: u32) -> bool {
     }
 }
 
-/// Kill every process running as `uid`: what a grader killed without
-/// a box may have left running under a uid no grader holds now. A child
+/// Kill every process running as `uid`, and empty its user and user
+/// session keyrings (`@u`, `@us`): what a grader killed without a box may
+/// have left running, and what any run left in the kernel, under a uid no
+/// grader holds now. A child
 /// takes the uid alone and signals every process it may (`kill(-1)`),
 /// as isolate cleans a box.
 fn kill_every_process_of(uid: u32) -> io::Result<()> {
@@ -113,6 +115,12 @@ fn kill_every_process_of(uid: u32) -> io::Result<()> {
         if child == 0 {
             if libc::setresuid(uid, uid, uid) == 0 {
                 libc::kill(-1, libc::SIGKILL);
+                // The uid's own keyrings outlive its processes: emptied,
+                // so no key one student left reaches the next.
+                const KEYCTL_CLEAR: libc::c_long = 7;
+                for keyring in [-4 as libc::c_long, -5] {
+                    libc::syscall(libc::SYS_keyctl, KEYCTL_CLEAR, keyring);
+                }
                 libc::_exit(0);
             }
             libc::_exit(1);
