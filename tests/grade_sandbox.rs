@@ -1734,6 +1734,14 @@ fn a_class_survives_a_student_who_leaves_a_mess() {
         ),
     );
     student("b-honest", "exec ./renderer render \"$1\" \"$2\"\n");
+    // The honest student's folder (its copy of the renderer, whose size
+    // the build profile sets) fits the run's disk with 16 MiB to spare,
+    // which the mess's 32 MiB of writes fill.
+    let renderer = std::fs::metadata(crate::grade_cli::student_binary())
+        .unwrap()
+        .len();
+    let disk = (renderer >> 20) + 1 + 16;
+    let disk = disk.to_string();
     let tmp = Tmp::new(d);
     for kind in kinds() {
         for unprotected in [false, true] {
@@ -1741,7 +1749,7 @@ fn a_class_survives_a_student_who_leaves_a_mess() {
             let report = d.join(format!("report-{kind:?}-{unprotected}"));
             let mut command = grader(kind);
             command
-                .args(["grade", "--disk", "16", "--timeout", "30", "--class"])
+                .args(["grade", "--disk", &disk, "--timeout", "30", "--class"])
                 .arg(d.join("class"))
                 .arg("-o")
                 .arg(&report)

@@ -8,6 +8,8 @@
 //! them (`1`, `-5`, `.7`, `1.0`). Read again as whitespace-separated words
 //! (a token parser), each scene gives the same sections.
 
+use std::collections::BTreeSet;
+
 use serde_json::Value;
 
 use crate::support::run;
@@ -136,6 +138,25 @@ fn values(text: &str) -> Vec<(String, Vec<String>)> {
         .collect()
 }
 
+/// The sections of a scene in order, each its keyword line and its
+/// attributes in a set: the same scene whatever order the attributes of a
+/// section are written in (`fmt` writes the language's order).
+fn sections(text: &str) -> Vec<((String, Vec<String>), BTreeSet<(String, Vec<String>)>)> {
+    let mut sections: Vec<((String, Vec<String>), BTreeSet<(String, Vec<String>)>)> = Vec::new();
+    for line in values(text) {
+        if ["camera", "sphere", "plane", "light"].contains(&line.0.as_str()) {
+            sections.push((line, BTreeSet::new()));
+        } else {
+            sections
+                .last_mut()
+                .expect("an attribute after a section")
+                .1
+                .insert(line);
+        }
+    }
+    sections
+}
+
 /// The suite's sample and scenes/sample.txt are the assignment's sample
 /// scene, both lights and all. The lines below are the assignment's
 /// sample scene file, value for value.
@@ -165,6 +186,10 @@ fn the_sample_is_the_assignments_sample_scene() {
     let suite = std::fs::read_to_string(dir.path().join("sample.txt")).unwrap();
     let shipped =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sample.txt")).unwrap();
-    assert_eq!(values(&suite), values(assignment), "the suite's sample");
-    assert_eq!(values(&shipped), values(assignment), "scenes/sample.txt");
+    assert_eq!(sections(&suite), sections(assignment), "the suite's sample");
+    assert_eq!(
+        sections(&shipped),
+        sections(assignment),
+        "scenes/sample.txt"
+    );
 }

@@ -29,7 +29,7 @@ fn sample_scene(size: u32) -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().expect("temp dir");
     std::fs::copy(WOOD, dir.path().join("wood_tex.ppm")).expect("copy the texture");
     let scene = dir.path().join("sample.txt");
-    std::fs::write(&scene, sample_text(size, ".3 .3 .3")).expect("write the scene");
+    std::fs::write(&scene, sample_text(size, "0.3 0.3 0.3")).expect("write the scene");
     (dir, scene)
 }
 
@@ -37,7 +37,7 @@ fn sample_text(size: u32, color: &str) -> String {
     std::fs::read_to_string(SAMPLE)
         .expect("read scenes/sample.txt")
         .replace("camera 400", &format!("camera {size}"))
-        .replace("color .3 .3 .3", &format!("color {color}"))
+        .replace("color 0.3 0.3 0.3", &format!("color {color}"))
 }
 
 /// The colour of the image's centre pixel, as the page's `<img>` shows it.
@@ -102,10 +102,12 @@ fn chromium_shows_edits_without_reloading_and_errors_beside_the_stale_image() {
     assert_ne!(red, grey, "the <img> shows the new render");
     assert!(red[0].as_u64() > red[1].as_u64(), "a red sphere: {red}");
 
-    save(
-        &scene,
-        &sample_text(SIDE, ".9 .1 .1").replace("reflectivity .7", "reflectivty .7"),
-    );
+    let misspelt = sample_text(SIDE, ".9 .1 .1").replace("reflectivity 0.7", "reflectivty 0.7");
+    let line = 1 + misspelt
+        .lines()
+        .position(|l| l.contains("reflectivty"))
+        .expect("the misspelt line");
+    save(&scene, &misspelt);
     let shown = browser.wait_for(
         "document.body.dataset.phase === 'errors' \
          && document.getElementById('figure').classList.contains('stale')",
@@ -125,7 +127,7 @@ fn chromium_shows_edits_without_reloading_and_errors_beside_the_stale_image() {
     assert!(
         entry[3]
             .as_str()
-            .is_some_and(|w| w.ends_with("sample.txt:8:3")),
+            .is_some_and(|w| w.ends_with(&format!("sample.txt:{line}:3"))),
         "{entry}"
     );
     assert_eq!(browser.eval(CENTRE_PIXEL), red, "the last good image stays");

@@ -134,7 +134,8 @@ fn canonical_text_of_the_sample() {
         text,
         "camera 400\n\nsphere\n  dimension 1\n  center 0 1 -5\n  color 0.3 0.3 0.3\n  \
          reflectivity 0.7\n\nplane\n  dimension 4 4\n  center 0 -1 -5\n  normal 0 1 0\n  \
-         headup 0 0 1\n  texture wood_tex.ppm\n\nlight\n  location -1 2 -2\n  color 1 0.7 0.7\n"
+         headup 0 0 1\n  texture wood_tex.ppm\n\nlight\n  location -1 2 -2\n  color 1 0.7 0.7\n\n\
+         light\n  location 1 0 -6\n  color 0.3 0.3 1\n"
     );
 }
 
