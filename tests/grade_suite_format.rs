@@ -138,11 +138,14 @@ fn values(text: &str) -> Vec<(String, Vec<String>)> {
         .collect()
 }
 
+/// A line of a scene: its keyword and its values.
+type Line = (String, Vec<String>);
+
 /// The sections of a scene in order, each its keyword line and its
 /// attributes in a set: the same scene whatever order the attributes of a
 /// section are written in (`fmt` writes the language's order).
-fn sections(text: &str) -> Vec<((String, Vec<String>), BTreeSet<(String, Vec<String>)>)> {
-    let mut sections: Vec<((String, Vec<String>), BTreeSet<(String, Vec<String>)>)> = Vec::new();
+fn sections(text: &str) -> Vec<(Line, BTreeSet<Line>)> {
+    let mut sections: Vec<(Line, BTreeSet<Line>)> = Vec::new();
     for line in values(text) {
         if ["camera", "sphere", "plane", "light"].contains(&line.0.as_str()) {
             sections.push((line, BTreeSet::new()));
