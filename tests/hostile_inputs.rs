@@ -122,23 +122,27 @@ fn every_command_gives_its_exit_code_on_every_hostile_input() {
     }
 }
 
-/// Run `args` with stdout (or stderr) a pipe whose reader has gone.
+/// Run `args` with stdout (or stderr) a pipe whose reader has gone before
+/// the command starts, so its first write fails whatever it writes and
+/// however fast (a reader closed after the spawn would race it: output
+/// that fits the pipe's buffer could be written first).
 fn with_closed(dir: &Path, args: &[&str], stdout: bool) -> Output {
+    use std::os::fd::{FromRawFd, OwnedFd};
+    let mut ends = [0; 2];
+    // SAFETY: `pipe` writes two descriptors into the array it is given.
+    assert_eq!(unsafe { libc::pipe(ends.as_mut_ptr()) }, 0, "a pipe");
+    // SAFETY: the descriptors are fresh and owned here alone.
+    let (reader, writer) =
+        unsafe { (OwnedFd::from_raw_fd(ends[0]), OwnedFd::from_raw_fd(ends[1])) };
+    drop(reader);
     let mut command = Command::new(bin());
     command.args(args).current_dir(dir).stdin(Stdio::null());
     if stdout {
-        command.stdout(Stdio::piped()).stderr(Stdio::piped());
+        command.stdout(Stdio::from(writer)).stderr(Stdio::piped());
     } else {
-        command.stdout(Stdio::null()).stderr(Stdio::piped());
+        command.stdout(Stdio::null()).stderr(Stdio::from(writer));
     }
-    let mut child = command.spawn().expect("spawn");
-    // Close our end of the pipe before the command writes to it.
-    if stdout {
-        drop(child.stdout.take());
-    } else {
-        drop(child.stderr.take());
-    }
-    child.wait_with_output().expect("ran")
+    command.output().expect("ran")
 }
 
 #[test]
