@@ -100,8 +100,8 @@ pub enum Command {
     #[command(after_help = exit::PREVIEW)]
     Preview(PreviewArgs),
     /// Compare a candidate image with a reference: ꟻLIP, RMSE and PSNR,
-    /// and the coverage of their pixels off the background; with --scene,
-    /// grade's judge, aspect by aspect.
+    /// and the coverage of their pixels off the background; given the
+    /// scene, grade's judge, aspect by aspect.
     #[command(after_help = exit::COMPARE)]
     Compare(CompareArgs),
     /// Grade a ray tracer: run it on a suite of scenes in a sandbox and
