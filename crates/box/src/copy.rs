@@ -47,7 +47,7 @@ pub const MAX_DEPTH: u32 = 64;
 /// (entries already there with the same names are replaced), within
 /// `budget`.
 pub fn copy_folder(from: &Path, to: &Path, budget: Budget) -> io::Result<()> {
-    let source = open_at(None, from.as_os_str(), libc::O_DIRECTORY)?;
+    let source = open_at(libc::AT_FDCWD, from.as_os_str(), libc::O_DIRECTORY)?;
     let mut walk = Walk {
         budget,
         left: budget,
@@ -61,11 +61,11 @@ struct Walk {
     left: Budget,
 }
 
-/// Open `name` relative to `dir` (or the working folder), never following
-/// a link at its last component.
-fn open_at(dir: Option<&OwnedFd>, name: &OsStr, flags: libc::c_int) -> io::Result<OwnedFd> {
-    let name = CString::new(name.as_bytes()).map_err(io::Error::other)?;
-    let dir = dir.map_or(libc::AT_FDCWD, |d| d.as_raw_fd());
+/// Open `name` relative to the descriptor `dir` (`AT_FDCWD`: the working
+/// folder), never following a link at its last component.
+pub(crate) fn open_at(dir: libc::c_int, name: &OsStr, flags: libc::c_int) -> io::Result<OwnedFd> {
+    let name =
+        CString::new(name.as_bytes()).map_err(|_| io::Error::from(io::ErrorKind::InvalidInput))?;
     // SAFETY: `name` is a valid C string; the descriptor returned is owned
     // by the `OwnedFd` below.
     let fd = unsafe {
@@ -88,7 +88,7 @@ fn open_at(dir: Option<&OwnedFd>, name: &OsStr, flags: libc::c_int) -> io::Resul
 /// without `O_NONBLOCK` for ever) or a link (`O_NOFOLLOW` refuses it), so
 /// what is checked is the descriptor, not the name.
 fn open_regular_at(dir: &OwnedFd, name: &OsStr) -> io::Result<Option<File>> {
-    let file = match open_at(Some(dir), name, libc::O_NONBLOCK) {
+    let file = match open_at(dir.as_raw_fd(), name, libc::O_NONBLOCK) {
         Ok(fd) => File::from(fd),
         Err(error) if error.raw_os_error() == Some(libc::ELOOP) => return Ok(None),
         Err(error) => return Err(error),
@@ -173,7 +173,7 @@ impl Walk {
                         "the folder nests deeper than grading copies ({MAX_DEPTH} levels)"
                     )));
                 };
-                let inner = open_at(Some(dir), os_name, libc::O_DIRECTORY)?;
+                let inner = open_at(dir.as_raw_fd(), os_name, libc::O_DIRECTORY)?;
                 match std::fs::create_dir(&target) {
                     Err(error) if error.kind() == io::ErrorKind::AlreadyExists => {}
                     other => other?,
@@ -294,7 +294,7 @@ mod tests {
         assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o644) }, 0);
         std::os::unix::fs::symlink("/etc/passwd", dir.path().join("link")).unwrap();
         std::fs::write(dir.path().join("file"), "x").unwrap();
-        let folder = open_at(None, dir.path().as_os_str(), libc::O_DIRECTORY).unwrap();
+        let folder = open_at(libc::AT_FDCWD, dir.path().as_os_str(), libc::O_DIRECTORY).unwrap();
         assert!(open_regular_at(&folder, OsStr::new("fifo"))
             .unwrap()
             .is_none());

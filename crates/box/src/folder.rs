@@ -24,7 +24,7 @@
 use std::ffi::{CStr, CString, OsStr};
 use std::fs::Permissions;
 use std::io;
-use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
+use std::os::fd::{AsRawFd, OwnedFd};
 use std::os::unix::ffi::OsStrExt;
 use std::os::unix::fs::{DirBuilderExt, PermissionsExt};
 use std::path::{Path, PathBuf};
@@ -293,22 +293,10 @@ fn open_folder(dir: &OwnedFd, name: &CStr) -> io::Result<OwnedFd> {
     open_at(place.as_raw_fd(), OsStr::new("."), libc::O_RDONLY)
 }
 
-/// `openat` with `O_NOFOLLOW | O_CLOEXEC | O_DIRECTORY` and `flags`.
+/// `openat` of a folder, with `O_NOFOLLOW | O_CLOEXEC | O_DIRECTORY` and
+/// `flags` ([`crate::copy::open_at`]).
 fn open_at(dir: libc::c_int, name: &OsStr, flags: libc::c_int) -> io::Result<OwnedFd> {
-    let name = c_name(name)?;
-    // SAFETY: a valid C string; the descriptor returned is owned below.
-    let fd = unsafe {
-        libc::openat(
-            dir,
-            name.as_ptr(),
-            flags | libc::O_DIRECTORY | libc::O_NOFOLLOW | libc::O_CLOEXEC,
-        )
-    };
-    if fd < 0 {
-        return Err(io::Error::last_os_error());
-    }
-    // SAFETY: a fresh descriptor no one else owns.
-    Ok(unsafe { OwnedFd::from_raw_fd(fd) })
+    crate::copy::open_at(dir, name, flags | libc::O_DIRECTORY)
 }
 
 /// `unlinkat(dir, name, flags)`.
