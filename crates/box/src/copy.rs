@@ -97,7 +97,7 @@ fn open_regular_at(dir: &OwnedFd, name: &OsStr) -> io::Result<Option<File>> {
 }
 
 /// The kind of `name` in `dir`, the link itself when it is one.
-fn kind_at(dir: &OwnedFd, name: &CStr) -> io::Result<libc::mode_t> {
+pub(crate) fn kind_at(dir: &OwnedFd, name: &CStr) -> io::Result<libc::mode_t> {
     // SAFETY: `stat` is plain data, filled by the call.
     let mut stat: libc::stat = unsafe { std::mem::zeroed() };
     // SAFETY: valid descriptor, C string and out pointer.

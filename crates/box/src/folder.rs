@@ -265,18 +265,7 @@ fn next_folder(
 
 /// Whether `name` in `dir` is a folder, not following a link.
 fn is_folder(dir: &OwnedFd, name: &CStr) -> bool {
-    // SAFETY: `stat` is plain data, filled by the call.
-    let mut stat: libc::stat = unsafe { std::mem::zeroed() };
-    // SAFETY: a valid descriptor, C string and out pointer.
-    let result = unsafe {
-        libc::fstatat(
-            dir.as_raw_fd(),
-            name.as_ptr(),
-            &mut stat,
-            libc::AT_SYMLINK_NOFOLLOW,
-        )
-    };
-    result == 0 && stat.st_mode & libc::S_IFMT == libc::S_IFDIR
+    crate::copy::kind_at(dir, name).is_ok_and(|kind| kind == libc::S_IFDIR)
 }
 
 /// Open the folder `name` in `dir` for listing, not following a link,

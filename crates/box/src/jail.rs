@@ -606,28 +606,21 @@ unsafe fn build_root(
                         libc::close(fd);
                     }
                     check(bound)?;
-                    if *read_only {
+                    // A read-only bind, and a shared folder (a build's),
+                    // run no set-user-ID file and open no device.
+                    let remount = if *read_only {
+                        Some(libc::MS_RDONLY)
+                    } else {
+                        step_no_links(step).then_some(0)
+                    };
+                    if let Some(read_only) = remount {
                         check(libc::mount(
                             null,
                             to.as_ptr(),
                             null,
                             libc::MS_REMOUNT
                                 | libc::MS_BIND
-                                | libc::MS_RDONLY
-                                | libc::MS_NOSUID
-                                | libc::MS_NODEV
-                                | *flags,
-                            std::ptr::null(),
-                        ))?;
-                    } else if step_no_links(step) {
-                        // A shared folder (a build's) runs no set-user-ID
-                        // file and opens no device.
-                        check(libc::mount(
-                            null,
-                            to.as_ptr(),
-                            null,
-                            libc::MS_REMOUNT
-                                | libc::MS_BIND
+                                | read_only
                                 | libc::MS_NOSUID
                                 | libc::MS_NODEV
                                 | *flags,
