@@ -31,7 +31,7 @@ TEST_THREADS ?= $(shell echo $$(( $$(nproc) * 2 )))
 # which `make test` and CI run and `make check` leaves out.
 FULL_TIER := slurm:: neovim:: vim_syntax:: vscode:: pov:: preview_browser:: \
 	grade_browser:: grade_sandbox:: grade_students:: grade_class:: distributed:: install:: \
-	gradescope::
+	gradescope:: docs::the_grading_examples_run_as_written
 
 # The fast tier, what a contributor runs after each edit: every crate's unit
 # tests and the integration tests that need nothing but cargo and the

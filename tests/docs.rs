@@ -1,5 +1,6 @@
 //! The command-line examples of README.md and docs/ are tests: trycmd runs
-//! every ```` ```console ```` block of each page in [`PAGES`] (a `$ raytracer
+//! every ```` ```console ```` block of each page in [`PAGES`] and of
+//! [`GRADING_PAGE`] (a `$ raytracer
 //! ...` line, then its output, stdout and stderr together; `? 1` after
 //! the command for an exit code other than 0; `...` for lines left out,
 //! `[..]` for part of a line) and fails with a diff when the program's
@@ -10,16 +11,18 @@
 //! the repository's `scenes/` and the page's fixtures,
 //! `tests/docs/<page>.in/` (README.md's are `tests/docs/README.in/`), at
 //! 80 columns. A page's blocks run in order in that one folder, so a later
-//! example sees the files an earlier one wrote.
+//! example sees the files an earlier one wrote. A block that is a shell
+//! recipe rather than commands (a pipeline, a loop) is ```` ```sh ````,
+//! and the test that runs it says so on the page.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::support::bin;
 
-/// The pages whose examples run, relative to the repository.
-/// docs/grading.md is not yet among them (its examples need a grader's
-/// sandbox and a student's tracer).
+/// The pages whose examples run, relative to the repository, in
+/// [`the_examples_in_the_docs_run_as_written`]; docs/grading.md's run in
+/// [`the_grading_examples_run_as_written`].
 const PAGES: &[&str] = &[
     "README.md",
     "docs/README.md",
@@ -28,6 +31,20 @@ const PAGES: &[&str] = &[
     "docs/formats.md",
     "docs/language.md",
     "docs/preview.md",
+];
+
+/// The page whose examples grade student tracers: they need a box (or
+/// root) and `python3`, and take seconds each, so they run in a test of
+/// their own, in the full tier (the Makefile's `FULL_TIER`).
+const GRADING_PAGE: &str = "docs/grading.md";
+
+/// The students docs/grading.md's examples grade, taken from
+/// tests/students/ into its folder: (where, which tracer folder). `alice`
+/// is a correct reading, `bob` casts no shadows; `mytracer` is alice's
+/// program alone, run by its path as `--tracer './mytracer {scene} {out}'`.
+const GRADING_STUDENTS: &[(&str, &str)] = &[
+    ("students/alice", "tests/students/judge/correct_centres_py"),
+    ("students/bob", "tests/students/judge/no_shadows"),
 ];
 
 fn repo() -> &'static Path {
@@ -77,47 +94,84 @@ fn programs() -> Vec<(&'static str, PathBuf)> {
     ]
 }
 
-#[test]
-fn the_examples_in_the_docs_run_as_written() {
-    let root = tempfile::tempdir().expect("temp dir");
-    let cases = trycmd::TestCases::new();
+/// Lay `page` beside a folder of its fixtures in `root`, as trycmd runs
+/// `X.md` in `X.in` (copied to a fresh folder when `X.out` exists): the
+/// repository's `scenes/` and `tests/docs/<page>.in/`. Returns the copy.
+fn lay_out(root: &Path, page: &str) -> PathBuf {
+    let copy = root.join(fixture_name(page)).with_extension("md");
+    std::fs::copy(repo().join(page), &copy).unwrap_or_else(|e| panic!("{page}: {e}"));
+    let input = copy.with_extension("in");
+    copy_folder(&repo().join("scenes"), &input.join("scenes"));
+    let fixtures = repo().join("tests/docs").join(fixture_name(page) + ".in");
+    if fixtures.is_dir() {
+        copy_folder(&fixtures, &input);
+    }
+    std::fs::create_dir(copy.with_extension("out")).expect("out folder");
+    copy
+}
+
+/// Run the examples of `pages`, laid out in `root` by [`lay_out`], with
+/// `cases` (its programs registered here); under `TRYCMD=overwrite`, carry
+/// the pages trycmd rewrote back into the repository.
+fn run_pages(cases: trycmd::TestCases, copies: &[(PathBuf, &str)]) {
     for (name, path) in programs() {
         cases.register_bin(name, path);
     }
-    // Every example ends well within the timeout but `preview`, a server
-    // that runs until it is stopped: its example expects the stop
-    // (`? interrupted`) after the line it printed.
-    cases
-        .env("COLUMNS", "80")
-        .env("NO_COLOR", "1")
-        .timeout(std::time::Duration::from_secs(10));
-    let mut copies = Vec::new();
-    for page in PAGES {
-        // trycmd runs `X.md` in `X.in` (copied to a fresh folder when `X.out`
-        // exists): the page is laid beside a folder made of its fixtures.
-        let copy = root.path().join(fixture_name(page)).with_extension("md");
-        std::fs::copy(repo().join(page), &copy).unwrap_or_else(|e| panic!("{page}: {e}"));
-        let input = copy.with_extension("in");
-        copy_folder(&repo().join("scenes"), &input.join("scenes"));
-        let fixtures = repo().join("tests/docs").join(fixture_name(page) + ".in");
-        if fixtures.is_dir() {
-            copy_folder(&fixtures, &input);
-        }
-        std::fs::create_dir(copy.with_extension("out")).expect("out folder");
-        cases.case(&copy);
-        copies.push((copy, page));
+    cases.env("COLUMNS", "80").env("NO_COLOR", "1");
+    for (copy, _) in copies {
+        cases.case(copy);
     }
     // trycmd names the copies in what it prints: say which page each is.
-    for (copy, page) in &copies {
+    for (copy, page) in copies {
         let _ = writeln!(std::io::stderr(), "{page} runs as {}", copy.display());
     }
     cases.run();
-    // Under `TRYCMD=overwrite`, trycmd rewrote the copies: carry them back.
     if std::env::var("TRYCMD").as_deref() == Ok("overwrite") {
         for (copy, page) in copies {
             std::fs::copy(copy, repo().join(page)).expect("write the page back");
         }
     }
+}
+
+#[test]
+fn the_examples_in_the_docs_run_as_written() {
+    let root = tempfile::tempdir().expect("temp dir");
+    let copies: Vec<_> = PAGES
+        .iter()
+        .map(|page| (lay_out(root.path(), page), *page))
+        .collect();
+    let cases = trycmd::TestCases::new();
+    // Every example ends well within the timeout but `preview`, a server
+    // that runs until it is stopped: its example expects the stop
+    // (`? interrupted`) after the line it printed.
+    cases.timeout(std::time::Duration::from_secs(10));
+    run_pages(cases, &copies);
+}
+
+/// docs/grading.md's examples, in a folder that also holds the students
+/// of [`GRADING_STUDENTS`] and `mytracer`, with a reference cache of the
+/// test's own (`XDG_CACHE_HOME`), which the page's examples share in
+/// order: the first renders the references, the later ones find them.
+#[test]
+fn the_grading_examples_run_as_written() {
+    use std::os::unix::fs::PermissionsExt;
+    let root = tempfile::tempdir().expect("temp dir");
+    let copy = lay_out(root.path(), GRADING_PAGE);
+    let input = copy.with_extension("in");
+    for (to, from) in GRADING_STUDENTS {
+        copy_folder(&repo().join(from), &input.join(to));
+    }
+    let tracer = input.join("mytracer");
+    std::fs::copy(input.join("students/alice/tracer.py"), &tracer).expect("copy mytracer");
+    std::fs::set_permissions(&tracer, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    let cache = root.path().join("cache");
+    let cases = trycmd::TestCases::new();
+    // A class of two on the built-in suite takes seconds alone, minutes on
+    // a loaded machine.
+    cases
+        .env("XDG_CACHE_HOME", cache.to_str().expect("a UTF-8 path"))
+        .timeout(std::time::Duration::from_secs(300));
+    run_pages(cases, &[(copy, GRADING_PAGE)]);
 }
 
 /// Every page of docs/ with a command example, and README.md, is in
@@ -140,7 +194,7 @@ fn every_page_with_examples_runs_them() {
             .to_string_lossy()
             .replace('\\', "/");
         let text = std::fs::read_to_string(&path).expect("read page");
-        let runs = PAGES.contains(&page.as_str());
+        let runs = PAGES.contains(&page.as_str()) || page == GRADING_PAGE;
         if text.lines().any(|line| line.starts_with("```console")) {
             with_examples += 1;
             assert!(
