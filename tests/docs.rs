@@ -174,26 +174,64 @@ fn the_grading_examples_run_as_written() {
     run_pages(cases, &[(copy, GRADING_PAGE)]);
 }
 
-/// Every page of docs/ with a command example, and README.md, is in
-/// [`PAGES`]; and in those pages no command example hides in a block
-/// trycmd does not run (`sh`, `text`, or no language).
-#[test]
-fn every_page_with_examples_runs_them() {
-    let mut pages = vec![repo().join("README.md")];
-    for entry in std::fs::read_dir(repo().join("docs")).expect("docs/") {
-        let path = entry.expect("entry").path();
-        if path.extension().is_some_and(|e| e == "md") {
-            pages.push(path);
+/// README.md and every Markdown page under docs/ (its folders too), each
+/// as (its path in the repository, its text).
+fn all_pages() -> Vec<(String, String)> {
+    fn walk(folder: &Path, found: &mut Vec<PathBuf>) {
+        for entry in std::fs::read_dir(folder).expect("read folder") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                walk(&path, found);
+            } else if path.extension().is_some_and(|e| e == "md") {
+                found.push(path);
+            }
         }
     }
+    let mut paths = vec![repo().join("README.md")];
+    walk(&repo().join("docs"), &mut paths);
+    paths.sort();
+    paths
+        .into_iter()
+        .map(|path| {
+            let page = path
+                .strip_prefix(repo())
+                .expect("in the repository")
+                .to_string_lossy()
+                .replace('\\', "/");
+            let text = std::fs::read_to_string(&path).expect("read page");
+            (page, text)
+        })
+        .collect()
+}
+
+/// The fenced blocks of a page: (the line after its opening fence,
+/// 1-based; its language; its lines).
+fn blocks(text: &str) -> Vec<(usize, &str, Vec<&str>)> {
+    let mut found = Vec::new();
+    let mut open: Option<(usize, &str, Vec<&str>)> = None;
+    for (number, line) in text.lines().enumerate() {
+        match &mut open {
+            None if line.starts_with("```") => {
+                open = Some((number + 2, line[3..].trim(), Vec::new()))
+            }
+            Some(_) if line.starts_with("```") => found.extend(open.take()),
+            Some((_, _, lines)) => lines.push(line),
+            None => {}
+        }
+    }
+    found
+}
+
+/// Every page with a command example, README.md and docs/ alike, is among
+/// those whose examples run ([`PAGES`], [`GRADING_PAGE`]); a `$ ` command
+/// line appears only in a ```` ```console ```` block, which trycmd runs
+/// (not in `sh`, `text`, or a block of no language); and each console
+/// command is a program trycmd is given.
+#[test]
+fn every_page_with_examples_runs_them() {
+    let programs: Vec<&str> = programs().iter().map(|(name, _)| *name).collect();
     let mut with_examples = 0;
-    for path in pages {
-        let page = path
-            .strip_prefix(repo())
-            .expect("in the repository")
-            .to_string_lossy()
-            .replace('\\', "/");
-        let text = std::fs::read_to_string(&path).expect("read page");
+    for (page, text) in all_pages() {
         let runs = PAGES.contains(&page.as_str()) || page == GRADING_PAGE;
         if text.lines().any(|line| line.starts_with("```console")) {
             with_examples += 1;
@@ -202,35 +240,27 @@ fn every_page_with_examples_runs_them() {
                 "{page} has console examples but is not in tests/docs.rs's PAGES"
             );
         }
-        if !runs {
-            continue;
-        }
         assert!(
             !text.contains("```console,ignore"),
             "{page}: an example that does not run"
         );
-        let programs: Vec<&str> = programs().iter().map(|(name, _)| *name).collect();
-        let mut fence: Option<&str> = None;
-        for (number, line) in text.lines().enumerate() {
-            match fence {
-                None if line.starts_with("```") => fence = Some(line[3..].trim()),
-                Some(_) if line.starts_with("```") => fence = None,
-                Some("console") if line.starts_with("$ ") => {
-                    let program = line[2..].split_whitespace().next().unwrap_or("");
+        for (first, language, lines) in blocks(&text) {
+            for (k, line) in lines.iter().enumerate() {
+                let number = first + k;
+                if language != "console" {
+                    assert!(
+                        !line.starts_with("$ "),
+                        "{page}:{number}: a command example in a ```{language} block, which is \
+                         not run: make it a ```console block with its output"
+                    );
+                } else if let Some(command) = line.strip_prefix("$ ") {
+                    let program = command.split_whitespace().next().unwrap_or("");
                     assert!(
                         programs.contains(&program),
-                        "{page}:{}: `{program}` is not among the programs tests/docs.rs \
-                         gives trycmd ({programs:?}), which would skip the example",
-                        number + 1
+                        "{page}:{number}: `{program}` is not among the programs tests/docs.rs \
+                         gives trycmd ({programs:?}), which would skip the example"
                     );
                 }
-                Some(language) => assert!(
-                    language.starts_with("console") || !line.starts_with("$ raytracer"),
-                    "{page}:{}: a command example in a ```{language} block, which is not run: \
-                     make it a ```console block with its output",
-                    number + 1
-                ),
-                None => {}
             }
         }
     }
@@ -238,6 +268,95 @@ fn every_page_with_examples_runs_them() {
         with_examples >= 3,
         "only {with_examples} pages have console examples"
     );
+}
+
+/// The Makefile's targets: each line `name:` (or `a b:`) that is not a
+/// variable's assignment.
+fn make_targets() -> Vec<String> {
+    let makefile = std::fs::read_to_string(repo().join("Makefile")).expect("Makefile");
+    makefile
+        .lines()
+        .filter(|line| !line.starts_with(['\t', '#', ' ', '.']))
+        .filter_map(|line| line.split_once(':'))
+        .filter(|(_, rest)| !rest.starts_with('='))
+        .flat_map(|(names, _)| names.split_whitespace().map(str::to_string))
+        .collect()
+}
+
+/// A shell recipe (a ```` ```sh ```` block: a pipeline, a loop, a job
+/// script) cannot run under trycmd, so none is left unrun in silence:
+/// each `make TARGET` line names a target of the Makefile, and a block
+/// with any other command sits in a section (from its heading to the next)
+/// that names the test running it, `tests/NAME.rs`, a file that names the
+/// page back, or says that no test runs it ("No test runs …", with the
+/// reason).
+#[test]
+fn every_recipe_says_which_test_runs_it() {
+    let targets = make_targets();
+    assert!(targets.iter().any(|t| t == "test"), "{targets:?}");
+    let mut recipes = 0;
+    for (page, text) in all_pages() {
+        // The page's sections: the text from each heading to the next, by
+        // the line each starts on.
+        let mut sections: Vec<(usize, String)> = vec![(1, String::new())];
+        let mut fenced = false;
+        for (number, line) in text.lines().enumerate() {
+            if line.starts_with("```") {
+                fenced = !fenced;
+            }
+            if !fenced && line.starts_with('#') {
+                sections.push((number + 1, String::new()));
+            }
+            let section = &mut sections.last_mut().expect("a section").1;
+            section.push_str(line);
+            section.push('\n');
+        }
+        for (first, language, lines) in blocks(&text) {
+            if language != "sh" {
+                continue;
+            }
+            recipes += 1;
+            let commands: Vec<&str> = lines
+                .iter()
+                .map(|line| line.trim())
+                .filter(|line| !line.is_empty() && !line.starts_with('#'))
+                .collect();
+            for line in &commands {
+                if let Some(target) = line.strip_prefix("make ") {
+                    let target = target.split_whitespace().next().unwrap_or("");
+                    assert!(
+                        targets.iter().any(|t| t == target),
+                        "{page}:{first}: `make {target}` is not a target of the Makefile"
+                    );
+                }
+            }
+            if commands.iter().all(|line| line.starts_with("make ")) {
+                continue;
+            }
+            let section = &sections
+                .iter()
+                .rev()
+                .find(|(start, _)| *start < first)
+                .expect("a section")
+                .1;
+            let words: Vec<String> = section.split_whitespace().map(str::to_lowercase).collect();
+            let says_none = words.join(" ").contains("no test runs");
+            let runner = section
+                .split(|c: char| c.is_whitespace() || matches!(c, '`' | '(' | ')' | ',' | ';'))
+                .filter(|word| word.starts_with("tests/") && word.ends_with(".rs"))
+                .find(|test| {
+                    std::fs::read_to_string(repo().join(test))
+                        .is_ok_and(|source| source.contains(page.as_str()))
+                });
+            assert!(
+                says_none || runner.is_some(),
+                "{page}:{first}: a shell recipe that no test is said to run: name the \
+                 test that runs it as written (tests/NAME.rs, which reads {page}) in its \
+                 section, or say \"No test runs\" it and why"
+            );
+        }
+    }
+    assert!(recipes >= 10, "only {recipes} shell recipes");
 }
 
 /// docs/README.md, the index, links every page of docs/, and README.md
