@@ -359,19 +359,17 @@ fn every_recipe_says_which_test_runs_it() {
     assert!(recipes >= 10, "only {recipes} shell recipes");
 }
 
-/// docs/README.md, the index, links every page of docs/, and README.md
-/// links the index.
+/// docs/README.md, the index, links every page of docs/ (its folders'
+/// too, such as docs/diagnostics/), and README.md links the index.
 #[test]
 fn the_index_links_every_page() {
     let index = std::fs::read_to_string(repo().join("docs/README.md")).expect("docs/README.md");
     let mut pages = 0;
-    for entry in std::fs::read_dir(repo().join("docs")).expect("docs/") {
-        let name = entry
-            .expect("entry")
-            .file_name()
-            .to_string_lossy()
-            .into_owned();
-        if name.ends_with(".md") && name != "README.md" {
+    for (page, _) in all_pages() {
+        let Some(name) = page.strip_prefix("docs/") else {
+            continue;
+        };
+        if name != "README.md" {
             pages += 1;
             assert!(
                 index.contains(&format!("]({name})")),
@@ -385,4 +383,81 @@ fn the_index_links_every_page() {
         readme.contains("](docs/README.md)"),
         "README.md does not link the index"
     );
+}
+
+/// GitHub's anchor of a heading: lowercase, punctuation but `-` and `_`
+/// dropped, spaces as `-`.
+fn anchor(heading: &str) -> String {
+    heading
+        .to_lowercase()
+        .chars()
+        .filter(|c| c.is_alphanumeric() || matches!(c, '-' | '_' | ' '))
+        .map(|c| if c == ' ' { '-' } else { c })
+        .collect()
+}
+
+/// The anchors of a page's headings (outside code blocks).
+fn anchors(text: &str) -> Vec<String> {
+    let mut fenced = false;
+    let mut found = Vec::new();
+    for line in text.lines() {
+        if line.starts_with("```") {
+            fenced = !fenced;
+        } else if !fenced && line.starts_with('#') {
+            let heading = line.trim_start_matches('#');
+            if let Some(heading) = heading.strip_prefix(' ') {
+                found.push(anchor(heading));
+            }
+        }
+    }
+    found
+}
+
+/// Every relative link of README.md and docs/ (outside code blocks) names
+/// a file that exists, and a link into a page with `#anchor` names one of
+/// its headings: pages split or sections renamed leave no link behind.
+#[test]
+fn every_link_names_a_page_and_heading_that_exist() {
+    let pages = all_pages();
+    let mut links = 0;
+    for (page, text) in &pages {
+        let folder = Path::new(page).parent().expect("a folder");
+        let mut fenced = false;
+        for line in text.lines() {
+            if line.starts_with("```") {
+                fenced = !fenced;
+                continue;
+            }
+            if fenced {
+                continue;
+            }
+            for (at, _) in line.match_indices("](") {
+                let rest = &line[at + 2..];
+                let Some(end) = rest.find(')') else { continue };
+                let link = &rest[..end];
+                if link.contains("://") || link.starts_with("mailto:") || link.contains(' ') {
+                    continue;
+                }
+                links += 1;
+                let (path, fragment) = link.split_once('#').unwrap_or((link, ""));
+                let target = if path.is_empty() {
+                    PathBuf::from(page)
+                } else {
+                    folder.join(path)
+                };
+                let on_disk = repo().join(&target);
+                assert!(on_disk.exists(), "{page}: `{link}` names no file");
+                if fragment.is_empty() || on_disk.extension().is_none_or(|e| e != "md") {
+                    continue;
+                }
+                let target_text = std::fs::read_to_string(&on_disk).expect("read page");
+                assert!(
+                    anchors(&target_text).iter().any(|a| a == fragment),
+                    "{page}: `{link}` names no heading of {}",
+                    target.display()
+                );
+            }
+        }
+    }
+    assert!(links >= 100, "only {links} links");
 }

@@ -119,9 +119,8 @@ fn chromium_shows_edits_without_reloading_and_errors_beside_the_stale_image() {
     assert_eq!(entry[0], "error");
     assert_eq!(entry[1], "scene::unknown_attribute");
     assert!(
-        entry[2].as_str().is_some_and(
-            |href| href == "https://course.example/docs/diagnostics.md#sceneunknown_attribute"
-        ),
+        entry[2].as_str().is_some_and(|href| href
+            == "https://course.example/docs/diagnostics/scene.md#sceneunknown_attribute"),
         "{entry}"
     );
     assert!(

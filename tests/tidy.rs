@@ -806,18 +806,29 @@ fn anchor(heading: &str) -> String {
         .collect()
 }
 
-/// Every long page (over 300 lines) links each of its `## ` sections from
-/// its top (a `## Contents` list, or a table such as diagnostics.md's
-/// codes), so a reader finds a section without scrolling through the page.
+/// Every long page (over 300 lines) of docs/ and its folders links each of
+/// its `## ` sections from its top (a `## Contents` list, or a table such
+/// as the codes of diagnostics/scene.md), so a reader finds a section
+/// without scrolling through the page.
 #[test]
 fn every_long_page_has_a_table_of_contents() {
-    let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs");
-    let mut long = 0;
-    for entry in std::fs::read_dir(&docs).expect("docs/") {
-        let path = entry.expect("entry").path();
-        if path.extension().is_none_or(|e| e != "md") {
-            continue;
+    fn markdown_files(folder: &Path, found: &mut Vec<std::path::PathBuf>) {
+        for entry in std::fs::read_dir(folder).expect("a folder of docs/") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                markdown_files(&path, found);
+            } else if path.extension().is_some_and(|e| e == "md") {
+                found.push(path);
+            }
         }
+    }
+    let mut pages = Vec::new();
+    markdown_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("docs"),
+        &mut pages,
+    );
+    let mut long = 0;
+    for path in pages {
         let page = std::fs::read_to_string(&path).expect("a page");
         if page.lines().count() <= 300 {
             continue;

@@ -5,8 +5,9 @@
 //!
 //! Coverage cannot drift: every code of the diagnostic enums (derived from
 //! their variant names, `codes()`) must have a fixture that produces it,
-//! every fixture must be named after a code, and docs/diagnostics.md must
-//! have a section per code showing the fixture's current output. Every code
+//! every fixture must be named after a code, and docs/diagnostics/ must
+//! have a section per code, on the page and at the anchor its links name,
+//! showing the fixture's current output. Every code
 //! either carries a fix in its fixture (snapshotted as JSON) or is on
 //! [`raytracer_scene::fix::WITHOUT_FIX`], whose reason its section states.
 //! Beside them, `tests/ui/cascade/` holds scenes whose mistakes once drew
@@ -17,7 +18,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use raytracer_scene::check::CheckError;
-use raytracer_scene::fix::{markdown_table, WITHOUT_FIX, WITH_FIX};
+use raytracer_scene::fix::{documentation, markdown_table, WITHOUT_FIX, WITH_FIX};
 use raytracer_scene::frontend::Loaded;
 use raytracer_scene::json::JsonError;
 use raytracer_scene::syntax::SyntaxError;
@@ -168,29 +169,41 @@ fn normalized(text: &str) -> String {
     lines.join("\n").trim_matches('\n').to_string()
 }
 
+/// The section of `code` in docs/ (its heading, the code in backticks, to
+/// the next), found where its links say: on the page and at the anchor of
+/// [`documentation`], the address docs/diagnostics.md's tables, the
+/// language server and the preview link it by.
+fn doc_section(code: &str) -> String {
+    let link = documentation(code);
+    let (page, anchor) = link.split_once('#').expect("a page and an anchor");
+    let text = std::fs::read_to_string(root().join("docs").join(page))
+        .unwrap_or_else(|e| panic!("docs/{page}, where `{code}` links: {e}"));
+    let heading = format!("\n## `{code}`\n");
+    let start = text
+        .find(&heading)
+        .unwrap_or_else(|| panic!("docs/{page} has no section `## `{code}``"))
+        + heading.len();
+    // GitHub's anchor of the heading: the code without its backticks and colons.
+    assert_eq!(anchor, code.replace("::", ""), "{code}");
+    let section = &text[start..];
+    section[..section.find("\n## ").unwrap_or(section.len())].to_string()
+}
+
 #[test]
 fn docs_show_every_code_as_rendered() {
-    let docs =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostics.md"))
-            .expect("read docs/diagnostics.md");
     for fixture in fixtures() {
         let code = code_of(&fixture);
-        let heading = format!("\n## `{code}`\n");
-        let start = docs
-            .find(&heading)
-            .unwrap_or_else(|| panic!("docs/diagnostics.md has no section `## `{code}``"));
-        let section = &docs[start + heading.len()..];
-        let section = &section[..section.find("\n## ").unwrap_or(section.len())];
+        let section = doc_section(&code);
         for part in ["**What.**", "**Why.**", "**Example.**", "**Fix.**"] {
             assert!(
                 section.contains(part),
-                "`{code}` in docs/diagnostics.md lacks {part}"
+                "`{code}` in docs/diagnostics/ lacks {part}"
             );
         }
         let rendered = load(&fixture).report.render_human(80, false);
         assert!(
-            normalized(section).contains(&normalized(&rendered)),
-            "the example for `{code}` in docs/diagnostics.md is out of date; it should show:\n{rendered}"
+            normalized(&section).contains(&normalized(&rendered)),
+            "the example for `{code}` in docs/diagnostics/ is out of date; it should show:\n{rendered}"
         );
     }
 }
@@ -298,28 +311,19 @@ fn the_docs_table_of_fixes_is_the_generated_one() {
 
 #[test]
 fn docs_give_the_reason_a_code_has_no_fix() {
-    let docs =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostics.md"))
-            .expect("read docs/diagnostics.md");
     for (code, reason) in WITHOUT_FIX {
-        let heading = format!("\n## `{code}`\n");
-        let start = docs.find(&heading).expect("a section per code") + heading.len();
-        let section = &docs[start..];
-        let section = &section[..section.find("\n## ").unwrap_or(section.len())];
+        let section = doc_section(code);
         let line = format!("No structured fix: {reason}.");
         assert!(
             section.contains(&line),
-            "the section of `{code}` in docs/diagnostics.md should say `{line}`"
+            "the section of `{code}` in docs/diagnostics/ should say `{line}`"
         );
     }
 }
 
-/// The **Fix.** paragraph of `code` in docs/diagnostics.md.
-fn fix_paragraph(docs: &str, code: &str) -> String {
-    let heading = format!("\n## `{code}`\n");
-    let start = docs.find(&heading).expect("a section") + heading.len();
-    let section = &docs[start..];
-    let section = &section[..section.find("\n## ").unwrap_or(section.len())];
+/// The **Fix.** paragraph of `code` in docs/diagnostics/.
+fn fix_paragraph(code: &str) -> String {
+    let section = doc_section(code);
     let fix = section.find("**Fix.**").expect("a Fix paragraph");
     section[fix..]
         .split("\n\n")
@@ -328,14 +332,13 @@ fn fix_paragraph(docs: &str, code: &str) -> String {
         .to_string()
 }
 
-/// What docs/diagnostics.md says each fix does is what the program does:
+/// What docs/diagnostics/ says each fix does is what the program does:
 /// a code whose fixture carries a fix says whether it is safe or unsafe
 /// as the fix is, and the edits of `headup_not_perpendicular`'s fix leave
 /// the `normal` as written, as language.md says (the page once said
 /// `--fix` normalised it).
 #[test]
 fn docs_say_what_each_fix_does() {
-    let docs = std::fs::read_to_string(root().join("docs/diagnostics.md")).expect("docs");
     let mut wrong = Vec::new();
     for fixture in fixtures() {
         let code = code_of(&fixture);
@@ -348,7 +351,7 @@ fn docs_say_what_each_fix_does() {
         else {
             continue;
         };
-        let paragraph = fix_paragraph(&docs, &code);
+        let paragraph = fix_paragraph(&code);
         let word = match fix.applicability {
             raytracer_scene::fix::Applicability::Safe => "safe",
             raytracer_scene::fix::Applicability::Unsafe => "unsafe",
@@ -377,7 +380,5 @@ fn docs_say_what_each_fix_does() {
             .map(str::to_string)
     };
     assert_eq!(normal(&fixed), normal(&text), "--fix leaves the normal");
-    assert!(
-        !fix_paragraph(&docs, "scene::headup_not_perpendicular").contains("normalises the normal")
-    );
+    assert!(!fix_paragraph("scene::headup_not_perpendicular").contains("normalises the normal"));
 }

@@ -498,8 +498,9 @@ pub struct PreviewArgs {
     pub max_size: u32,
     #[command(flatten)]
     pub sampling: SamplingArgs,
-    /// Where diagnostic codes link: the URL of docs/diagnostics.md
-    /// [default: codes are not links].
+    /// Where diagnostic codes link: the URL of docs/diagnostics.md, beside
+    /// which each code's page is (docs/diagnostics/) [default: codes are
+    /// not links].
     #[arg(long, value_name = "URL")]
     pub docs: Option<String>,
 }

@@ -304,12 +304,22 @@ pub const WITH_FIX: &[FixRule] = &[
     },
 ];
 
+/// Where `code` is documented, relative to docs/: the page of its prefix
+/// under docs/diagnostics/ (`syntax.md`, `json.md`, `scene.md`) and its
+/// section's anchor, the code without its colons
+/// (`diagnostics/scene.md#sceneunknown_attribute`). docs/diagnostics.md,
+/// beside that folder, lists every code.
+pub fn documentation(code: &str) -> String {
+    let prefix = code.split("::").next().unwrap_or(code);
+    format!("diagnostics/{prefix}.md#{}", code.replace("::", ""))
+}
+
 /// The table of fixes in docs/diagnostics.md: each code that carries a
 /// fix with what it does, how it is applied and whether JSON scenes get it
 /// ([`WITH_FIX`]), then each code without one with its reason
 /// ([`WITHOUT_FIX`]).
 pub fn markdown_table() -> String {
-    let link = |code: &str| format!("[`{code}`](#{})", code.replace("::", ""));
+    let link = |code: &str| format!("[`{code}`]({})", documentation(code));
     let mut out =
         String::from("| code | its fix | applied by | on JSON scenes |\n|---|---|---|---|\n");
     for rule in WITH_FIX {

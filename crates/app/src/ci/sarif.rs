@@ -3,7 +3,7 @@
 //!
 //! One run, whose tool lists a rule per code that occurs, in order of first
 //! occurrence: its descriptions come from that code's section of
-//! docs/diagnostics.md (compiled in, so they cannot drift from the docs,
+//! docs/diagnostics/ (compiled in, so they cannot drift from the docs,
 //! and travel with the binary: no link into the folder it was built in,
 //! which an installed binary's users do not have). Each result has
 //! the code as `ruleId`, its first label as its location and the others
@@ -20,8 +20,13 @@ use super::{Finding, Region};
 const SCHEMA: &str =
     "https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/sarif-schema-2.1.0.json";
 
-/// Every code's documentation.
-const DIAGNOSTICS_MD: &str = include_str!("../../../../docs/diagnostics.md");
+/// Every code's documentation: the pages of docs/diagnostics/, one per
+/// prefix.
+const DIAGNOSTICS_PAGES: [&str; 3] = [
+    include_str!("../../../../docs/diagnostics/syntax.md"),
+    include_str!("../../../../docs/diagnostics/json.md"),
+    include_str!("../../../../docs/diagnostics/scene.md"),
+];
 
 /// The SARIF log of `findings`.
 pub fn log(findings: &[Finding]) -> Value {
@@ -160,7 +165,7 @@ fn level(severity: &str) -> &'static str {
     }
 }
 
-/// What docs/diagnostics.md says about a code.
+/// What docs/diagnostics/ says about a code.
 #[derive(Debug, Default, PartialEq, Eq)]
 struct Documentation {
     /// The **What.** paragraph.
@@ -169,13 +174,16 @@ struct Documentation {
     help: Option<String>,
 }
 
-/// The paragraphs of `code`'s section of docs/diagnostics.md.
+/// The paragraphs of `code`'s section of docs/diagnostics/.
 fn documentation(code: &str) -> Documentation {
     let heading = format!("## `{code}`\n");
-    let Some(start) = DIAGNOSTICS_MD.find(&heading) else {
+    let Some((page, start)) = DIAGNOSTICS_PAGES
+        .iter()
+        .find_map(|page| Some((page, page.find(&heading)?)))
+    else {
         return Documentation::default();
     };
-    let section = &DIAGNOSTICS_MD[start + heading.len()..];
+    let section = &page[start + heading.len()..];
     let section = &section[..section.find("\n## ").unwrap_or(section.len())];
     let paragraph = |name: &str| {
         let marker = format!("**{name}.** ");

@@ -96,8 +96,8 @@ impl Document {
     }
 
     /// Check this version, unless the last check was of it. `docs` is the
-    /// address of docs/diagnostics.md, each code's section linked from its
-    /// diagnostic.
+    /// address of docs/diagnostics.md, beside which each code's section
+    /// (in docs/diagnostics/) is linked from its diagnostic.
     pub fn check_if_changed(&mut self, docs: Option<&Url>) {
         let version = self.version;
         if self.checked.as_ref().is_none_or(|c| c.version != version) {
@@ -189,10 +189,9 @@ impl Document {
     }
 }
 
-/// The section of docs/diagnostics.md about `code`: its heading is the code
-/// in backticks, whose anchor drops the backticks and colons.
+/// The section about `code`, on its page of docs/diagnostics/, beside
+/// `docs`, the address of docs/diagnostics.md.
 fn documentation(docs: &Url, code: &str) -> Option<CodeDescription> {
-    let mut href = docs.clone();
-    href.set_fragment(Some(&code.replace("::", "")));
+    let href = docs.join(&raytracer_scene::fix::documentation(code)).ok()?;
     Some(CodeDescription { href })
 }

@@ -59,8 +59,8 @@ pub struct Update {
     pub version: u64,
     /// The scene as given on the command line.
     pub scene: String,
-    /// docs/diagnostics.md, where each diagnostic's code links (`--docs`),
-    /// if anywhere.
+    /// docs/diagnostics.md, beside which each diagnostic's code links to
+    /// its section in docs/diagnostics/ (`--docs`), if anywhere.
     pub docs: Option<String>,
     pub phase: Phase,
     /// Counts the images rendered: `/image.png?v=N` names the image of
