@@ -24,8 +24,11 @@ fi
 
 # Debian's tools by full path: rustup's come first on PATH.
 RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 CARGO_TARGET_DIR=target/web/cargo \
-CARGO_PROFILE_RELEASE_PANIC=abort \
+CARGO_PROFILE_RELEASE_PANIC=abort CARGO_PROFILE_RELEASE_LTO=fat \
+CARGO_PROFILE_RELEASE_CODEGEN_UNITS=1 \
     /usr/bin/cargo build --release --locked -p raytracer-web \
+    --config 'profile.release.package."*".opt-level="z"' \
+    --config 'profile.release.package.raytracer-scene.opt-level="z"' \
     -Zbuild-std=std,panic_abort --target wasm32-unknown-unknown
 WASM=target/web/cargo/wasm32-unknown-unknown/release/raytracer_web.wasm
 mkdir -p target/web

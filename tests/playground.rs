@@ -218,6 +218,36 @@ fn sample() -> String {
     std::fs::read_to_string(repository().join("scenes/sample.txt")).expect("the sample")
 }
 
+/// The most the module may weigh gzipped (`gzip -9`, as a web server
+/// compresses it), which docs/playground.md promises: 400 KiB.
+const MODULE_GZIPPED_BUDGET: usize = 400 * 1024;
+
+/// The module `make web` built, after `wasm-opt -Oz`, is within
+/// [`MODULE_GZIPPED_BUDGET`] once gzipped.
+#[test]
+fn the_module_is_at_most_400_kib_gzipped() {
+    if site("the_module_is_at_most_400_kib_gzipped").is_none() {
+        return;
+    }
+    let module = repository().join("target/web/raytracer.wasm");
+    let bytes = std::fs::metadata(&module).expect("the module").len();
+    let gzip = Command::new("gzip")
+        .arg("-9c")
+        .arg(&module)
+        .output()
+        .expect("run gzip");
+    assert!(gzip.status.success(), "gzip -9c {}", module.display());
+    let gzipped = gzip.stdout.len();
+    record(&format!(
+        "the module: {bytes} bytes, {gzipped} bytes gzipped (gzip -9)"
+    ));
+    assert!(
+        gzipped <= MODULE_GZIPPED_BUDGET,
+        "the module is {gzipped} bytes gzipped, over the {MODULE_GZIPPED_BUDGET} \
+         docs/playground.md promises"
+    );
+}
+
 #[test]
 fn a_misspelt_attribute_is_shown_at_its_line_and_its_fix_renders_the_native_image() {
     let test = "a_misspelt_attribute_is_shown_at_its_line_and_its_fix_renders_the_native_image";
