@@ -27,7 +27,8 @@ TEST_THREADS ?= $(shell echo $$(( $$(nproc) * 2 )))
 # The tests that need programs outside cargo or root (Slurm, browsers,
 # editors, POV-Ray, GNU parallel, shells and man, the sandbox's attacks, the
 # classes of student tracers in Java, Python and JavaScript, Gradescope's
-# container in podman): the full tier,
+# container in podman, docs/grading.md's examples, which grade Python
+# students in the sandbox): the full tier,
 # which `make test` and CI run and `make check` leaves out.
 FULL_TIER := slurm:: neovim:: vim_syntax:: vscode:: pov:: preview_browser:: \
 	grade_browser:: grade_sandbox:: grade_students:: grade_class:: distributed:: install:: \
