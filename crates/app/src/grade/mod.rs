@@ -141,7 +141,7 @@ fn aspect_pictures(
 }
 
 /// `reason` with the run's full disk (of `disk` bytes) told after it.
-fn with_full_disk(reason: Option<String>, disk: u64) -> String {
+pub(crate) fn with_full_disk(reason: Option<String>, disk: u64) -> String {
     let full = format!("the run's disk space ({} MiB) was full", disk >> 20);
     match reason {
         Some(reason) => format!("{reason}; {full}"),

@@ -131,7 +131,11 @@ impl Student {
             Ended::Signalled(signal) => (None, Some(signal)),
             Ended::TimedOut | Ended::NotStarted(_) => (None, None),
         };
-        let reason = super::judge::failure(&run.ended).map(|(_, reason)| reason);
+        let failed = super::judge::failure(&run.ended).map(|(_, reason)| reason);
+        let reason = match run.disk_full {
+            true => Some(super::with_full_disk(failed, confinement.limits.disk)),
+            false => failed,
+        };
         Some(BuildSummary {
             command: command.clone(),
             ok: reason.is_none(),

@@ -1,0 +1,392 @@
+//! A quota where there is none: the bound on a run's writable folders
+//! that no tmpfs holds.
+//!
+//! In a box, a scene's working folder is a tmpfs of `--disk` MiB and
+//! [`crate::scratch`]'s inodes. Where no tmpfs can be mounted (without a
+//! box, as in Gradescope's containers), and for a build's folder, which a
+//! box binds from the grader's disk, the file system has no quota for the
+//! run's user (and as an ordinary user's grader, that user is the
+//! grader's own). So the grader measures those folders while the program
+//! runs ([`Quota::due`]), again after a pause as long as the last walk
+//! took and 20 ms more (a walk of an honest run's folder takes
+//! microseconds; of one holding tens of thousands of files, at most half
+//! a core), and the run ([`crate::run`]) kills the program's whole
+//! process tree as soon as they hold more bytes (blocks allocated) or
+//! more entries than a tmpfs would: the report then says the run's disk
+//! space was full, as it does for a tmpfs. A run may pass the bound
+//! by what it writes between two walks; `--max-file-size` still bounds
+//! each file, and what the run leaves is removed after it.
+//!
+//! The walk ([`usage`]) follows no link and holds two descriptors at most
+//! (a folder, and on the way up its parent, reached through `..` and
+//! checked by device and inode, as [`crate::folder::remove_tree`] does),
+//! so 30,000 nested folders cost no stack and no descriptor per level;
+//! it stays on the folder's file system, counts a file with several names
+//! once, and stops as soon as the bound is passed, so one walk reads at
+//! most the bound's number of entries. A folder the grader cannot list
+//! (an ordinary user's program may `chmod 000` it: the grader, its
+//! owner, gives itself back the right to list it), or one moved while it
+//! was walked, leaves that walk unfinished; walks that keep being left
+//! unfinished count as over the bound, so no program can hide its files
+//! by keeping the grader from seeing them.
+
+use std::collections::HashSet;
+use std::ffi::{CStr, CString, OsStr};
+use std::fs::Permissions;
+use std::io;
+use std::os::fd::{AsRawFd, OwnedFd};
+use std::os::unix::ffi::OsStrExt;
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use crate::copy::open_at;
+
+/// The shortest pause between two walks.
+const PAUSE: Duration = Duration::from_millis(20);
+
+/// Walks in a row left unfinished before the folders count as over the
+/// bound.
+const UNFINISHED: u32 = 8;
+
+/// What the folders may hold, or what is left of it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Bound {
+    pub bytes: u64,
+    pub inodes: u64,
+}
+
+/// How a walk ended.
+#[derive(Debug, PartialEq, Eq)]
+pub(crate) enum Usage {
+    /// Within the bound: what is left of it.
+    Within(Bound),
+    /// Over the bound.
+    Over,
+    /// A folder could not be listed, or was moved while it was walked.
+    Unfinished,
+}
+
+/// The folders one run may write that no tmpfs bounds, and when to walk
+/// them next.
+#[derive(Debug)]
+pub(crate) struct Quota {
+    folders: Vec<PathBuf>,
+    bound: Bound,
+    next: Instant,
+    unfinished: u32,
+}
+
+impl Quota {
+    /// The quota of `folders`, together held to `bound`; `None` when there
+    /// is no folder to watch.
+    pub(crate) fn new(folders: Vec<PathBuf>, bound: Bound) -> Option<Quota> {
+        (!folders.is_empty()).then(|| Quota {
+            folders,
+            bound,
+            next: Instant::now(),
+            unfinished: 0,
+        })
+    }
+
+    /// Whether the folders hold more than the bound now (a walk left
+    /// unfinished counts as within it).
+    pub(crate) fn over(&self) -> bool {
+        usage(&self.folders, self.bound) == Usage::Over
+    }
+
+    /// While the program runs: walk the folders when a walk is due, and
+    /// say whether they are over the bound, or their walks keep being left
+    /// unfinished.
+    pub(crate) fn due(&mut self) -> bool {
+        let now = Instant::now();
+        if now < self.next {
+            return false;
+        }
+        let found = usage(&self.folders, self.bound);
+        self.next = Instant::now() + (Instant::now() - now) + PAUSE;
+        match found {
+            Usage::Within(_) => {
+                self.unfinished = 0;
+                false
+            }
+            Usage::Over => true,
+            Usage::Unfinished => {
+                self.unfinished += 1;
+                self.unfinished >= UNFINISHED
+            }
+        }
+    }
+}
+
+/// The entries and bytes under `folders` (each folder counted too),
+/// against `bound`.
+pub(crate) fn usage(folders: &[PathBuf], bound: Bound) -> Usage {
+    let mut walk = Walk {
+        left: bound,
+        seen: HashSet::new(),
+    };
+    for folder in folders {
+        match walk.folder(folder) {
+            Ok(true) => {}
+            Ok(false) => return Usage::Over,
+            Err(_) => return Usage::Unfinished,
+        }
+    }
+    Usage::Within(walk.left)
+}
+
+/// One walk: what is left of the bound, and the files with several names
+/// already counted.
+struct Walk {
+    left: Bound,
+    seen: HashSet<(u64, u64)>,
+}
+
+/// A folder being walked: its device and inode (to know it again on the
+/// way up), and the folders in it not walked yet.
+struct Level {
+    id: (u64, u64),
+    folders: Vec<CString>,
+}
+
+impl Walk {
+    /// Count `top` and everything under it; `Ok(false)` once the bound is
+    /// passed.
+    fn folder(&mut self, top: &Path) -> io::Result<bool> {
+        let mut current = open_at(libc::AT_FDCWD, top.as_os_str(), libc::O_DIRECTORY)?;
+        let stat = stat_of(&current)?;
+        let device = stat.st_dev;
+        if !self.count(&stat) {
+            return Ok(false);
+        }
+        let mut levels = vec![Level {
+            id: (stat.st_dev, stat.st_ino),
+            folders: Vec::new(),
+        }];
+        let Some(folders) = self.list(&current, device)? else {
+            return Ok(false);
+        };
+        levels[0].folders = folders;
+        loop {
+            let level = levels.last_mut().expect("a level while walking");
+            if let Some(name) = level.folders.pop() {
+                let inner = match enter(&current, &name) {
+                    Ok(inner) => inner,
+                    // Removed since it was listed.
+                    Err(error) if error.raw_os_error() == Some(libc::ENOENT) => continue,
+                    Err(error) => return Err(error),
+                };
+                let stat = stat_of(&inner)?;
+                let Some(folders) = self.list(&inner, device)? else {
+                    return Ok(false);
+                };
+                current = inner;
+                levels.push(Level {
+                    id: (stat.st_dev, stat.st_ino),
+                    folders,
+                });
+                continue;
+            }
+            levels.pop();
+            let Some(up) = levels.last() else {
+                return Ok(true);
+            };
+            let parent = open_at(current.as_raw_fd(), OsStr::new(".."), libc::O_DIRECTORY)?;
+            let stat = stat_of(&parent)?;
+            if (stat.st_dev, stat.st_ino) != up.id {
+                return Err(io::Error::other("a folder was moved while it was walked"));
+            }
+            current = parent;
+        }
+    }
+
+    /// Count one entry; `false` once the bound is passed.
+    fn count(&mut self, stat: &libc::stat) -> bool {
+        let folder = stat.st_mode & libc::S_IFMT == libc::S_IFDIR;
+        if !folder && stat.st_nlink > 1 && !self.seen.insert((stat.st_dev, stat.st_ino)) {
+            return true;
+        }
+        let bytes = (stat.st_blocks as u64).saturating_mul(512);
+        match (
+            self.left.inodes.checked_sub(1),
+            self.left.bytes.checked_sub(bytes),
+        ) {
+            (Some(inodes), Some(bytes)) => {
+                self.left = Bound { bytes, inodes };
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Count every entry of the open folder `dir`, and return the names
+    /// of the folders in it on `device`; `None` once the bound is passed.
+    fn list(&mut self, dir: &OwnedFd, device: u64) -> io::Result<Option<Vec<CString>>> {
+        let mut folders = Vec::new();
+        for name in names(dir)? {
+            let stat = match stat_at(dir, &name) {
+                Ok(stat) => stat,
+                Err(error) if error.raw_os_error() == Some(libc::ENOENT) => continue,
+                Err(error) => return Err(error),
+            };
+            if !self.count(&stat) {
+                return Ok(None);
+            }
+            if stat.st_mode & libc::S_IFMT == libc::S_IFDIR && stat.st_dev == device {
+                folders.push(name);
+            }
+        }
+        Ok(Some(folders))
+    }
+}
+
+/// Open the folder `name` in `dir` for listing, not following a link;
+/// when its owner's rights were taken away (the grader is its owner, or
+/// root), given back first.
+fn enter(dir: &OwnedFd, name: &CStr) -> io::Result<OwnedFd> {
+    let place = open_at(
+        dir.as_raw_fd(),
+        OsStr::from_bytes(name.to_bytes()),
+        libc::O_PATH | libc::O_DIRECTORY,
+    )?;
+    match open_at(place.as_raw_fd(), OsStr::new("."), libc::O_DIRECTORY) {
+        Err(error) if error.raw_os_error() == Some(libc::EACCES) => {
+            let mode = stat_of(&place)?.st_mode & 0o7777;
+            let through = format!("/proc/self/fd/{}", place.as_raw_fd());
+            std::fs::set_permissions(through, Permissions::from_mode(mode | 0o700))?;
+            open_at(place.as_raw_fd(), OsStr::new("."), libc::O_DIRECTORY)
+        }
+        opened => opened,
+    }
+}
+
+/// The names in the open folder `dir` but `.` and `..`.
+fn names(dir: &OwnedFd) -> io::Result<Vec<CString>> {
+    // A descriptor of its own, so the listing starts at the beginning.
+    let listing = open_at(dir.as_raw_fd(), OsStr::new("."), libc::O_DIRECTORY)?;
+    // SAFETY: `fdopendir` takes ownership of the fresh descriptor.
+    let stream = unsafe { libc::fdopendir(listing.as_raw_fd()) };
+    if stream.is_null() {
+        return Err(io::Error::last_os_error());
+    }
+    std::mem::forget(listing);
+    let mut names = Vec::new();
+    loop {
+        // SAFETY: `stream` is an open directory stream.
+        let entry = unsafe { libc::readdir(stream) };
+        if entry.is_null() {
+            break;
+        }
+        // SAFETY: `d_name` of an entry `readdir` returned is a C string.
+        let name = unsafe { CStr::from_ptr((*entry).d_name.as_ptr()) };
+        if !matches!(name.to_bytes(), b"." | b"..") {
+            names.push(name.to_owned());
+        }
+    }
+    // SAFETY: closing the stream `fdopendir` made (and its descriptor).
+    unsafe { libc::closedir(stream) };
+    Ok(names)
+}
+
+/// `fstat` of an open file.
+fn stat_of(fd: &OwnedFd) -> io::Result<libc::stat> {
+    // SAFETY: `stat` is plain data, filled by the call.
+    let mut stat: libc::stat = unsafe { std::mem::zeroed() };
+    // SAFETY: a valid descriptor and out pointer.
+    if unsafe { libc::fstat(fd.as_raw_fd(), &mut stat) } != 0 {
+        return Err(io::Error::last_os_error());
+    }
+    Ok(stat)
+}
+
+/// `fstatat` of `name` in `dir`, the link itself when it is one.
+fn stat_at(dir: &OwnedFd, name: &CStr) -> io::Result<libc::stat> {
+    // SAFETY: `stat` is plain data, filled by the call.
+    let mut stat: libc::stat = unsafe { std::mem::zeroed() };
+    // SAFETY: valid descriptor, C string and out pointer.
+    let result = unsafe {
+        libc::fstatat(
+            dir.as_raw_fd(),
+            name.as_ptr(),
+            &mut stat,
+            libc::AT_SYMLINK_NOFOLLOW,
+        )
+    };
+    if result != 0 {
+        return Err(io::Error::last_os_error());
+    }
+    Ok(stat)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bound(bytes: u64, inodes: u64) -> Bound {
+        Bound { bytes, inodes }
+    }
+
+    #[test]
+    fn entries_and_bytes_are_counted_once_without_following_a_link() {
+        let dir = tempfile::tempdir().unwrap();
+        let outside = dir.path().join("outside");
+        std::fs::create_dir(&outside).unwrap();
+        std::fs::write(outside.join("big"), vec![1u8; 1 << 20]).unwrap();
+        let top = dir.path().join("top");
+        std::fs::create_dir_all(top.join("a/b")).unwrap();
+        std::fs::write(top.join("a/b/file"), vec![1u8; 64 << 10]).unwrap();
+        std::fs::hard_link(top.join("a/b/file"), top.join("again")).unwrap();
+        std::os::unix::fs::symlink(&outside, top.join("link")).unwrap();
+        let Usage::Within(left) = usage(std::slice::from_ref(&top), bound(1 << 30, 100)) else {
+            panic!("over the bound")
+        };
+        // top, a, b, file (with its second name), link.
+        assert_eq!(100 - left.inodes, 5);
+        let used = (1 << 30) - left.bytes;
+        assert!((64 << 10..1 << 20).contains(&used), "{used}");
+        assert_eq!(
+            usage(std::slice::from_ref(&top), bound(1 << 30, 4)),
+            Usage::Over
+        );
+        assert_eq!(usage(&[top], bound(32 << 10, 100)), Usage::Over);
+    }
+
+    #[test]
+    fn deep_and_closed_folders_are_measured_with_a_small_stack() {
+        let dir = tempfile::tempdir().unwrap();
+        let top = dir.path().join("top");
+        std::fs::create_dir(&top).unwrap();
+        let mut current = open_at(libc::AT_FDCWD, top.as_os_str(), libc::O_DIRECTORY).unwrap();
+        for _ in 0..3_000 {
+            // SAFETY: a valid descriptor and C string.
+            assert_eq!(
+                unsafe { libc::mkdirat(current.as_raw_fd(), c"d".as_ptr(), 0o755) },
+                0
+            );
+            current = open_at(current.as_raw_fd(), OsStr::new("d"), libc::O_DIRECTORY).unwrap();
+        }
+        drop(current);
+        let closed = top.join("closed");
+        std::fs::create_dir(&closed).unwrap();
+        std::fs::write(closed.join("file"), "x").unwrap();
+        std::fs::set_permissions(&closed, Permissions::from_mode(0o000)).unwrap();
+        let measured = top.clone();
+        let found = std::thread::Builder::new()
+            .stack_size(64 << 10)
+            .spawn(move || usage(&[measured], bound(1 << 40, 10_000)))
+            .unwrap()
+            .join()
+            .unwrap();
+        let Usage::Within(left) = found else {
+            panic!("{found:?}")
+        };
+        // top, 3,000 nested folders, closed and its file.
+        assert_eq!(10_000 - left.inodes, 3_003);
+        assert_eq!(
+            usage(std::slice::from_ref(&top), bound(1 << 40, 3_002)),
+            Usage::Over
+        );
+        crate::folder::remove_tree(&top).unwrap();
+    }
+}
