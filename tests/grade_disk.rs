@@ -8,8 +8,10 @@
 //! working folder, its private temporary folder inside it, and kills the
 //! run when they hold more (crates/box/src/quota.rs). Each kind of run a
 //! grader may be (root, an ordinary user; boxed or not) grades one class:
-//! a student who fills the disk with many small files, one who makes
-//! more files than the bound in its temporary folder, and an honest one.
+//! a student who fills the disk with many small files (in a folder it
+//! closes to listing, which the grader must reopen to count), one who
+//! makes more files than the bound in its temporary folder, and an
+//! honest one.
 
 use std::os::unix::fs::PermissionsExt;
 use std::path::Path;
@@ -21,9 +23,11 @@ use crate::grade_cli::{binary, open_folder, student_binary};
 use crate::support;
 use crate::support::namespaces::without_namespaces;
 
-/// Writes 64 KiB files, far past the disk space, then renders.
+/// Writes 64 KiB files, far past the disk space, into a folder its owner
+/// may not list (`chmod 300`), then renders.
 const SMALL_FILES: &str = "\
-for i in $(seq 4096); do head -c 65536 /dev/zero > fill$i 2>/dev/null || break; done\n\
+mkdir hidden; chmod 300 hidden\n\
+for i in $(seq 4096); do head -c 65536 /dev/zero > hidden/fill$i 2>/dev/null || break; done\n\
 exec ./renderer render \"$1\" \"$2\"\n";
 
 /// Makes empty files in its temporary folder (the working folder in a

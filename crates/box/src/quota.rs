@@ -23,12 +23,13 @@
 //! so 30,000 nested folders cost no stack and no descriptor per level;
 //! it stays on the folder's file system, counts a file with several names
 //! once, and stops as soon as the bound is passed, so one walk reads at
-//! most the bound's number of entries. A folder the grader cannot list
-//! (an ordinary user's program may `chmod 000` it: the grader, its
-//! owner, gives itself back the right to list it), or one moved while it
-//! was walked, leaves that walk unfinished; walks that keep being left
-//! unfinished count as over the bound, so no program can hide its files
-//! by keeping the grader from seeing them.
+//! most the bound's number of entries. An ordinary user's program may
+//! take its folders' rights from their owner (`chmod 000`): the grader,
+//! that owner, gives them back before it lists one. A folder it still
+//! cannot list, or one moved while it was walked, leaves that walk
+//! unfinished; walks that keep being left unfinished count as over the
+//! bound, so no program can hide its files by keeping the grader from
+//! seeing them.
 
 use std::collections::HashSet;
 use std::ffi::{CStr, CString, OsStr};
@@ -154,7 +155,7 @@ impl Walk {
     /// Count `top` and everything under it; `Ok(false)` once the bound is
     /// passed.
     fn folder(&mut self, top: &Path) -> io::Result<bool> {
-        let mut current = open_at(libc::AT_FDCWD, top.as_os_str(), libc::O_DIRECTORY)?;
+        let mut current = enter(libc::AT_FDCWD, top.as_os_str())?;
         let stat = stat_of(&current)?;
         let device = stat.st_dev;
         if !self.count(&stat) {
@@ -171,7 +172,7 @@ impl Walk {
         loop {
             let level = levels.last_mut().expect("a level while walking");
             if let Some(name) = level.folders.pop() {
-                let inner = match enter(&current, &name) {
+                let inner = match enter(current.as_raw_fd(), OsStr::from_bytes(name.as_bytes())) {
                     Ok(inner) => inner,
                     // Removed since it was listed.
                     Err(error) if error.raw_os_error() == Some(libc::ENOENT) => continue,
@@ -241,24 +242,24 @@ impl Walk {
     }
 }
 
-/// Open the folder `name` in `dir` for listing, not following a link;
-/// when its owner's rights were taken away (the grader is its owner, or
-/// root), given back first.
-fn enter(dir: &OwnedFd, name: &CStr) -> io::Result<OwnedFd> {
-    let place = open_at(
-        dir.as_raw_fd(),
-        OsStr::from_bytes(name.to_bytes()),
-        libc::O_PATH | libc::O_DIRECTORY,
-    )?;
-    match open_at(place.as_raw_fd(), OsStr::new("."), libc::O_DIRECTORY) {
-        Err(error) if error.raw_os_error() == Some(libc::EACCES) => {
-            let mode = stat_of(&place)?.st_mode & 0o7777;
-            let through = format!("/proc/self/fd/{}", place.as_raw_fd());
-            std::fs::set_permissions(through, Permissions::from_mode(mode | 0o700))?;
-            open_at(place.as_raw_fd(), OsStr::new("."), libc::O_DIRECTORY)
-        }
-        opened => opened,
+/// Open the folder `name` in `dir` (`AT_FDCWD`: the working folder) for
+/// listing, not following a link ([`listable`]).
+fn enter(dir: libc::c_int, name: &OsStr) -> io::Result<OwnedFd> {
+    listable(open_at(dir, name, libc::O_PATH | libc::O_DIRECTORY)?)
+}
+
+/// The folder held at `place` (`O_PATH`), opened for listing; when its
+/// owner may not list or search it, and the grader is that owner, given
+/// those rights back first (root needs no right).
+fn listable(place: OwnedFd) -> io::Result<OwnedFd> {
+    let stat = stat_of(&place)?;
+    let me = crate::effective_uid();
+    if me != 0 && stat.st_uid == me && stat.st_mode & 0o500 != 0o500 {
+        let through = format!("/proc/self/fd/{}", place.as_raw_fd());
+        let mode = stat.st_mode & 0o7777 | 0o700;
+        std::fs::set_permissions(through, Permissions::from_mode(mode))?;
     }
+    open_at(place.as_raw_fd(), OsStr::new("."), libc::O_DIRECTORY)
 }
 
 /// The names in the open folder `dir` but `.` and `..`.
@@ -350,6 +351,63 @@ mod tests {
             Usage::Over
         );
         assert_eq!(usage(&[top], bound(32 << 10, 100)), Usage::Over);
+    }
+
+    /// As an ordinary user's grader, which is the owner of what its
+    /// program makes: a folder the program closed to listing (`chmod
+    /// 300`) is opened again and counted, not left unseen.
+    #[test]
+    fn a_folder_its_owner_closed_is_opened_again_and_counted() {
+        if crate::effective_uid() != 0 {
+            // Run as root, the test plays an ordinary user (`nobody`).
+            use std::io::Write;
+            let _ = writeln!(
+                std::io::stderr(),
+                "SKIPPED the user's walk: it needs root to play a user"
+            );
+            return;
+        }
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::set_permissions(dir.path(), Permissions::from_mode(0o755)).unwrap();
+        let top = dir.path().join("top");
+        let hidden = top.join("hidden");
+        std::fs::create_dir_all(&hidden).unwrap();
+        for name in ["a", "b", "c"] {
+            std::fs::write(hidden.join(name), vec![1u8; 8192]).unwrap();
+        }
+        let nobody = crate::confinement::NOBODY;
+        for path in [&top, &hidden] {
+            for entry in std::fs::read_dir(path).unwrap() {
+                std::os::unix::fs::lchown(entry.unwrap().path(), Some(nobody), Some(nobody))
+                    .unwrap();
+            }
+        }
+        std::os::unix::fs::lchown(&top, Some(nobody), Some(nobody)).unwrap();
+        std::fs::set_permissions(&hidden, Permissions::from_mode(0o300)).unwrap();
+        // SAFETY: the child only switches uid, walks and leaves with `_exit`.
+        let child = unsafe { libc::fork() };
+        if child == 0 {
+            // SAFETY: plain system calls.
+            let switched = unsafe { libc::setgid(nobody) == 0 && libc::setuid(nobody) == 0 };
+            // Itself, `hidden` and three files of 8 KiB.
+            let counted = switched
+                && matches!(
+                    usage(std::slice::from_ref(&top), bound(1 << 30, 100)),
+                    Usage::Within(left) if left.inodes == 95 && (1 << 30) - left.bytes >= 3 * 8192
+                );
+            // SAFETY: leaving the child.
+            unsafe { libc::_exit(i32::from(!counted)) };
+        }
+        let mut status = 0;
+        // SAFETY: waiting for our own child.
+        assert_eq!(unsafe { libc::waitpid(child, &mut status, 0) }, child);
+        assert_eq!(status, 0, "the closed folder was not counted as its owner");
+        let mode = std::fs::metadata(&hidden).unwrap().permissions().mode();
+        assert_eq!(
+            mode & 0o777,
+            0o700,
+            "its owner's rights were not given back"
+        );
     }
 
     #[test]
