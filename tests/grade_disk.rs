@@ -10,8 +10,8 @@
 //! grader may be (root, an ordinary user; boxed or not) grades one class:
 //! a student who fills the disk with many small files (in a folder it
 //! closes to listing, which the grader must reopen to count), one who
-//! makes more files than the bound in its temporary folder, and an
-//! honest one.
+//! makes more files than the bound in its temporary folder, one who
+//! writes through the descriptor of a file it removed, and an honest one.
 
 use std::os::unix::fs::PermissionsExt;
 use std::path::Path;
@@ -34,6 +34,12 @@ exec ./renderer render \"$1\" \"$2\"\n";
 /// box, where `TMPDIR` is not set) past the bound on files, then renders.
 const MANY_FILES: &str = "\
 cd \"${TMPDIR:-.}\"; for i in $(seq 65536); do : 2>/dev/null > f$i || break; done; cd - >/dev/null\n\
+exec ./renderer render \"$1\" \"$2\"\n";
+
+/// Writes far past the disk space into a file it has removed, holding
+/// the disk for a while through the descriptor, then renders.
+const REMOVED_FILE: &str = "\
+exec 3>held; rm held; head -c 67108864 /dev/zero >&3 2>/dev/null; sleep 5\n\
 exec ./renderer render \"$1\" \"$2\"\n";
 
 const HONEST: &str = "exec ./renderer render \"$1\" \"$2\"\n";
@@ -83,7 +89,8 @@ fn class(d: &Path) {
     for (name, script) in [
         ("a-small-files", SMALL_FILES),
         ("b-many-files", MANY_FILES),
-        ("c-honest", HONEST),
+        ("c-removed-file", REMOVED_FILE),
+        ("d-honest", HONEST),
     ] {
         let folder = d.join("class").join(name);
         std::fs::create_dir_all(&folder).unwrap();
@@ -143,18 +150,18 @@ fn a_run_that_fills_its_disk_space_is_stopped_and_told_in_every_kind_of_run() {
         let output = command.output().unwrap();
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert_eq!(output.status.code(), Some(1), "{run}: {stderr}");
-        for student in ["a-small-files", "b-many-files"] {
+        for student in ["a-small-files", "b-many-files", "c-removed-file"] {
             let scene = scene(&report, student);
             let reason = scene["reason"].as_str().unwrap_or_default();
             assert!(reason.contains(&full), "{run}, {student}: {scene}");
             assert_ne!(scene["status"], "match", "{run}, {student}: {scene}");
             assert_ne!(scene["status"], "timeout", "{run}, {student}: {scene}");
         }
-        let honest = scene(&report, "c-honest");
+        let honest = scene(&report, "d-honest");
         assert_eq!(honest["status"], "match", "{run}: {honest}");
         assert!(honest["reason"].is_null(), "{run}: {honest}");
         let csv = std::fs::read_to_string(report.join("class.csv")).unwrap();
-        assert_eq!(csv.lines().count(), 4, "{run}: {csv}");
+        assert_eq!(csv.lines().count(), 5, "{run}: {csv}");
         let left: Vec<_> = std::fs::read_dir(&tmp).unwrap().flatten().collect();
         assert!(left.is_empty(), "{run}: left in TMPDIR: {left:?}");
     }

@@ -28,14 +28,15 @@
 //! ("C2"), which marks every inherited descriptor close-on-exec, drops to
 //! the run's uid, takes the limits and `PR_SET_NO_NEW_PRIVS`, and execs.
 //! C1 (not dumpable, holding no descriptor of the grader's but its own
-//! pipes and the working folder's) reaps whatever is reparented to it;
-//! when the program ends it kills everything left in the box, copies the
-//! program's image out of the tmpfs, tells the grader whether the tmpfs
-//! was full (a pipe of the run's, [`Plan::report_to`]) and exits, handing
-//! the program's wait status to C0 through a pipe; C0 exits the same
-//! way. When C1 exits, or is
-//! killed with C0's group at the timeout, the kernel kills every process
-//! left in the namespace: nothing the program started survives the run.
+//! pipes and the working folder's) reaps whatever is reparented to it
+//! and looks at the tmpfs every 10 ms; when the program ends it kills
+//! everything left in the box, copies the program's image out of the
+//! tmpfs, tells the grader whether the tmpfs was full, then or when it
+//! was looked at (a pipe of the run's, [`Plan::report_to`]) and exits,
+//! handing the program's wait status to C0 through a pipe; C0 exits the
+//! same way. When C1 exits, or is killed with C0's group at the
+//! timeout, the kernel kills every process left in the namespace:
+//! nothing the program started survives the run.
 //! Everything else of the grader's file system (its executable, the
 //! reference cache, the reports, home folders, other students' folders)
 //! is simply absent, and the network namespace has only a loopback that
@@ -480,8 +481,9 @@ pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
 }
 
 /// C1 once the program (`program`) runs: reap whatever is reparented to
-/// it until the program ends; then kill everything left in the box, say
-/// whether the tmpfs was full, copy the program's image out of it (the
+/// it, and look at the tmpfs every 10 ms, until the program ends; then
+/// kill everything left in the box, say whether the tmpfs was full (then
+/// or when it was looked at), copy the program's image out of it (the
 /// prepared folder and the tmpfs are `folders`, -1 for none), hand the
 /// program's wait status to C0 on `write_end`, and exit.
 ///
@@ -496,13 +498,24 @@ unsafe fn reap_until_done(
 ) -> ! {
     unsafe {
         let mut status = 0;
+        // Whether the tmpfs was seen full while the program ran: a file it
+        // removed but held open fills it only until the program ends.
+        let mut full = false;
         loop {
-            let pid = libc::waitpid(-1, &mut status, 0);
+            let pid = libc::waitpid(-1, &mut status, libc::WNOHANG);
             if pid == program {
                 break;
             }
             if pid == -1 && *libc::__errno_location() == libc::ECHILD {
                 libc::_exit(1);
+            }
+            if pid == 0 {
+                full = full || (inside >= 0 && scratch::full(inside));
+                let pause = libc::timespec {
+                    tv_sec: 0,
+                    tv_nsec: 10_000_000,
+                };
+                libc::nanosleep(&pause, std::ptr::null_mut());
             }
         }
         // Nothing may change the folder while it is read.
@@ -511,7 +524,7 @@ unsafe fn reap_until_done(
             || *libc::__errno_location() == libc::EINTR
         {}
         if let (Some((folder, name)), true) = (&plan.keep, inside >= 0) {
-            if scratch::full(inside) && plan.report >= 0 {
+            if (full || scratch::full(inside)) && plan.report >= 0 {
                 libc::write(plan.report, b"f".as_ptr().cast(), 1);
             }
             let _ = scratch::keep(

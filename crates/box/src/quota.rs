@@ -8,28 +8,29 @@
 //! run's user (and as an ordinary user's grader, that user is the
 //! grader's own). So the grader measures those folders while the program
 //! runs ([`Quota::due`]), again after a pause as long as the last walk
-//! took and 20 ms more (a walk of an honest run's folder takes
+//! took and 50 ms more (a walk of an honest run's folder takes
 //! microseconds; of one holding tens of thousands of files, at most half
 //! a core), and the run ([`crate::run`]) kills the program's whole
 //! process tree as soon as they hold more bytes (blocks allocated) or
 //! more entries than a tmpfs would: the report then says the run's disk
-//! space was full, as it does for a tmpfs. A run may pass the bound
-//! by what it writes between two walks; `--max-file-size` still bounds
-//! each file, and what the run leaves is removed after it.
+//! space was full, as it does for a tmpfs. A run may pass the bound by
+//! what it writes between two walks; `--max-file-size` still bounds each
+//! file, and what the run leaves is removed after it.
 //!
 //! The walk ([`usage`]) follows no link and holds two descriptors at most
 //! (a folder, and on the way up its parent, reached through `..` and
 //! checked by device and inode, as [`crate::folder::remove_tree`] does),
 //! so 30,000 nested folders cost no stack and no descriptor per level;
 //! it stays on the folder's file system, counts a file with several names
-//! once, and stops as soon as the bound is passed, so one walk reads at
-//! most the bound's number of entries. An ordinary user's program may
-//! take its folders' rights from their owner (`chmod 000`): the grader,
-//! that owner, gives them back before it lists one. A folder it still
-//! cannot list, or one moved while it was walked, leaves that walk
-//! unfinished; walks that keep being left unfinished count as over the
-//! bound, so no program can hide its files by keeping the grader from
-//! seeing them.
+//! once, counts too the files on that file system that the run's
+//! processes hold open after removing them (`/proc/PID/fd`), and stops as
+//! soon as the bound is passed, so one walk reads at most the bound's
+//! number of entries. An ordinary user's program may take its folders'
+//! rights from their owner (`chmod 000`): the grader, that owner, gives
+//! them back before it lists one. A folder it still cannot list, or one
+//! moved while it was walked, leaves that walk unfinished; walks that
+//! keep being left unfinished count as over the bound, so no program can
+//! hide its files by keeping the grader from seeing them.
 
 use std::collections::HashSet;
 use std::ffi::{CStr, CString, OsStr};
@@ -37,14 +38,15 @@ use std::fs::Permissions;
 use std::io;
 use std::os::fd::{AsRawFd, OwnedFd};
 use std::os::unix::ffi::OsStrExt;
-use std::os::unix::fs::PermissionsExt;
+use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use crate::copy::open_at;
+use crate::procs::descendants;
 
 /// The shortest pause between two walks.
-const PAUSE: Duration = Duration::from_millis(20);
+const PAUSE: Duration = Duration::from_millis(50);
 
 /// Walks in a row left unfinished before the folders count as over the
 /// bound.
@@ -76,6 +78,9 @@ pub(crate) struct Quota {
     bound: Bound,
     next: Instant,
     unfinished: u32,
+    /// The run's first process, once it runs: the files its tree holds
+    /// open count too.
+    leader: Option<libc::pid_t>,
 }
 
 impl Quota {
@@ -87,13 +92,28 @@ impl Quota {
             bound,
             next: Instant::now(),
             unfinished: 0,
+            leader: None,
         })
     }
 
-    /// Whether the folders hold more than the bound now (a walk left
-    /// unfinished counts as within it).
+    /// Count, from now on, the files that the process tree of `leader`
+    /// (the run's first process) holds open and no folder names any more.
+    pub(crate) fn watch(&mut self, leader: libc::pid_t) {
+        self.leader = Some(leader);
+    }
+
+    /// The folders' usage, with what the run's processes hold open
+    /// while it runs.
+    fn usage(&self) -> Usage {
+        let holders = self.leader.map(descendants).unwrap_or_default();
+        usage(&self.folders, self.bound, &holders)
+    }
+
+    /// Whether the folders hold more than the bound now, before the
+    /// program starts or once it has ended (a walk left unfinished counts
+    /// as within it).
     pub(crate) fn over(&self) -> bool {
-        usage(&self.folders, self.bound) == Usage::Over
+        usage(&self.folders, self.bound, &[]) == Usage::Over
     }
 
     /// While the program runs: walk the folders when a walk is due, and
@@ -104,7 +124,7 @@ impl Quota {
         if now < self.next {
             return false;
         }
-        let found = usage(&self.folders, self.bound);
+        let found = self.usage();
         self.next = Instant::now() + (Instant::now() - now) + PAUSE;
         match found {
             Usage::Within(_) => {
@@ -120,12 +140,14 @@ impl Quota {
     }
 }
 
-/// The entries and bytes under `folders` (each folder counted too),
-/// against `bound`.
-pub(crate) fn usage(folders: &[PathBuf], bound: Bound) -> Usage {
+/// The entries and bytes under `folders` (each folder counted too), and
+/// of the files on their file systems that the processes `holders` hold
+/// open and no folder names any more, against `bound`.
+pub(crate) fn usage(folders: &[PathBuf], bound: Bound, holders: &[libc::pid_t]) -> Usage {
     let mut walk = Walk {
         left: bound,
         seen: HashSet::new(),
+        devices: Vec::new(),
     };
     for folder in folders {
         match walk.folder(folder) {
@@ -134,14 +156,18 @@ pub(crate) fn usage(folders: &[PathBuf], bound: Bound) -> Usage {
             Err(_) => return Usage::Unfinished,
         }
     }
+    if !walk.held_open(holders) {
+        return Usage::Over;
+    }
     Usage::Within(walk.left)
 }
 
-/// One walk: what is left of the bound, and the files with several names
-/// already counted.
+/// One walk: what is left of the bound, the files with several names (or
+/// none) already counted, and the file systems of the folders walked.
 struct Walk {
     left: Bound,
     seen: HashSet<(u64, u64)>,
+    devices: Vec<u64>,
 }
 
 /// A folder being walked: its device and inode (to know it again on the
@@ -158,6 +184,7 @@ impl Walk {
         let mut current = enter(libc::AT_FDCWD, top.as_os_str())?;
         let stat = stat_of(&current)?;
         let device = stat.st_dev;
+        self.devices.push(device);
         if !self.count(&stat) {
             return Ok(false);
         }
@@ -208,10 +235,15 @@ impl Walk {
         if !folder && stat.st_nlink > 1 && !self.seen.insert((stat.st_dev, stat.st_ino)) {
             return true;
         }
-        let bytes = (stat.st_blocks as u64).saturating_mul(512);
+        self.charge(stat.st_blocks as u64)
+    }
+
+    /// Charge one inode of `blocks` blocks of 512 bytes; `false` once the
+    /// bound is passed.
+    fn charge(&mut self, blocks: u64) -> bool {
         match (
             self.left.inodes.checked_sub(1),
-            self.left.bytes.checked_sub(bytes),
+            self.left.bytes.checked_sub(blocks.saturating_mul(512)),
         ) {
             (Some(inodes), Some(bytes)) => {
                 self.left = Bound { bytes, inodes };
@@ -219,6 +251,33 @@ impl Walk {
             }
             _ => false,
         }
+    }
+
+    /// Count the regular files on the walked file systems that `holders`
+    /// hold open and no folder names (deleted, no link left): what a
+    /// program writes through a descriptor after removing the file;
+    /// `false` once the bound is passed.
+    fn held_open(&mut self, holders: &[libc::pid_t]) -> bool {
+        for pid in holders {
+            let Ok(descriptors) = std::fs::read_dir(format!("/proc/{pid}/fd")) else {
+                continue;
+            };
+            for descriptor in descriptors.flatten() {
+                // The descriptor's link, followed: the open file itself.
+                let Ok(meta) = std::fs::metadata(descriptor.path()) else {
+                    continue;
+                };
+                let unnamed = meta.is_file() && meta.nlink() == 0;
+                if unnamed
+                    && self.devices.contains(&meta.dev())
+                    && self.seen.insert((meta.dev(), meta.ino()))
+                    && !self.charge(meta.blocks())
+                {
+                    return false;
+                }
+            }
+        }
+        true
     }
 
     /// Count every entry of the open folder `dir`, and return the names
@@ -339,7 +398,8 @@ mod tests {
         std::fs::write(top.join("a/b/file"), vec![1u8; 64 << 10]).unwrap();
         std::fs::hard_link(top.join("a/b/file"), top.join("again")).unwrap();
         std::os::unix::fs::symlink(&outside, top.join("link")).unwrap();
-        let Usage::Within(left) = usage(std::slice::from_ref(&top), bound(1 << 30, 100)) else {
+        let Usage::Within(left) = usage(std::slice::from_ref(&top), bound(1 << 30, 100), &[])
+        else {
             panic!("over the bound")
         };
         // top, a, b, file (with its second name), link.
@@ -347,10 +407,10 @@ mod tests {
         let used = (1 << 30) - left.bytes;
         assert!((64 << 10..1 << 20).contains(&used), "{used}");
         assert_eq!(
-            usage(std::slice::from_ref(&top), bound(1 << 30, 4)),
+            usage(std::slice::from_ref(&top), bound(1 << 30, 4), &[]),
             Usage::Over
         );
-        assert_eq!(usage(&[top], bound(32 << 10, 100)), Usage::Over);
+        assert_eq!(usage(&[top], bound(32 << 10, 100), &[]), Usage::Over);
     }
 
     /// As an ordinary user's grader, which is the owner of what its
@@ -392,7 +452,7 @@ mod tests {
             // Itself, `hidden` and three files of 8 KiB.
             let counted = switched
                 && matches!(
-                    usage(std::slice::from_ref(&top), bound(1 << 30, 100)),
+                    usage(std::slice::from_ref(&top), bound(1 << 30, 100), &[]),
                     Usage::Within(left) if left.inodes == 95 && (1 << 30) - left.bytes >= 3 * 8192
                 );
             // SAFETY: leaving the child.
@@ -408,6 +468,27 @@ mod tests {
             0o700,
             "its owner's rights were not given back"
         );
+    }
+
+    /// A file removed while a process holds it open and writes to it is
+    /// named by no folder, and still takes the disk: it counts, for the
+    /// processes that hold it.
+    #[test]
+    fn a_removed_file_held_open_counts() {
+        let dir = tempfile::tempdir().unwrap();
+        let top = dir.path().join("top");
+        std::fs::create_dir(&top).unwrap();
+        let mut held = std::fs::File::create(top.join("removed")).unwrap();
+        std::fs::remove_file(top.join("removed")).unwrap();
+        std::io::Write::write_all(&mut held, &vec![1u8; 1 << 20]).unwrap();
+        held.sync_all().unwrap();
+        let folders = std::slice::from_ref(&top);
+        let small = bound(512 << 10, 100);
+        assert!(matches!(usage(folders, small, &[]), Usage::Within(_)));
+        let me = std::process::id() as libc::pid_t;
+        assert_eq!(usage(folders, small, &[me]), Usage::Over);
+        drop(held);
+        assert!(matches!(usage(folders, small, &[me]), Usage::Within(_)));
     }
 
     #[test]
@@ -432,7 +513,7 @@ mod tests {
         let measured = top.clone();
         let found = std::thread::Builder::new()
             .stack_size(64 << 10)
-            .spawn(move || usage(&[measured], bound(1 << 40, 10_000)))
+            .spawn(move || usage(&[measured], bound(1 << 40, 10_000), &[]))
             .unwrap()
             .join()
             .unwrap();
@@ -442,7 +523,7 @@ mod tests {
         // top, 3,000 nested folders, closed and its file.
         assert_eq!(10_000 - left.inodes, 3_003);
         assert_eq!(
-            usage(std::slice::from_ref(&top), bound(1 << 40, 3_002)),
+            usage(std::slice::from_ref(&top), bound(1 << 40, 3_002), &[]),
             Usage::Over
         );
         crate::folder::remove_tree(&top).unwrap();

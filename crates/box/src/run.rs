@@ -44,6 +44,7 @@ use crate::capture::{self, Captured};
 use crate::cgroup::{join_group, ControlGroup};
 use crate::child::{check, drop_to_user, network_namespaces};
 use crate::confinement::{Confinement, Limits, Share};
+use crate::procs::{descendants, parent_and_group, processes};
 use crate::quota::{Bound, Quota};
 use crate::reason::{reason, start_failure};
 use crate::spawning::SPAWNING;
@@ -81,8 +82,9 @@ pub struct Run {
     pub seconds: f64,
     pub stdout: Captured,
     pub stderr: Captured,
-    /// The box's working folder had no byte or no inode left when the
-    /// program ended ([`crate::Scratch`]).
+    /// The box's working folder had no byte or no inode left while the
+    /// program ran or when it ended ([`crate::Scratch`]), or the folders
+    /// no tmpfs bounds passed their quota ([`crate::quota`]).
     pub disk_full: bool,
 }
 
@@ -134,6 +136,9 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         Err(reason) => return Run::not_started(reason, start),
     };
     let group = child.id() as libc::pid_t;
+    if let Some(quota) = setup.quota.as_mut() {
+        quota.watch(group);
+    }
     let running = || {
         RUNNING
             .lock()
@@ -417,34 +422,6 @@ fn kill_tree(leader: libc::pid_t) {
     unsafe { libc::killpg(leader, libc::SIGKILL) };
 }
 
-/// `leader` and every process descended from it now, from `/proc`.
-fn descendants(leader: libc::pid_t) -> Vec<libc::pid_t> {
-    let parents: Vec<(libc::pid_t, libc::pid_t)> = processes()
-        .filter_map(|pid| Some((pid, parent_and_group(pid)?.0)))
-        .collect();
-    let mut tree = vec![leader];
-    let mut next = 0;
-    while let Some(&parent) = tree.get(next) {
-        tree.extend(
-            parents
-                .iter()
-                .filter(|&&(_, of)| of == parent)
-                .map(|&(pid, _)| pid),
-        );
-        next += 1;
-    }
-    tree
-}
-
-/// The pids of `/proc`, in its order.
-fn processes() -> impl Iterator<Item = libc::pid_t> {
-    std::fs::read_dir("/proc")
-        .into_iter()
-        .flatten()
-        .flatten()
-        .filter_map(|entry| entry.file_name().to_str()?.parse().ok())
-}
-
 /// In the forked child, before `exec`, without a box: a process group of
 /// its own, a network namespace when one can be had, then
 /// [`drop_to_user`], the run's temporary folder ([`crate::tmpdir`]), the
@@ -517,15 +494,4 @@ fn reap_orphans_once(group: Option<libc::pid_t>) -> usize {
         killed += 1;
     }
     killed
-}
-
-/// The parent and process group of `pid`, from `/proc/PID/stat`.
-fn parent_and_group(pid: i32) -> Option<(i32, i32)> {
-    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
-    // The command name may hold spaces and parentheses: fields follow the last `)`.
-    let rest = &stat[stat.rfind(')')? + 2..];
-    let mut fields = rest.split(' ').skip(1);
-    let parent = fields.next()?.parse().ok()?;
-    let group = fields.next()?.parse().ok()?;
-    Some((parent, group))
 }
