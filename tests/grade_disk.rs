@@ -11,7 +11,9 @@
 //! a student who fills the disk with many small files (in a folder it
 //! closes to listing, which the grader must reopen to count), one who
 //! makes more files than the bound in its temporary folder, one who
-//! writes through the descriptor of a file it removed, and an honest one.
+//! writes through the descriptor of a file it removed, and an honest one;
+//! and one student whose build fills its folder, which lies on the
+//! grader's disk in a box too.
 
 use std::os::unix::fs::PermissionsExt;
 use std::path::Path;
@@ -100,6 +102,64 @@ fn class(d: &Path) {
         for path in [folder, d.join("class")] {
             std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
         }
+    }
+}
+
+/// A build that fills its folder past the disk space: in a box too its
+/// folder lies on the grader's disk, so the grader's quota holds it in
+/// every kind of run; the build is stopped, its reason says the disk was
+/// full, and nothing of it is left.
+#[test]
+fn a_build_that_fills_its_folder_is_stopped_and_told_in_every_kind_of_run() {
+    let dir = open_folder("grade-disk-build-");
+    let d = dir.path();
+    class(d);
+    let student = d.join("class/d-honest");
+    std::fs::write(student.join("build.txt"), "bash build.sh\n").unwrap();
+    std::fs::write(
+        student.join("build.sh"),
+        "for i in $(seq 4096); do head -c 65536 /dev/zero > fill$i || exit 1; done\n",
+    )
+    .unwrap();
+    let renderer = std::fs::metadata(student_binary()).unwrap().len();
+    let disk = ((renderer >> 20) + 1 + 8).to_string();
+    let full = format!("the run's disk space ({disk} MiB) was full");
+    let tmp = d.join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o1777)).unwrap();
+    for (root, unprotected) in kinds() {
+        let run = format!("root {root}, unprotected {unprotected}");
+        let report = d.join(format!("report-{root}-{unprotected}"));
+        let mut command = grader(root);
+        command
+            .args(["grade", "--disk", &disk, "--timeout", "60", "--student"])
+            .arg(&student)
+            .arg("-o")
+            .arg(&report)
+            .arg("--cache")
+            .arg(d.join(format!("cache-{root}")))
+            .arg(d.join("suite"))
+            .env("HOME", d)
+            .env("TMPDIR", &tmp)
+            .stdin(Stdio::null());
+        if unprotected {
+            command.arg("--unprotected");
+            without_namespaces(&mut command);
+        }
+        let output = command.output().unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        let summary: Value = serde_json::from_slice(
+            &std::fs::read(report.join("summary.json"))
+                .unwrap_or_else(|_| panic!("{run}: no summary: {stderr}")),
+        )
+        .unwrap();
+        let build = &summary["build"];
+        assert_eq!(build["ok"], false, "{run}: {build}");
+        let reason = build["reason"].as_str().unwrap_or_default();
+        assert!(reason.contains(&full), "{run}: {build}");
+        assert_ne!(build["reason"], "wall-clock time limit", "{run}: {build}");
+        let left: Vec<_> = std::fs::read_dir(&tmp).unwrap().flatten().collect();
+        assert!(left.is_empty(), "{run}: left in TMPDIR: {left:?}");
     }
 }
 
