@@ -25,6 +25,7 @@ mod format;
 mod grade_browser;
 mod grade_class;
 mod grade_cli;
+mod grade_disk;
 mod grade_doc_tracers;
 mod grade_sandbox;
 mod grade_students;

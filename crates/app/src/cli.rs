@@ -694,8 +694,9 @@ pub struct SandboxArgs {
     /// The largest file a process may write, in MiB (`RLIMIT_FSIZE`).
     #[arg(long, value_name = "MIB", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..))]
     pub max_file_size: u32,
-    /// The disk space of each scene's working folder, in MiB: in a box a
-    /// tmpfs of this size (and 32,768 files), gone with the run.
+    /// The disk space of each run's working folder, in MiB, and 32,768
+    /// files: in a box a scene's is a tmpfs of this size; other folders
+    /// are watched, and the run killed when they hold more.
     #[arg(long, value_name = "MIB", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..))]
     pub disk: u32,
     /// Processes and threads the tracer's user may have at once

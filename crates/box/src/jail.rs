@@ -28,21 +28,22 @@
 //! ("C2"), which marks every inherited descriptor close-on-exec, drops to
 //! the run's uid, takes the limits and `PR_SET_NO_NEW_PRIVS`, and execs.
 //! C1 (not dumpable, holding no descriptor of the grader's but its own
-//! pipes and the working folder's) reaps whatever is reparented to it;
-//! when the program ends it kills everything left in the box, copies the
-//! program's image out of the tmpfs, tells the grader whether the tmpfs
-//! was full (a pipe of the run's, [`Plan::report_to`]) and exits, handing
-//! the program's wait status to C0 through a pipe; C0 exits the same
-//! way. When C1 exits, or is
-//! killed with C0's group at the timeout, the kernel kills every process
-//! left in the namespace: nothing the program started survives the run.
+//! pipes and the working folder's) reaps whatever is reparented to it
+//! and looks at the tmpfs every 10 ms; when the program ends it kills
+//! everything left in the box, copies the program's image out of the
+//! tmpfs, tells the grader whether the tmpfs was full, then or when it
+//! was looked at (a pipe of the run's, [`Plan::report_to`]) and exits,
+//! handing the program's wait status to C0 through a pipe; C0 exits the
+//! same way. When C1 exits, or is killed with C0's group at the
+//! timeout, the kernel kills every process left in the namespace:
+//! nothing the program started survives the run.
 //! Everything else of the grader's file system (its executable, the
 //! reference cache, the reports, home folders, other students' folders)
 //! is simply absent, and the network namespace has only a loopback that
 //! is down; abstract UNIX sockets are per network namespace, and socket
 //! files of the host are not in the box.
 
-use std::ffi::CString;
+use std::ffi::{CStr, CString};
 use std::io;
 use std::os::unix::ffi::OsStrExt;
 use std::path::{Path, PathBuf};
@@ -172,122 +173,24 @@ impl Plan {
     /// The box for a program starting in `start`, holding `share`.
     pub fn new(start: &Path, share: &Share, confinement: &Confinement) -> io::Result<Plan> {
         let root = staging()?.to_path_buf();
-        let inside = |path: &Path| root.join(path.strip_prefix("/").unwrap_or(path));
-        let mut steps = Vec::new();
+        let mut steps = Steps {
+            root: root.clone(),
+            steps: Vec::new(),
+        };
         let tmpfs_size = format!("size={}", confinement.limits.file_size.max(1 << 20) * 4);
         steps.push(Step::Tmpfs(
             c(&root)?,
             CString::new(format!("mode=0755,{tmpfs_size}")).unwrap_or_default(),
         ));
-        let exe = std::env::current_exe().and_then(std::fs::canonicalize).ok();
-        let mut masked = None;
-        for dir in SYSTEM {
-            let host = Path::new(dir);
-            let Ok(meta) = host.symlink_metadata() else {
-                continue;
-            };
-            if meta.file_type().is_symlink() {
-                let target = std::fs::read_link(host)?;
-                steps.push(Step::Symlink(c(&target)?, c(&inside(host))?));
-            } else if meta.is_dir() {
-                steps.push(Step::Mkdir(c(&inside(host))?));
-                steps.push(Step::Bind {
-                    from: c(host)?,
-                    to: c(&inside(host))?,
-                    read_only: true,
-                    flags: locked_flags(host),
-                });
-                if let Some(exe) = exe.as_ref().filter(|exe| exe.starts_with(host)) {
-                    masked = Some(exe.clone());
-                }
-            }
-        }
-        if let Some(exe) = masked {
-            steps.push(Step::Bind {
-                from: c(Path::new("/dev/null"))?,
-                to: c(&inside(&exe))?,
-                read_only: true,
-                flags: locked_flags(&exe),
-            });
-        }
-        let dev = root.join("dev");
-        steps.push(Step::Mkdir(c(&dev)?));
-        steps.push(Step::Tmpfs(c(&dev)?, c(Path::new("mode=0755,size=64k"))?));
-        for device in DEVICES {
-            let to = dev.join(device);
-            steps.push(Step::Touch(c(&to)?));
-            steps.push(Step::Bind {
-                from: c(&Path::new("/dev").join(device))?,
-                to: c(&to)?,
-                read_only: false,
-                flags: 0,
-            });
-        }
-        for (name, target) in [
-            ("fd", "/proc/self/fd"),
-            ("stdin", "/proc/self/fd/0"),
-            ("stdout", "/proc/self/fd/1"),
-            ("stderr", "/proc/self/fd/2"),
-        ] {
-            steps.push(Step::Symlink(c(Path::new(target))?, c(&dev.join(name))?));
-        }
-        let sticky = CString::new(format!("mode=1777,{tmpfs_size}")).unwrap_or_default();
-        for tmp in ["dev/shm", "tmp", "var", "var/tmp"] {
-            steps.push(Step::Mkdir(c(&root.join(tmp))?));
-            if tmp != "var" {
-                steps.push(Step::Tmpfs(c(&root.join(tmp))?, sticky.clone()));
-            }
-        }
-        steps.push(Step::Mkdir(c(&root.join("proc"))?));
-        steps.push(Step::Proc(c(&root.join("proc"))?));
-        let mut keep = None;
-        for (paths, read_only) in [(&share.read_write, false), (&share.read_only, true)] {
-            for path in paths {
-                let scratch = share
-                    .scratch
-                    .as_ref()
-                    .filter(|s| !read_only && s.folder == *path);
-                let meta = path.symlink_metadata()?;
-                let to = inside(path);
-                for ancestor in to.ancestors().collect::<Vec<_>>().into_iter().rev() {
-                    if ancestor.starts_with(&root) && ancestor != root && ancestor != to {
-                        steps.push(Step::Mkdir(c(ancestor)?));
-                    }
-                }
-                steps.push(if meta.is_dir() {
-                    Step::Mkdir(c(&to)?)
-                } else {
-                    Step::Touch(c(&to)?)
-                });
-                if let Some(scratch) = scratch {
-                    let options = format!(
-                        "mode=0700,size={},nr_inodes={}",
-                        confinement.limits.disk.max(1 << 20),
-                        scratch::INODES
-                    );
-                    steps.push(Step::Scratch {
-                        from: c(path)?,
-                        to: c(&to)?,
-                        options: CString::new(options).unwrap_or_default(),
-                    });
-                    let folder = scratch.keep.parent().filter(|p| !p.as_os_str().is_empty());
-                    let name = scratch.keep.file_name().unwrap_or_default();
-                    keep = Some((c(folder.unwrap_or(Path::new(".")))?, c(Path::new(name))?));
-                    continue;
-                }
-                steps.push(Step::Bind {
-                    from: c(path)?,
-                    to: c(&to)?,
-                    read_only,
-                    flags: locked_flags(path) | NO_LINKS,
-                });
-            }
-        }
+        steps.system()?;
+        steps.devices()?;
+        steps.temporary(&tmpfs_size)?;
+        let keep = steps.shared(share, confinement.limits.disk)?;
         // SAFETY: `getuid`/`getgid` have no preconditions.
         let (uid, gid) = unsafe { (libc::getuid(), libc::getgid()) };
         Ok(Plan {
             root: c(&root)?,
-            steps,
+            steps: steps.steps,
             start: c(start)?,
             uid_map: CString::new(format!("{uid} {uid} 1\n")).unwrap_or_default(),
             gid_map: CString::new(format!("{gid} {gid} 1\n")).unwrap_or_default(),
@@ -309,6 +212,173 @@ impl Plan {
     /// close-on-exec) when the run's tmpfs was full.
     pub fn report_to(&mut self, fd: libc::c_int) {
         self.report = fd;
+    }
+}
+
+/// The steps of a plan being made, under the box's `root`.
+struct Steps {
+    root: PathBuf,
+    steps: Vec<Step>,
+}
+
+impl Steps {
+    fn push(&mut self, step: Step) {
+        self.steps.push(step);
+    }
+
+    /// Where the host's `path` lies in the box's root.
+    fn inside(&self, path: &Path) -> PathBuf {
+        self.root.join(path.strip_prefix("/").unwrap_or(path))
+    }
+
+    /// The system folders, bound read-only (a link among them stays a
+    /// link), and the grader's own executable covered by `/dev/null`
+    /// when it lies in one.
+    fn system(&mut self) -> io::Result<()> {
+        let exe = std::env::current_exe().and_then(std::fs::canonicalize).ok();
+        let mut masked = None;
+        for dir in SYSTEM {
+            let host = Path::new(dir);
+            let Ok(meta) = host.symlink_metadata() else {
+                continue;
+            };
+            if meta.file_type().is_symlink() {
+                let target = std::fs::read_link(host)?;
+                self.push(Step::Symlink(c(&target)?, c(&self.inside(host))?));
+            } else if meta.is_dir() {
+                self.push(Step::Mkdir(c(&self.inside(host))?));
+                self.bind(host, &self.inside(host), true, locked_flags(host))?;
+                if let Some(exe) = exe.as_ref().filter(|exe| exe.starts_with(host)) {
+                    masked = Some(exe.clone());
+                }
+            }
+        }
+        if let Some(exe) = masked {
+            self.bind(
+                Path::new("/dev/null"),
+                &self.inside(&exe),
+                true,
+                locked_flags(&exe),
+            )?;
+        }
+        Ok(())
+    }
+
+    /// A bind of `from` onto `to`.
+    fn bind(
+        &mut self,
+        from: &Path,
+        to: &Path,
+        read_only: bool,
+        flags: libc::c_ulong,
+    ) -> io::Result<()> {
+        self.push(Step::Bind {
+            from: c(from)?,
+            to: c(to)?,
+            read_only,
+            flags,
+        });
+        Ok(())
+    }
+
+    /// A minimal `/dev`: a small tmpfs holding [`DEVICES`] bound from the
+    /// host's, and the links to this process's descriptors.
+    fn devices(&mut self) -> io::Result<()> {
+        let dev = self.root.join("dev");
+        self.push(Step::Mkdir(c(&dev)?));
+        self.push(Step::Tmpfs(c(&dev)?, c(Path::new("mode=0755,size=64k"))?));
+        for device in DEVICES {
+            let to = dev.join(device);
+            self.push(Step::Touch(c(&to)?));
+            self.bind(&Path::new("/dev").join(device), &to, false, 0)?;
+        }
+        for (name, target) in [
+            ("fd", "/proc/self/fd"),
+            ("stdin", "/proc/self/fd/0"),
+            ("stdout", "/proc/self/fd/1"),
+            ("stderr", "/proc/self/fd/2"),
+        ] {
+            self.push(Step::Symlink(c(Path::new(target))?, c(&dev.join(name))?));
+        }
+        Ok(())
+    }
+
+    /// Private tmpfs `/dev/shm`, `/tmp` and `/var/tmp` of `size`, and a
+    /// fresh `/proc`.
+    fn temporary(&mut self, size: &str) -> io::Result<()> {
+        let sticky = CString::new(format!("mode=1777,{size}")).unwrap_or_default();
+        for tmp in ["dev/shm", "tmp", "var", "var/tmp"] {
+            self.push(Step::Mkdir(c(&self.root.join(tmp))?));
+            if tmp != "var" {
+                self.push(Step::Tmpfs(c(&self.root.join(tmp))?, sticky.clone()));
+            }
+        }
+        self.push(Step::Mkdir(c(&self.root.join("proc"))?));
+        self.push(Step::Proc(c(&self.root.join("proc"))?));
+        Ok(())
+    }
+
+    /// `share`'s paths at their own paths: bound, or for its working
+    /// folder a tmpfs of `disk` bytes; the folder and name of the file to
+    /// keep from that tmpfs, when there is one.
+    fn shared(&mut self, share: &Share, disk: u64) -> io::Result<Option<(CString, CString)>> {
+        let mut keep = None;
+        for (paths, read_only) in [(&share.read_write, false), (&share.read_only, true)] {
+            for path in paths {
+                let to = self.mount_point(path)?;
+                match share
+                    .scratch
+                    .as_ref()
+                    .filter(|s| !read_only && s.folder == *path)
+                {
+                    Some(scratch) => keep = Some(self.scratch(path, &to, scratch, disk)?),
+                    None => self.bind(path, &to, read_only, locked_flags(path) | NO_LINKS)?,
+                }
+            }
+        }
+        Ok(keep)
+    }
+
+    /// The folders down to `path` in the box, and `path` itself (a folder
+    /// or an empty file, as on the host): where it is mounted.
+    fn mount_point(&mut self, path: &Path) -> io::Result<PathBuf> {
+        let meta = path.symlink_metadata()?;
+        let to = self.inside(path);
+        for ancestor in to.ancestors().collect::<Vec<_>>().into_iter().rev() {
+            if ancestor.starts_with(&self.root) && ancestor != self.root && ancestor != to {
+                self.push(Step::Mkdir(c(ancestor)?));
+            }
+        }
+        self.push(if meta.is_dir() {
+            Step::Mkdir(c(&to)?)
+        } else {
+            Step::Touch(c(&to)?)
+        });
+        Ok(to)
+    }
+
+    /// The working folder `path` as a tmpfs of `disk` bytes at `to`; the
+    /// folder and name of `scratch`'s file to keep.
+    fn scratch(
+        &mut self,
+        path: &Path,
+        to: &Path,
+        scratch: &crate::confinement::Scratch,
+        disk: u64,
+    ) -> io::Result<(CString, CString)> {
+        let options = format!(
+            "mode=0700,size={},nr_inodes={}",
+            disk.max(1 << 20),
+            scratch::INODES
+        );
+        self.push(Step::Scratch {
+            from: c(path)?,
+            to: c(to)?,
+            options: CString::new(options).unwrap_or_default(),
+        });
+        let folder = scratch.keep.parent().filter(|p| !p.as_os_str().is_empty());
+        let name = scratch.keep.file_name().unwrap_or_default();
+        Ok((c(folder.unwrap_or(Path::new(".")))?, c(Path::new(name))?))
     }
 }
 
@@ -406,35 +476,68 @@ pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
         // Nothing in the box may use the grader's descriptors through us.
         let (host, inside) = folders.unwrap_or((-1, -1));
         close_all_but(&[write_end, host, inside, plan.report]);
+        reap_until_done(plan, confinement, program, (host, inside), write_end)
+    }
+}
+
+/// C1 once the program (`program`) runs: reap whatever is reparented to
+/// it, and look at the tmpfs every 10 ms, until the program ends; then
+/// kill everything left in the box, say whether the tmpfs was full (then
+/// or when it was looked at), copy the program's image out of it (the
+/// prepared folder and the tmpfs are `folders`, -1 for none), hand the
+/// program's wait status to C0 on `write_end`, and exit.
+///
+/// # Safety
+/// Async-signal-safe: called between fork and exec.
+unsafe fn reap_until_done(
+    plan: &Plan,
+    confinement: &Confinement,
+    program: libc::pid_t,
+    (host, inside): (libc::c_int, libc::c_int),
+    write_end: libc::c_int,
+) -> ! {
+    unsafe {
+        let mut status = 0;
+        // Whether the tmpfs was seen full while the program ran: a file it
+        // removed but held open fills it only until the program ends.
+        let mut full = false;
         loop {
-            let mut status = 0;
-            let pid = libc::waitpid(-1, &mut status, 0);
+            let pid = libc::waitpid(-1, &mut status, libc::WNOHANG);
             if pid == program {
-                // Nothing may change the folder while it is read.
-                libc::kill(-1, libc::SIGKILL);
-                while libc::waitpid(-1, std::ptr::null_mut(), 0) != -1
-                    || *libc::__errno_location() == libc::EINTR
-                {}
-                if let (Some((folder, name)), true) = (&plan.keep, inside >= 0) {
-                    if scratch::full(inside) && plan.report >= 0 {
-                        libc::write(plan.report, b"f".as_ptr().cast(), 1);
-                    }
-                    let _ = scratch::keep(
-                        inside,
-                        host,
-                        folder.as_ptr(),
-                        name.as_ptr(),
-                        confinement.user,
-                    );
-                }
-                let bytes = status.to_ne_bytes();
-                libc::write(write_end, bytes.as_ptr().cast(), bytes.len());
-                libc::_exit(0);
+                break;
             }
             if pid == -1 && *libc::__errno_location() == libc::ECHILD {
                 libc::_exit(1);
             }
+            if pid == 0 {
+                full = full || (inside >= 0 && scratch::full(inside));
+                let pause = libc::timespec {
+                    tv_sec: 0,
+                    tv_nsec: 10_000_000,
+                };
+                libc::nanosleep(&pause, std::ptr::null_mut());
+            }
         }
+        // Nothing may change the folder while it is read.
+        libc::kill(-1, libc::SIGKILL);
+        while libc::waitpid(-1, std::ptr::null_mut(), 0) != -1
+            || *libc::__errno_location() == libc::EINTR
+        {}
+        if let (Some((folder, name)), true) = (&plan.keep, inside >= 0) {
+            if (full || scratch::full(inside)) && plan.report >= 0 {
+                libc::write(plan.report, b"f".as_ptr().cast(), 1);
+            }
+            let _ = scratch::keep(
+                inside,
+                host,
+                folder.as_ptr(),
+                name.as_ptr(),
+                confinement.user,
+            );
+        }
+        let bytes = status.to_ne_bytes();
+        libc::write(write_end, bytes.as_ptr().cast(), bytes.len());
+        libc::_exit(0)
     }
 }
 
@@ -496,17 +599,12 @@ unsafe fn keeper(init: libc::pid_t, read_end: libc::c_int, write_end: libc::c_in
     }
 }
 
-/// Whether a bind step asks for its source to be opened without links.
-fn step_no_links(step: &Step) -> bool {
-    matches!(step, Step::Bind { flags, .. } if flags & NO_LINKS != 0)
-}
-
 /// Open `path` with `flags` (`O_PATH`: as a place), refusing a link
 /// anywhere on it.
 ///
 /// # Safety
 /// Async-signal-safe: called between fork and exec.
-unsafe fn open_no_links(path: &CString, flags: libc::c_int) -> io::Result<libc::c_int> {
+unsafe fn open_no_links(path: &CStr, flags: libc::c_int) -> io::Result<libc::c_int> {
     unsafe {
         let mut how: libc::open_how = std::mem::zeroed();
         how.flags = (flags | libc::O_NOFOLLOW | libc::O_CLOEXEC) as u64;
@@ -550,140 +648,191 @@ fn fd_path(fd: libc::c_int, buffer: &mut [u8; 32]) -> *const libc::c_char {
 /// C1: build the box's root from the plan, pivot into it, and go to the
 /// program's folder; the prepared working folder and its tmpfs, open,
 /// when there is one (`owner` is the run's user when the grader is root).
+///
+/// # Safety
+/// Async-signal-safe: called between fork and exec.
 unsafe fn build_root(
     plan: &Plan,
     owner: Option<u32>,
 ) -> io::Result<Option<(libc::c_int, libc::c_int)>> {
-    let null = std::ptr::null::<libc::c_char>();
     let mut folders = None;
     unsafe {
-        check(libc::mount(
-            null,
-            c"/".as_ptr(),
-            null,
-            libc::MS_REC | libc::MS_PRIVATE,
-            std::ptr::null(),
-        ))?;
+        remount(c"/", libc::MS_REC | libc::MS_PRIVATE)?;
         for step in &plan.steps {
-            match step {
-                Step::Mkdir(path) => {
-                    if libc::mkdir(path.as_ptr(), 0o755) == -1
-                        && *libc::__errno_location() != libc::EEXIST
-                    {
-                        return Err(io::Error::last_os_error());
-                    }
-                }
-                Step::Tmpfs(path, options) => check(libc::mount(
-                    c"tmpfs".as_ptr(),
-                    path.as_ptr(),
-                    c"tmpfs".as_ptr(),
-                    libc::MS_NOSUID | libc::MS_NODEV,
-                    options.as_ptr().cast(),
-                ))?,
-                Step::Bind {
-                    from,
-                    to,
-                    read_only,
-                    flags,
-                } => {
-                    let flags = &(*flags & !NO_LINKS);
-                    let mut through = [0u8; 32];
-                    let mut fd = -1;
-                    let source = if step_no_links(step) {
-                        fd = open_no_links(from, libc::O_PATH)?;
-                        fd_path(fd, &mut through)
-                    } else {
-                        from.as_ptr()
-                    };
-                    let bound = libc::mount(
-                        source,
-                        to.as_ptr(),
-                        null,
-                        libc::MS_BIND | libc::MS_REC,
-                        std::ptr::null(),
-                    );
-                    if fd >= 0 {
-                        libc::close(fd);
-                    }
-                    check(bound)?;
-                    // A read-only bind, and a shared folder (a build's),
-                    // run no set-user-ID file and open no device.
-                    let remount = if *read_only {
-                        Some(libc::MS_RDONLY)
-                    } else {
-                        step_no_links(step).then_some(0)
-                    };
-                    if let Some(read_only) = remount {
-                        check(libc::mount(
-                            null,
-                            to.as_ptr(),
-                            null,
-                            libc::MS_REMOUNT
-                                | libc::MS_BIND
-                                | read_only
-                                | libc::MS_NOSUID
-                                | libc::MS_NODEV
-                                | *flags,
-                            std::ptr::null(),
-                        ))?;
-                    }
-                }
-                Step::Scratch { from, to, options } => {
-                    let host = open_no_links(from, libc::O_RDONLY | libc::O_DIRECTORY)?;
-                    check(libc::mount(
-                        c"tmpfs".as_ptr(),
-                        to.as_ptr(),
-                        c"tmpfs".as_ptr(),
-                        libc::MS_NOSUID | libc::MS_NODEV,
-                        options.as_ptr().cast(),
-                    ))?;
-                    let inside = libc::open(
-                        to.as_ptr(),
-                        libc::O_RDONLY | libc::O_DIRECTORY | libc::O_NOFOLLOW | libc::O_CLOEXEC,
-                    );
-                    check(inside)?;
-                    folders = Some((host, inside));
-                    let mut stat: libc::stat = std::mem::zeroed();
-                    check(libc::fstat(host, &mut stat))?;
-                    scratch::give(inside, stat.st_mode, owner)?;
-                    scratch::fill(host, inside, owner, scratch::DEPTH)?;
-                }
-                Step::Touch(path) => {
-                    let fd = libc::open(
-                        path.as_ptr(),
-                        libc::O_CREAT | libc::O_WRONLY | libc::O_CLOEXEC,
-                        0o644,
-                    );
-                    check(fd)?;
-                    libc::close(fd);
-                }
-                Step::Symlink(target, link) => {
-                    check(libc::symlink(target.as_ptr(), link.as_ptr()))?
-                }
-                Step::Proc(path) => check(libc::mount(
-                    c"proc".as_ptr(),
-                    path.as_ptr(),
-                    c"proc".as_ptr(),
-                    libc::MS_NOSUID | libc::MS_NODEV | libc::MS_NOEXEC,
-                    std::ptr::null(),
-                ))?,
+            if let Some(opened) = take(step, owner)? {
+                folders = Some(opened);
             }
         }
+        pivot(plan)?;
+    }
+    Ok(folders)
+}
+
+/// `mount` of nothing on `target` with `flags`: a change of an existing
+/// mount's flags or propagation.
+///
+/// # Safety
+/// Async-signal-safe.
+unsafe fn remount(target: &CStr, flags: libc::c_ulong) -> io::Result<()> {
+    let null = std::ptr::null::<libc::c_char>();
+    // SAFETY: C strings and a null data pointer.
+    check(unsafe { libc::mount(null, target.as_ptr(), null, flags, std::ptr::null()) })
+}
+
+/// A `tmpfs` (`nosuid`, `nodev`) on `path` with `options`.
+///
+/// # Safety
+/// Async-signal-safe.
+unsafe fn tmpfs(path: &CStr, options: &CStr) -> io::Result<()> {
+    // SAFETY: C strings.
+    check(unsafe {
+        libc::mount(
+            c"tmpfs".as_ptr(),
+            path.as_ptr(),
+            c"tmpfs".as_ptr(),
+            libc::MS_NOSUID | libc::MS_NODEV,
+            options.as_ptr().cast(),
+        )
+    })
+}
+
+/// Take one step of the plan; the prepared working folder and its
+/// tmpfs, open, after [`Step::Scratch`].
+///
+/// # Safety
+/// Async-signal-safe.
+unsafe fn take(step: &Step, owner: Option<u32>) -> io::Result<Option<(libc::c_int, libc::c_int)>> {
+    unsafe {
+        match step {
+            Step::Mkdir(path) => {
+                if libc::mkdir(path.as_ptr(), 0o755) == -1
+                    && *libc::__errno_location() != libc::EEXIST
+                {
+                    return Err(io::Error::last_os_error());
+                }
+            }
+            Step::Tmpfs(path, options) => tmpfs(path, options)?,
+            Step::Bind {
+                from,
+                to,
+                read_only,
+                flags,
+            } => bind(from, to, *read_only, *flags)?,
+            Step::Scratch { from, to, options } => {
+                return scratch_from(from, to, options, owner).map(Some)
+            }
+            Step::Touch(path) => {
+                let fd = libc::open(
+                    path.as_ptr(),
+                    libc::O_CREAT | libc::O_WRONLY | libc::O_CLOEXEC,
+                    0o644,
+                );
+                check(fd)?;
+                libc::close(fd);
+            }
+            Step::Symlink(target, link) => check(libc::symlink(target.as_ptr(), link.as_ptr()))?,
+            Step::Proc(path) => check(libc::mount(
+                c"proc".as_ptr(),
+                path.as_ptr(),
+                c"proc".as_ptr(),
+                libc::MS_NOSUID | libc::MS_NODEV | libc::MS_NOEXEC,
+                std::ptr::null(),
+            ))?,
+        }
+    }
+    Ok(None)
+}
+
+/// Bind `from` onto `to` ([`Step::Bind`]): through a descriptor opened
+/// without following a link when `flags` asks for it ([`NO_LINKS`]); a
+/// read-only bind, and a shared folder (a build's), remounted to run no
+/// set-user-ID file and open no device.
+///
+/// # Safety
+/// Async-signal-safe.
+unsafe fn bind(from: &CStr, to: &CStr, read_only: bool, flags: libc::c_ulong) -> io::Result<()> {
+    let no_links = flags & NO_LINKS != 0;
+    let flags = flags & !NO_LINKS;
+    let null = std::ptr::null::<libc::c_char>();
+    let mut through = [0u8; 32];
+    let mut fd = -1;
+    unsafe {
+        let source = if no_links {
+            fd = open_no_links(from, libc::O_PATH)?;
+            fd_path(fd, &mut through)
+        } else {
+            from.as_ptr()
+        };
+        let bound = libc::mount(
+            source,
+            to.as_ptr(),
+            null,
+            libc::MS_BIND | libc::MS_REC,
+            std::ptr::null(),
+        );
+        if fd >= 0 {
+            libc::close(fd);
+        }
+        check(bound)?;
+        let remount_flags = if read_only {
+            Some(libc::MS_RDONLY)
+        } else {
+            no_links.then_some(0)
+        };
+        if let Some(read_only) = remount_flags {
+            let hardened = libc::MS_REMOUNT | libc::MS_BIND | libc::MS_NOSUID | libc::MS_NODEV;
+            remount(to, hardened | read_only | flags)?;
+        }
+    }
+    Ok(())
+}
+
+/// The working folder `from` as a tmpfs at `to` with `options`, given to
+/// `owner` and filled from `from` ([`crate::scratch`]); both open.
+///
+/// # Safety
+/// Async-signal-safe.
+unsafe fn scratch_from(
+    from: &CStr,
+    to: &CStr,
+    options: &CStr,
+    owner: Option<u32>,
+) -> io::Result<(libc::c_int, libc::c_int)> {
+    unsafe {
+        let host = open_no_links(from, libc::O_RDONLY | libc::O_DIRECTORY)?;
+        tmpfs(to, options)?;
+        let inside = libc::open(
+            to.as_ptr(),
+            libc::O_RDONLY | libc::O_DIRECTORY | libc::O_NOFOLLOW | libc::O_CLOEXEC,
+        );
+        check(inside)?;
+        let mut stat: libc::stat = std::mem::zeroed();
+        check(libc::fstat(host, &mut stat))?;
+        scratch::give(inside, stat.st_mode, owner)?;
+        scratch::fill(host, inside, owner, scratch::DEPTH)?;
+        Ok((host, inside))
+    }
+}
+
+/// Pivot into the plan's root, detach the old one, make `/` read-only,
+/// and go to the program's folder.
+///
+/// # Safety
+/// Async-signal-safe.
+unsafe fn pivot(plan: &Plan) -> io::Result<()> {
+    unsafe {
         check(libc::chdir(plan.root.as_ptr()))?;
         check(libc::syscall(libc::SYS_pivot_root, c".".as_ptr(), c".".as_ptr()) as libc::c_int)?;
         check(libc::umount2(c".".as_ptr(), libc::MNT_DETACH))?;
         check(libc::chdir(c"/".as_ptr()))?;
-        check(libc::mount(
-            null,
-            c"/".as_ptr(),
-            null,
+        remount(
+            c"/",
             libc::MS_REMOUNT | libc::MS_BIND | libc::MS_RDONLY | libc::MS_NOSUID | libc::MS_NODEV,
-            std::ptr::null(),
-        ))?;
+        )?;
         check(libc::chdir(plan.start.as_ptr()))?;
         libc::sethostname(c"box".as_ptr(), 3);
     }
-    Ok(folders)
+    Ok(())
 }
 
 /// Whether a box can be had here: run `sh -c :` in one.

@@ -34,6 +34,8 @@ pub mod folder;
 pub mod jail;
 pub mod output;
 pub mod probe;
+mod procs;
+mod quota;
 mod reason;
 pub mod run;
 mod scratch;

@@ -9,37 +9,43 @@
 //! working folder as a tmpfs of its own, whose fullness the run reports,
 //! [`Run::disk_full`]), so nothing it starts outlives the run. Without
 //! one (`--unprotected`), in the forked child (`confine`): a process
-//! group of its own, a network
-//! namespace when one can be had, and Landlock and a seccomp filter
-//! ([`crate::fence`]). Either way (`drop_to_user`): every descriptor
-//! from 3 up that the grader inherited is close-on-exec; when
-//! the grader is root, a uid of the student's own (leased,
-//! [`crate::uids`]), because root ignores the process-count limit; the
-//! resource limits (CPU seconds, address space, file size, processes, no
-//! core files) and `PR_SET_NO_NEW_PRIVS`. Where control groups can be
-//! made ([`crate::cgroup`]), the run's first process joins groups of its
-//! own that bound the memory and the processes of the whole run. On the
-//! wall-clock timeout, and again after the program ends, its whole
-//! process group is killed (in a box, that kills the box's pid 1 and so
-//! everything in it). The grader is the subreaper of everything the
-//! program starts ([`become_subreaper`]), so a process that leaves the
-//! group outside a box is still reparented to it, and [`reap_orphans`]
-//! kills and reaps it. An interrupted grader kills every running group
-//! ([`kill_running`]) before it exits.
+//! group of its own, a network namespace when one can be had, and
+//! Landlock and a seccomp filter ([`crate::fence`]). Either way
+//! (`drop_to_user`): every descriptor from 3 up that the grader
+//! inherited is close-on-exec; when the grader is root, a uid of the
+//! student's own (leased, [`crate::uids`]), because root ignores the
+//! process-count limit; the resource limits (CPU seconds, address space,
+//! file size, processes, no core files) and `PR_SET_NO_NEW_PRIVS`. Where
+//! control groups can be made ([`crate::cgroup`]), the run's first
+//! process joins groups of its own that bound the memory and the
+//! processes of the whole run. The folders it writes that no tmpfs
+//! bounds (a build's; without a box, all of them) are held to the same
+//! bytes and files by walks while it runs ([`crate::quota`]), and a run
+//! whose files do not fit does not start. At the wall-clock timeout, or
+//! when those folders pass their bound, the program's whole process tree
+//! is killed (`kill_tree`; in a box, that kills the box's pid 1 and so
+//! everything in it), and its process group again after it ends. The
+//! grader is the subreaper of everything the program starts
+//! ([`become_subreaper`]), so a process that leaves the group outside a
+//! box is still reparented to it, and [`reap_orphans`] kills and reaps
+//! it. An interrupted grader kills every running group ([`kill_running`])
+//! before it exits.
 
-use std::ffi::OsString;
+use std::ffi::{CString, OsStr, OsString};
 use std::io;
 use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use crate::capture::{self, Captured};
 use crate::cgroup::{join_group, ControlGroup};
 use crate::child::{check, drop_to_user, network_namespaces};
-use crate::confinement::{Confinement, Share};
+use crate::confinement::{Confinement, Limits, Share};
+use crate::procs::{descendants, parent_and_group, processes};
+use crate::quota::{Bound, Quota};
 use crate::reason::{reason, start_failure};
 use crate::spawning::SPAWNING;
 
@@ -76,8 +82,9 @@ pub struct Run {
     pub seconds: f64,
     pub stdout: Captured,
     pub stderr: Captured,
-    /// The box's working folder had no byte or no inode left when the
-    /// program ended ([`crate::Scratch`]).
+    /// The box's working folder had no byte or no inode left while the
+    /// program ran or when it ended ([`crate::Scratch`]), or the folders
+    /// no tmpfs bounds passed their quota ([`crate::quota`]).
     pub disk_full: bool,
 }
 
@@ -120,6 +127,131 @@ pub fn become_subreaper() {
 pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinement) -> Run {
     let start = Instant::now();
     let limits = confinement.limits;
+    let mut setup = match Setup::new(argv, dir, share, confinement) {
+        Ok(setup) => setup,
+        Err(reason) => return Run::not_started(reason, start),
+    };
+    let mut child = match setup.spawn(&argv[0]) {
+        Ok(child) => child,
+        Err(reason) => return Run::not_started(reason, start),
+    };
+    let group = child.id() as libc::pid_t;
+    if let Some(quota) = setup.quota.as_mut() {
+        quota.watch(group);
+    }
+    let running = || {
+        RUNNING
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+    };
+    running().push(group);
+    let stdout = capture::spawn(child.stdout.take(), limits.output);
+    let stderr = capture::spawn(child.stderr.take(), limits.output);
+    let (ended, over) = wait(&mut child, start, &limits, setup.quota.as_mut());
+    let seconds = start.elapsed().as_secs_f64();
+    let box_full = setup.report.is_some_and(|(read, _)| reported_full(&read));
+    kill_group(group);
+    running().retain(|&g| g != group);
+    drop(setup.group);
+    // What the program left past the bound as it ended counts too, as a
+    // tmpfs with no room left would.
+    let left_over = || setup.quota.as_ref().is_some_and(Quota::over);
+    Run {
+        ended,
+        seconds,
+        stdout: stdout.finish(),
+        stderr: stderr.finish(),
+        disk_full: box_full || over || left_over(),
+    }
+}
+
+/// What one run needs, made before the fork: the command (with what its
+/// child does before exec), the pipe on which a box's pid 1 says its
+/// tmpfs was full, the run's control groups, and the quota of the folders
+/// no tmpfs bounds ([`crate::quota`]).
+struct Setup {
+    command: Command,
+    report: Option<(OwnedFd, OwnedFd)>,
+    group: Option<ControlGroup>,
+    quota: Option<Quota>,
+    limits: Limits,
+}
+
+impl Setup {
+    /// The setup of a run of `argv` in `dir`, or why it cannot start.
+    fn new(
+        argv: &[OsString],
+        dir: &Path,
+        share: &Share,
+        confinement: Confinement,
+    ) -> Result<Setup, String> {
+        let mut command = command(argv, dir);
+        let limits = confinement.limits;
+        let quota = quota(share, &confinement);
+        if quota.as_ref().is_some_and(Quota::over) {
+            return Err(does_not_fit(&limits));
+        }
+        let group = confinement
+            .cgroup
+            .then(|| ControlGroup::new(&limits))
+            .flatten();
+        let procs: Vec<CString> = group.as_ref().map(ControlGroup::procs).unwrap_or_default();
+        let report = if confinement.boxed {
+            let (plan, report) = boxed(dir, share, &confinement)?;
+            // SAFETY: `jail::enter` makes only async-signal-safe system
+            // calls, on data prepared before the fork.
+            unsafe {
+                command.pre_exec(move || {
+                    join_groups(&procs)?;
+                    crate::jail::enter(&plan, &confinement)
+                });
+            }
+            report
+        } else {
+            let (fence, tmpdir) = fenced(&mut command, dir, share, &confinement)?;
+            // SAFETY: `getpid` has no preconditions.
+            let grader = unsafe { libc::getpid() };
+            // SAFETY: `confine` makes only async-signal-safe system calls,
+            // on data prepared before the fork.
+            unsafe {
+                command.pre_exec(move || {
+                    join_groups(&procs)?;
+                    confine(&confinement, &fence, grader, &tmpdir)
+                });
+            }
+            None
+        };
+        Ok(Setup {
+            command,
+            report,
+            group,
+            quota,
+            limits,
+        })
+    }
+
+    /// Start the program (named `program` in a reason), or say why not.
+    fn spawn(&mut self, program: &OsStr) -> Result<Child, String> {
+        let spawned = {
+            let _alone = SPAWNING
+                .write()
+                .unwrap_or_else(|poisoned| poisoned.into_inner());
+            self.command.spawn()
+        };
+        spawned.map_err(|error| {
+            // The box's pid 1 could not fill the working folder's tmpfs.
+            if self.report.is_some() && error.raw_os_error() == Some(libc::ENOSPC) {
+                does_not_fit(&self.limits)
+            } else {
+                start_failure(program, &error)
+            }
+        })
+    }
+}
+
+/// The command of `argv` in `dir`: no environment but `PATH`, `HOME` (the
+/// folder) and `LANG`, stdin closed, stdout and stderr piped.
+fn command(argv: &[OsString], dir: &Path) -> Command {
     let mut command = Command::new(&argv[0]);
     command
         .args(&argv[1..])
@@ -137,138 +269,157 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
-    // Without a box, no /tmp: a temporary folder of the run's own.
-    let tmpdir = if confinement.boxed {
-        None
-    } else {
-        let folder = crate::tmpdir::folder(dir);
-        command.envs(crate::tmpdir::environment(&folder));
-        match crate::tmpdir::path(&folder) {
-            Ok(path) => Some(path),
-            Err(error) => return Run::not_started(reason(&error), start),
-        }
-    };
-    let mut plan = if confinement.boxed {
-        match crate::jail::Plan::new(dir, share, &confinement) {
-            Ok(plan) => Some(plan),
-            Err(error) => {
-                return Run::not_started(
-                    format!("cannot prepare the box: {}", reason(&error)),
-                    start,
-                )
-            }
-        }
-    } else {
-        None
-    };
-    // Where the box's pid 1 says the working folder was full.
-    let report = match plan.as_mut().filter(|plan| plan.has_scratch()) {
-        Some(plan) => match report_pipe() {
-            Ok((read, write)) => {
-                plan.report_to(write.as_raw_fd());
-                Some((read, write))
-            }
-            Err(error) => return Run::not_started(reason(&error), start),
-        },
-        None => None,
-    };
-    let fence = if confinement.boxed {
-        None
-    } else {
-        match crate::fence::Fence::new(share, confinement.landlock, confinement.seccomp) {
-            Ok(fence) => Some(fence),
-            Err(error) => return Run::not_started(reason(&error), start),
-        }
-    };
-    let group_of_run = if confinement.cgroup {
-        ControlGroup::new(&limits)
-    } else {
-        None
-    };
-    let procs: Vec<std::ffi::CString> = group_of_run
+    command
+}
+
+/// The quota of the folders the run may write that no tmpfs bounds:
+/// every one of `share`'s read-write folders, but the working folder a
+/// box gives as a tmpfs.
+fn quota(share: &Share, confinement: &Confinement) -> Option<Quota> {
+    let tmpfs = share
+        .scratch
         .as_ref()
-        .map(ControlGroup::procs)
-        .unwrap_or_default();
-    // SAFETY: `getpid` has no preconditions.
-    let grader = unsafe { libc::getpid() };
-    // SAFETY: `confine` and `jail::enter` make only async-signal-safe
-    // system calls, on data prepared before the fork.
-    unsafe {
-        command.pre_exec(move || {
-            for path in &procs {
-                join_group(path)?;
-            }
-            match &plan {
-                Some(plan) => crate::jail::enter(plan, &confinement),
-                None => confine(&confinement, fence.as_ref(), grader, tmpdir.as_ref()),
-            }
-        });
+        .filter(|_| confinement.boxed)
+        .map(|scratch| &scratch.folder);
+    let folders = share
+        .read_write
+        .iter()
+        .filter(|folder| Some(*folder) != tmpfs)
+        .cloned()
+        .collect();
+    let bound = Bound {
+        bytes: confinement.limits.disk,
+        inodes: crate::scratch::INODES,
+    };
+    Quota::new(folders, bound)
+}
+
+/// Why a run whose files do not fit its disk space cannot start.
+fn does_not_fit(limits: &Limits) -> String {
+    format!(
+        "the program's files do not fit the run's disk space ({} MiB, {} files): raise `--disk`",
+        limits.disk >> 20,
+        crate::scratch::INODES
+    )
+}
+
+/// The box's plan for a run in `dir`, and when the box gives the run a
+/// tmpfs, the pipe on which its pid 1 says the tmpfs was full.
+fn boxed(
+    dir: &Path,
+    share: &Share,
+    confinement: &Confinement,
+) -> Result<(crate::jail::Plan, Option<(OwnedFd, OwnedFd)>), String> {
+    let mut plan = crate::jail::Plan::new(dir, share, confinement)
+        .map_err(|error| format!("cannot prepare the box: {}", reason(&error)))?;
+    if !plan.has_scratch() {
+        return Ok((plan, None));
     }
-    let spawned = {
-        let _alone = SPAWNING
-            .write()
-            .unwrap_or_else(|poisoned| poisoned.into_inner());
-        command.spawn()
-    };
-    let mut child = match spawned {
-        Ok(child) => child,
-        // The box's pid 1 could not fill the working folder's tmpfs.
-        Err(error) if report.is_some() && error.raw_os_error() == Some(libc::ENOSPC) => {
-            let full = format!(
-                "the program's files do not fit the run's disk space ({} MiB, {} files): raise `--disk`",
-                limits.disk >> 20,
-                crate::scratch::INODES
-            );
-            return Run::not_started(full, start);
-        }
-        Err(error) => return Run::not_started(start_failure(&argv[0], &error), start),
-    };
+    let (read, write) = report_pipe().map_err(|error| reason(&error))?;
+    plan.report_to(write.as_raw_fd());
+    Ok((plan, Some((read, write))))
+}
+
+/// Without a box: the fence of a run in `dir`, and its temporary folder
+/// (no `/tmp` there), named in `command`'s environment.
+fn fenced(
+    command: &mut Command,
+    dir: &Path,
+    share: &Share,
+    confinement: &Confinement,
+) -> Result<(crate::fence::Fence, CString), String> {
+    let folder = crate::tmpdir::folder(dir);
+    command.envs(crate::tmpdir::environment(&folder));
+    let tmpdir = crate::tmpdir::path(&folder).map_err(|error| reason(&error))?;
+    let fence = crate::fence::Fence::new(share, confinement.landlock, confinement.seccomp)
+        .map_err(|error| reason(&error))?;
+    Ok((fence, tmpdir))
+}
+
+/// In the forked child: join the run's control groups.
+fn join_groups(procs: &[CString]) -> io::Result<()> {
+    for path in procs {
+        join_group(path)?;
+    }
+    Ok(())
+}
+
+/// Wait for the program until it ends, its time is up, or its folders
+/// pass their quota (then its whole process tree is killed): how it
+/// ended, and whether it passed the quota.
+fn wait(
+    child: &mut Child,
+    start: Instant,
+    limits: &Limits,
+    mut quota: Option<&mut Quota>,
+) -> (Ended, bool) {
     let group = child.id() as libc::pid_t;
-    let running = || {
-        RUNNING
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner())
-    };
-    running().push(group);
-    let stdout = capture::spawn(child.stdout.take(), limits.output);
-    let stderr = capture::spawn(child.stderr.take(), limits.output);
-    let ended = loop {
+    loop {
         match child.try_wait() {
-            Ok(Some(status)) => {
-                break match (status.code(), status.signal()) {
-                    (Some(code), _) => Ended::Exited(code),
-                    (None, Some(signal)) => Ended::Signalled(signal),
-                    (None, None) => Ended::Signalled(0),
-                }
-            }
+            Ok(Some(status)) => return (ended(status), false),
             Ok(None) if start.elapsed() < limits.timeout => {
+                if quota.as_mut().is_some_and(|quota| quota.due()) {
+                    kill_tree(group);
+                    let ended = child.wait().map_or(Ended::Signalled(libc::SIGKILL), ended);
+                    return (ended, true);
+                }
                 std::thread::sleep(Duration::from_millis(5))
             }
             _ => {
-                // SAFETY: `killpg` has no memory preconditions.
-                unsafe { libc::killpg(group, libc::SIGKILL) };
+                kill_tree(group);
                 let _ = child.wait();
-                break Ended::TimedOut;
+                return (Ended::TimedOut, false);
             }
         }
-    };
-    let seconds = start.elapsed().as_secs_f64();
-    let disk_full = report.is_some_and(|(read, _)| {
-        let mut byte = 0u8;
-        // SAFETY: reading one byte into a byte.
-        let got = unsafe { libc::read(read.as_raw_fd(), (&mut byte as *mut u8).cast(), 1) };
-        got == 1 && byte == b'f'
-    });
-    kill_group(group);
-    running().retain(|&g| g != group);
-    drop(group_of_run);
-    Run {
-        ended,
-        seconds,
-        stdout: stdout.finish(),
-        stderr: stderr.finish(),
-        disk_full,
     }
+}
+
+/// How a program that ended with `status` ended.
+fn ended(status: ExitStatus) -> Ended {
+    match (status.code(), status.signal()) {
+        (Some(code), _) => Ended::Exited(code),
+        (None, Some(signal)) => Ended::Signalled(signal),
+        (None, None) => Ended::Signalled(0),
+    }
+}
+
+/// Whether the box's pid 1 wrote on the pipe whose read end is `read`
+/// that its tmpfs was full.
+fn reported_full(read: &OwnedFd) -> bool {
+    let mut byte = 0u8;
+    // SAFETY: reading one byte into a byte.
+    let got = unsafe { libc::read(read.as_raw_fd(), (&mut byte as *mut u8).cast(), 1) };
+    got == 1 && byte == b'f'
+}
+
+/// Kill the whole process tree of the program whose first process is
+/// `leader` (its own group's leader): every process descended from it,
+/// those that left its group (`setsid`) too, and its group. Each process
+/// found is stopped first, and the tree looked for again until no new one
+/// is found, so none can fork a child the kill misses (a child of a
+/// killed process would be reparented to the grader, out of the tree).
+fn kill_tree(leader: libc::pid_t) {
+    let mut stopped = Vec::new();
+    for _ in 0..100 {
+        let found: Vec<libc::pid_t> = descendants(leader)
+            .into_iter()
+            .filter(|pid| !stopped.contains(pid))
+            .collect();
+        if found.is_empty() {
+            break;
+        }
+        for &pid in &found {
+            // SAFETY: `kill` has no memory preconditions.
+            unsafe { libc::kill(pid, libc::SIGSTOP) };
+        }
+        stopped.extend(found);
+    }
+    for &pid in &stopped {
+        // SAFETY: `kill` has no memory preconditions.
+        unsafe { libc::kill(pid, libc::SIGKILL) };
+    }
+    // SAFETY: `killpg` has no memory preconditions.
+    unsafe { libc::killpg(leader, libc::SIGKILL) };
 }
 
 /// In the forked child, before `exec`, without a box: a process group of
@@ -278,9 +429,9 @@ pub fn run(argv: &[OsString], dir: &Path, share: &Share, confinement: Confinemen
 /// uid forgets it) death with `grader` ([`crate::jail::die_with`]).
 fn confine(
     confinement: &Confinement,
-    fence: Option<&crate::fence::Fence>,
+    fence: &crate::fence::Fence,
     grader: libc::pid_t,
-    tmpdir: Option<&std::ffi::CString>,
+    tmpdir: &CString,
 ) -> io::Result<()> {
     // SAFETY: plain system calls on this (single-threaded) child.
     unsafe {
@@ -289,12 +440,8 @@ fn confine(
             check(libc::unshare(network_namespaces(confinement.root())))?;
         }
         drop_to_user(confinement)?;
-        if let Some(tmpdir) = tmpdir {
-            crate::tmpdir::make(tmpdir)?;
-        }
-        if let Some(fence) = fence {
-            fence.enter()?;
-        }
+        crate::tmpdir::make(tmpdir)?;
+        fence.enter()?;
         crate::child::die_with(grader)
     }
 }
@@ -331,18 +478,8 @@ pub fn reap_orphans(group: Option<libc::pid_t>) {
 fn reap_orphans_once(group: Option<libc::pid_t>) -> usize {
     // SAFETY: `getpid` has no preconditions.
     let me = unsafe { libc::getpid() };
-    let Ok(entries) = std::fs::read_dir("/proc") else {
-        return 0;
-    };
     let mut killed = 0;
-    for entry in entries.flatten() {
-        let Some(pid) = entry
-            .file_name()
-            .to_str()
-            .and_then(|n| n.parse::<i32>().ok())
-        else {
-            continue;
-        };
+    for pid in processes() {
         let Some((parent, process_group)) = parent_and_group(pid) else {
             continue;
         };
@@ -357,15 +494,4 @@ fn reap_orphans_once(group: Option<libc::pid_t>) -> usize {
         killed += 1;
     }
     killed
-}
-
-/// The parent and process group of `pid`, from `/proc/PID/stat`.
-fn parent_and_group(pid: i32) -> Option<(i32, i32)> {
-    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
-    // The command name may hold spaces and parentheses: fields follow the last `)`.
-    let rest = &stat[stat.rfind(')')? + 2..];
-    let mut fields = rest.split(' ').skip(1);
-    let parent = fields.next()?.parse().ok()?;
-    let group = fields.next()?.parse().ok()?;
-    Some((parent, group))
 }

@@ -161,11 +161,35 @@ fn root_only(dir: &Path) -> io::Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::has_account;
+    use super::{has_account, Lease};
 
     #[test]
     fn root_has_an_account_and_an_unused_id_has_none() {
         assert!(has_account(0));
         assert!(!has_account(4_000_000_000));
+    }
+
+    /// A range that holds an account's id (as 60000 to 64999 holds
+    /// Debian's `slurm`, 64030) leases around it, and one that holds only
+    /// accounts' ids leases nothing (root alone may lease).
+    #[test]
+    fn a_range_crossing_an_account_leases_around_it() {
+        if crate::effective_uid() != 0 {
+            let ci = std::env::var("CI").unwrap_or_default();
+            assert!(
+                matches!(ci.trim(), "" | "0") || ci.eq_ignore_ascii_case("false"),
+                "CI runs as root, and must lease"
+            );
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "SKIPPED leasing uids: root alone may");
+            return;
+        }
+        let error = Lease::take(&(0..=0)).unwrap_err();
+        assert!(error.to_string().contains("names an account"), "{error}");
+        let nobody = crate::confinement::NOBODY;
+        assert!(has_account(nobody));
+        let lease = Lease::take(&(nobody..=nobody + 64)).unwrap();
+        assert_ne!(lease.uid(), nobody);
+        assert!(!has_account(lease.uid()));
     }
 }

@@ -148,6 +148,15 @@ pub fn failure(ended: &Ended) -> Option<(Status, String)> {
     })
 }
 
+/// The exit code or the signal a run ended with, as a report gives them.
+pub fn exit_code_and_signal(ended: &Ended) -> (Option<i32>, Option<i32>) {
+    match *ended {
+        Ended::Exited(code) => (Some(code), None),
+        Ended::Signalled(signal) => (None, Some(signal)),
+        Ended::TimedOut | Ended::NotStarted(_) => (None, None),
+    }
+}
+
 /// "signal N (NAME)", with what the sandbox's signals mean.
 fn signal_reason(signal: i32) -> String {
     let name = match signal {

@@ -32,7 +32,7 @@ use crate::compare::{self, heatmap, FlipStats, Picture, Thresholds};
 use aspects::{AspectResult, AspectThresholds};
 pub use judge::Status;
 use raytracer_box::folder::RunFolder;
-use raytracer_box::{run::run, Confinement, Ended, Scratch, Share};
+use raytracer_box::{run::run, Confinement, Scratch, Share};
 use raytracer_render::render::probe::Buffers;
 use suite::SuiteScene;
 use workdir::Template;
@@ -141,7 +141,7 @@ fn aspect_pictures(
 }
 
 /// `reason` with the run's full disk (of `disk` bytes) told after it.
-fn with_full_disk(reason: Option<String>, disk: u64) -> String {
+pub(crate) fn with_full_disk(reason: Option<String>, disk: u64) -> String {
     let full = format!("the run's disk space ({} MiB) was full", disk >> 20);
     match reason {
         Some(reason) => format!("{reason}; {full}"),
@@ -169,36 +169,6 @@ pub fn grade_scene(
     if let Some(reason) = &plan.skip {
         return Ok(not_run(scene, reference_image, reason));
     }
-
-    let (folder, cwd) = match &plan.programs {
-        Programs::Here(cwd) => (None, Some(cwd.as_path())),
-        Programs::Folder(folder) => (Some(*folder), None),
-    };
-    // A folder that cannot be prepared is this scene's failure, not the
-    // whole grading's: the student's folder may be what it cannot copy.
-    let dir = match workdir::prepare(scene, folder, &plan.confinement) {
-        Ok(dir) => dir,
-        Err(error) => {
-            let reason = format!(
-                "cannot prepare the scene's working folder: {}",
-                raytracer_scene::diagnostic::io_reason(&error)
-            );
-            return Ok(not_run(scene, reference_image, &reason));
-        }
-    };
-    let argv = plan.template.argv(&dir.scene_file, workdir::OUT, cwd);
-    let share = Share {
-        read_write: vec![dir.root.clone()],
-        read_only: match &plan.programs {
-            Programs::Here(_) => program_files(&argv),
-            Programs::Folder(_) => Vec::new(),
-        },
-        scratch: Some(Scratch {
-            folder: dir.root.clone(),
-            keep: dir.keep(),
-        }),
-    };
-    let run = run(&argv, &dir.start, &share, plan.confinement);
     let against = judge::Against {
         reference,
         buffers,
@@ -206,15 +176,10 @@ pub fn grade_scene(
         aspects: &plan.aspects,
         points: &scene.aspects,
     };
-    let mut judged = judge::judge(&run.ended, &dir.out(), &against);
-    remove_reporting(dir.folder, "the scene's working folder");
-    if run.disk_full {
-        judged.reason = Some(with_full_disk(
-            judged.reason.take(),
-            plan.confinement.limits.disk,
-        ));
-    }
-
+    let (run, mut judged) = match run_and_judge(plan, scene, &against) {
+        Ok(done) => done,
+        Err(reason) => return Ok(not_run(scene, reference_image, &reason)),
+    };
     let mut images = Images {
         reference: reference_image,
         student: None,
@@ -222,29 +187,14 @@ pub fn grade_scene(
     };
     let metrics = match &judged.compared {
         Some((picture, comparison)) => {
-            let student = image("student");
-            write_png(&student, picture)?;
-            images.student = Some(student);
-            if let Some(metrics) = comparison.metrics {
-                let flip = image("flip");
-                let map = heatmap::colour(picture.width, picture.height, &comparison.error_map);
-                write_png(&flip, &map)?;
-                images.heatmap = Some(flip);
-                Some(metrics)
-            } else {
-                None
-            }
+            student_pictures(picture, comparison, &image, &write_png, &mut images)?
         }
         None => None,
     };
     let (aspect_results, reading) =
         aspect_pictures(judged.aspects.take(), reference, &image, &write_png)?;
     let score = suite::round_points(aspect_results.iter().map(|r| r.score).sum());
-    let (exit_code, signal) = match run.ended {
-        Ended::Exited(code) => (Some(code), None),
-        Ended::Signalled(signal) => (None, Some(signal)),
-        Ended::TimedOut | Ended::NotStarted(_) => (None, None),
-    };
+    let (exit_code, signal) = judge::exit_code_and_signal(&run.ended);
     Ok(SceneResult {
         scene: scene.name.clone(),
         description: scene.description.clone(),
@@ -267,6 +217,73 @@ pub fn grade_scene(
         stderr: run.stderr.text(),
         images,
     })
+}
+
+/// Run the tracer on `scene` in a working folder of its own (removed
+/// after) and judge what it wrote `against` the reference, with a full
+/// disk told; why it could not run when its folder cannot be prepared.
+fn run_and_judge(
+    plan: &Plan,
+    scene: &SuiteScene,
+    against: &judge::Against,
+) -> Result<(raytracer_box::Run, judge::Judgement), String> {
+    let (folder, cwd) = match &plan.programs {
+        Programs::Here(cwd) => (None, Some(cwd.as_path())),
+        Programs::Folder(folder) => (Some(*folder), None),
+    };
+    // A folder that cannot be prepared is this scene's failure, not the
+    // whole grading's: the student's folder may be what it cannot copy.
+    let dir = workdir::prepare(scene, folder, &plan.confinement).map_err(|error| {
+        format!(
+            "cannot prepare the scene's working folder: {}",
+            raytracer_scene::diagnostic::io_reason(&error)
+        )
+    })?;
+    let argv = plan.template.argv(&dir.scene_file, workdir::OUT, cwd);
+    let share = Share {
+        read_write: vec![dir.root.clone()],
+        read_only: match &plan.programs {
+            Programs::Here(_) => program_files(&argv),
+            Programs::Folder(_) => Vec::new(),
+        },
+        scratch: Some(Scratch {
+            folder: dir.root.clone(),
+            keep: dir.keep(),
+        }),
+    };
+    let run = run(&argv, &dir.start, &share, plan.confinement);
+    let mut judged = judge::judge(&run.ended, &dir.out(), against);
+    remove_reporting(dir.folder, "the scene's working folder");
+    if run.disk_full {
+        judged.reason = Some(with_full_disk(
+            judged.reason.take(),
+            plan.confinement.limits.disk,
+        ));
+    }
+    Ok((run, judged))
+}
+
+/// The student's `picture` and, when it was compared, its ꟻLIP heat map
+/// (written by `write_png` at `image(kind)`, named in `images`); the
+/// comparison's metrics.
+fn student_pictures(
+    picture: &Picture,
+    comparison: &compare::Comparison,
+    image: &dyn Fn(&str) -> String,
+    write_png: &dyn Fn(&str, &Picture) -> std::io::Result<()>,
+    images: &mut Images,
+) -> std::io::Result<Option<compare::Metrics>> {
+    let student = image("student");
+    write_png(&student, picture)?;
+    images.student = Some(student);
+    let Some(metrics) = comparison.metrics else {
+        return Ok(None);
+    };
+    let flip = image("flip");
+    let map = heatmap::colour(picture.width, picture.height, &comparison.error_map);
+    write_png(&flip, &map)?;
+    images.heatmap = Some(flip);
+    Ok(Some(metrics))
 }
 
 /// The files a `--tracer` command names by an absolute path (its program,

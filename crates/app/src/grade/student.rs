@@ -23,7 +23,7 @@ use super::workdir::{Template, TemplateError};
 use raytracer_box::copy::{copy_folder, STUDENT_FOLDER};
 use raytracer_box::folder::{private_folder, RunFolder};
 use raytracer_box::run::run;
-use raytracer_box::{Confinement, Ended, Share};
+use raytracer_box::{Confinement, Share};
 use raytracer_scene::diagnostic::FileError;
 
 /// The file that names the tracer's command.
@@ -126,12 +126,12 @@ impl Student {
             scratch: None,
         };
         let run = run(&argv, folder, &share, confinement);
-        let (exit_code, signal) = match run.ended {
-            Ended::Exited(code) => (Some(code), None),
-            Ended::Signalled(signal) => (None, Some(signal)),
-            Ended::TimedOut | Ended::NotStarted(_) => (None, None),
+        let (exit_code, signal) = super::judge::exit_code_and_signal(&run.ended);
+        let failed = super::judge::failure(&run.ended).map(|(_, reason)| reason);
+        let reason = match run.disk_full {
+            true => Some(super::with_full_disk(failed, confinement.limits.disk)),
+            false => failed,
         };
-        let reason = super::judge::failure(&run.ended).map(|(_, reason)| reason);
         Some(BuildSummary {
             command: command.clone(),
             ok: reason.is_none(),

@@ -17,9 +17,10 @@ use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThreshol
 
 /// Judge reflection, marking `map`.
 pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
-    let (mut showing, mut showing_bad, mut dark, mut dark_bad) = (0usize, 0usize, 0usize, 0usize);
-    let mut mirrors = 0usize;
-    let mut weakest_gain = f64::INFINITY;
+    let mut counts = Counts {
+        weakest_gain: f64::INFINITY,
+        ..Counts::default()
+    };
     for &object in &e.objects {
         let first = e.first_probe(object);
         if first.reflectivity == 0.0 || first.uv.is_some() {
@@ -51,7 +52,7 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         let Some(beta) = robust_fit(&rows) else {
             continue;
         };
-        mirrors += 1;
+        counts.mirrors += 1;
         // Whether the student's mirror shows what ours shows at all: the
         // fit's gain on it against the mirror's reflectivity, told only
         // where what ours shows varies enough over the mirror to tell a
@@ -59,7 +60,7 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         let shown: Vec<f64> = rows.iter().map(|(x, _)| x[1]).collect();
         let gain = (spread(&shown) >= 0.03).then(|| beta[2] / first.reflectivity);
         if let Some(gain) = gain {
-            weakest_gain = weakest_gain.min(gain);
+            counts.weakest_gain = counts.weakest_gain.min(gain);
         }
         let missing = gain.is_some_and(|g| g < thresholds.reflection_gain);
         for (&k, (x, s)) in ks.iter().zip(&rows) {
@@ -69,15 +70,22 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
             let shows = x[1] > 0.03;
             let bad = (r.abs() > 0.06 && !highlight) || (missing && shows);
             if shows {
-                showing += 1;
-                showing_bad += usize::from(bad);
+                counts.showing += 1;
+                counts.showing_bad += usize::from(bad);
             } else {
-                dark += 1;
-                dark_bad += usize::from(bad);
+                counts.dark += 1;
+                counts.dark_bad += usize::from(bad);
             }
             map[k] = 1 + u8::from(bad);
         }
     }
+    let Counts {
+        showing,
+        showing_bad,
+        dark,
+        dark_bad,
+        ..
+    } = counts;
     // Each fraction over its own base: the pixels whose reflection shows
     // something, and those where ours shows nothing (judged when there
     // are enough of them).
@@ -87,7 +95,41 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         0.0
     });
     let judged = showing >= 20;
-    let detail = if judged {
+    verdict(
+        Aspect::Reflection,
+        judged,
+        measure,
+        thresholds.reflection,
+        showing + dark,
+        detail(&counts, thresholds.reflection_gain),
+    )
+}
+
+/// The pixels of mirrors judged, whether they show something in ours
+/// and whether they differ; the mirrors fitted, and the weakest gain on
+/// what ours shows of them.
+#[derive(Default)]
+struct Counts {
+    showing: usize,
+    showing_bad: usize,
+    dark: usize,
+    dark_bad: usize,
+    mirrors: usize,
+    weakest_gain: f64,
+}
+
+/// The verdict's words for `counts`, the gain a mirror must reach being
+/// `least_gain`.
+fn detail(counts: &Counts, least_gain: f64) -> String {
+    let Counts {
+        showing,
+        showing_bad,
+        dark,
+        dark_bad,
+        mirrors,
+        weakest_gain,
+    } = *counts;
+    if showing >= 20 {
         let mut parts: Vec<String> = [
             fraction_words(
                 showing_bad,
@@ -111,7 +153,7 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
             parts.push(format!(
                 "the mirror shows {:.0} % of what ours shows (at least {:.0} %)",
                 100.0 * weakest_gain,
-                100.0 * thresholds.reflection_gain
+                100.0 * least_gain
             ));
         }
         parts.join("; ")
@@ -121,13 +163,5 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         format!(
             "only {showing} mirror pixels show something ours judges (20 needed): the others show nothing, a texture or another mirror"
         )
-    };
-    verdict(
-        Aspect::Reflection,
-        judged,
-        measure,
-        thresholds.reflection,
-        showing + dark,
-        detail,
-    )
+    }
 }
