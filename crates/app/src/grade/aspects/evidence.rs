@@ -5,6 +5,7 @@
 //! image turned back to linear light by their fitted tone curve
 //! ([`super::tone`]).
 
+use super::tone::{self, luminance_of, Row};
 use crate::compare::Picture;
 use raytracer_render::render::probe::{Buffers, Probe};
 
@@ -67,7 +68,7 @@ impl<'a> Evidence<'a> {
                 first.reflectivity <= 0.0 && first.uv.is_none()
             })
             .collect();
-        evidence.gamma = super::tone::fit_gamma(&evidence);
+        evidence.gamma = tone::fit_gamma(&evidence.tone_rows());
         let gamma = evidence.gamma;
         evidence.linear = student
             .rgb
@@ -75,6 +76,54 @@ impl<'a> Evidence<'a> {
             .map(|p| [0, 1, 2].map(|c| (f64::from(p[c]) / 255.0).powf(gamma)))
             .collect();
         evidence
+    }
+
+    /// The pixels of each object that tell the curve, with what ours sees
+    /// there: its unshadowed pixels away from highlights (out of the
+    /// cone where any highlight lobe may lie) and clamping,
+    /// on plain objects and mirrors (whose reflection ours settles, and not
+    /// of a texture); textured objects only when no other object tells, as
+    /// what they show depends on the mapping.
+    pub fn tone_rows(&self) -> Vec<Vec<Row>> {
+        let e = self;
+        let rows = |object: u32, textured: bool| -> Vec<Row> {
+            e.pixels_of(object, &|p| {
+                p.visible ^ (u64::from(p.reflected.map_or(u32::MAX, |r| r)) << 32)
+            })
+            .into_iter()
+            .filter(|&k| {
+                let p = &e.buffers.centres[k];
+                let settled = p.reflectivity == 0.0
+                    || (p.reflection_settled
+                        && p.reflected
+                            .is_none_or(|r| e.buffers.textured.get(r as usize) != Some(&true)));
+                p.unshadowed - p.lit < 1e-9
+                    && p.highlight <= HIGHLIGHT_CONE
+                    && settled
+                    && p.uv.is_some() == textured
+                    && !clipped(&e.student_px(k))
+            })
+            .map(|k| {
+                let p = &e.buffers.centres[k];
+                (e.student_px(k), [p.lit, p.reflected_radiance])
+            })
+            .collect()
+        };
+        let enough = |g: &Vec<Row>| g.len() >= 30;
+        let untextured: Vec<_> = e
+            .objects
+            .iter()
+            .map(|&o| rows(o, false))
+            .filter(enough)
+            .collect();
+        if !untextured.is_empty() {
+            return untextured;
+        }
+        e.objects
+            .iter()
+            .map(|&o| rows(o, true))
+            .filter(enough)
+            .collect()
     }
 
     /// Pixel `k` in linear light, in [0, 1]: ours as it is, the student's
@@ -144,11 +193,6 @@ impl<'a> Evidence<'a> {
             })
             .collect()
     }
-}
-
-/// Luminance of a colour in [0, 1].
-pub(super) fn luminance_of(c: [f64; 3]) -> f64 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
 
 /// Chromaticity of an 8-bit pixel: each channel over their sum; `None`

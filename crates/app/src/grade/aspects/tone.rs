@@ -18,7 +18,6 @@
 //! with little light to tell, every curve fits about as well, and the
 //! image is then read as written.
 
-use super::evidence::{clipped, luminance_of, Evidence, HIGHLIGHT_CONE};
 use super::fit::{predict, robust_fit};
 
 /// The exponents tried: from 0.8 to 3 in steps of 0.05, which covers
@@ -32,66 +31,30 @@ fn candidates() -> impl Iterator<Item = f64> {
 /// another curve must explain the image twice as well as clamping alone.
 const CLOSE: f64 = 1.0;
 
-/// The pixels of each object that tell the curve, with what ours sees
-/// there: its unshadowed pixels away from highlights (out of the
-/// cone where any highlight lobe may lie) and clamping,
-/// on plain objects and mirrors (whose reflection ours settles, and not
-/// of a texture); textured objects only when no other object tells, as
-/// what they show depends on the mapping.
-fn groups(e: &Evidence) -> Vec<Vec<(usize, [f64; 2])>> {
-    let rows = |object: u32, textured: bool| -> Vec<(usize, [f64; 2])> {
-        e.pixels_of(object, &|p| {
-            p.visible ^ (u64::from(p.reflected.map_or(u32::MAX, |r| r)) << 32)
-        })
-        .into_iter()
-        .filter(|&k| {
-            let p = &e.buffers.centres[k];
-            let settled = p.reflectivity == 0.0
-                || (p.reflection_settled
-                    && p.reflected
-                        .is_none_or(|r| e.buffers.textured.get(r as usize) != Some(&true)));
-            p.unshadowed - p.lit < 1e-9
-                && p.highlight <= HIGHLIGHT_CONE
-                && settled
-                && p.uv.is_some() == textured
-                && !clipped(&e.student_px(k))
-        })
-        .map(|k| {
-            let p = &e.buffers.centres[k];
-            (k, [p.lit, p.reflected_radiance])
-        })
-        .collect()
-    };
-    let enough = |g: &Vec<(usize, [f64; 2])>| g.len() >= 30;
-    let untextured: Vec<_> = e
-        .objects
-        .iter()
-        .map(|&o| rows(o, false))
-        .filter(enough)
-        .collect();
-    if !untextured.is_empty() {
-        return untextured;
-    }
-    e.objects
-        .iter()
-        .map(|&o| rows(o, true))
-        .filter(enough)
-        .collect()
+/// The luminance of a colour in linear light, each channel in [0, 1].
+pub(super) fn luminance_of(c: [f64; 3]) -> f64 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
 
-/// The fitted `γ` of the student's image, 1 when no object tells.
-pub(super) fn fit_gamma(e: &Evidence) -> f64 {
-    let objects = groups(e);
+/// One pixel that tells the curve: the student's 8-bit colour there, and
+/// what ours sees (the light that reaches the point, and on a mirror what
+/// it shows).
+pub(super) type Row = ([u8; 3], [f64; 2]);
+
+/// The fitted `γ` of the student's image from the rows of each object
+/// that tells ([`super::evidence::Evidence::tone_rows`]); 1 when none
+/// does.
+pub(super) fn fit_gamma(objects: &[Vec<Row>]) -> f64 {
     if objects.is_empty() {
         return 1.0;
     }
     let unexplained = |gamma: f64| -> Option<f64> {
         let (mut residual, mut total) = (0.0, 0.0);
-        for group in &objects {
+        for group in objects {
             let rows: Vec<([f64; 2], f64)> = group
                 .iter()
-                .map(|&(k, x)| {
-                    let v = e.student_px(k).map(|c| (f64::from(c) / 255.0).powf(gamma));
+                .map(|&(p, x)| {
+                    let v = p.map(|c| (f64::from(c) / 255.0).powf(gamma));
                     (x, luminance_of(v))
                 })
                 .collect();
