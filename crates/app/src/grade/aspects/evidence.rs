@@ -1,8 +1,11 @@
 //! What every aspect reads: the student's image, ours, and what our
 //! renderer sees at each pixel (its probes), with the pixel-level
 //! measures the aspects share (luminance, chromaticity, clipping, where
-//! a highlight may lie) and the objects they judge.
+//! a highlight may lie) and the objects they judge, and the student's
+//! image turned back to linear light by their fitted tone curve
+//! ([`super::tone`]).
 
+use super::tone::{self, luminance_of, Row};
 use crate::compare::Picture;
 use raytracer_render::render::probe::{Buffers, Probe};
 
@@ -26,6 +29,17 @@ pub(super) struct Evidence<'a> {
     /// The objects that neither reflect nor are textured: where shadows
     /// and shading are judged.
     pub plain: Vec<u32>,
+    /// The student's fitted tone curve's exponent ([`super::tone`]).
+    pub gamma: f64,
+    /// The student's pixels in linear light, `(v/255)^γ` per channel.
+    linear: Vec<[f64; 3]>,
+}
+
+/// Whose colour [`Evidence::colour`] reads.
+#[derive(Clone, Copy)]
+pub(super) enum Whose {
+    Ours,
+    Theirs,
 }
 
 impl<'a> Evidence<'a> {
@@ -42,6 +56,8 @@ impl<'a> Evidence<'a> {
             n: (size * size) as usize,
             objects,
             plain: Vec::new(),
+            gamma: 1.0,
+            linear: Vec::new(),
         };
         evidence.plain = evidence
             .objects
@@ -52,7 +68,89 @@ impl<'a> Evidence<'a> {
                 first.reflectivity <= 0.0 && first.uv.is_none()
             })
             .collect();
+        evidence.gamma = tone::fit_gamma(&evidence.tone_rows());
+        let gamma = evidence.gamma;
+        evidence.linear = student
+            .rgb
+            .chunks_exact(3)
+            .map(|p| [0, 1, 2].map(|c| (f64::from(p[c]) / 255.0).powf(gamma)))
+            .collect();
         evidence
+    }
+
+    /// The pixels of each object that tell the curve, with what ours sees
+    /// there: its unshadowed pixels away from highlights (out of the
+    /// cone where any highlight lobe may lie) and clamping,
+    /// on plain objects and mirrors (whose reflection ours settles, and not
+    /// of a texture); textured objects only when no other object tells, as
+    /// what they show depends on the mapping.
+    pub fn tone_rows(&self) -> Vec<Vec<Row>> {
+        let e = self;
+        let rows = |object: u32, textured: bool| -> Vec<Row> {
+            e.pixels_of(object, &|p| {
+                p.visible ^ (u64::from(p.reflected.map_or(u32::MAX, |r| r)) << 32)
+            })
+            .into_iter()
+            .filter(|&k| {
+                let p = &e.buffers.centres[k];
+                let settled = p.reflectivity == 0.0
+                    || (p.reflection_settled
+                        && p.reflected
+                            .is_none_or(|r| e.buffers.textured.get(r as usize) != Some(&true)));
+                p.unshadowed - p.lit < 1e-9
+                    && p.highlight <= HIGHLIGHT_CONE
+                    && settled
+                    && p.uv.is_some() == textured
+                    && !clipped(&e.student_px(k))
+            })
+            .map(|k| {
+                let p = &e.buffers.centres[k];
+                (e.student_px(k), [p.lit, p.reflected_radiance])
+            })
+            .collect()
+        };
+        let enough = |g: &Vec<Row>| g.len() >= 30;
+        let untextured: Vec<_> = e
+            .objects
+            .iter()
+            .map(|&o| rows(o, false))
+            .filter(enough)
+            .collect();
+        if !untextured.is_empty() {
+            return untextured;
+        }
+        e.objects
+            .iter()
+            .map(|&o| rows(o, true))
+            .filter(enough)
+            .collect()
+    }
+
+    /// Pixel `k` in linear light, in [0, 1]: ours as it is, the student's
+    /// turned back by their tone curve.
+    pub fn colour(&self, whose: Whose, k: usize) -> [f64; 3] {
+        match whose {
+            Whose::Ours => self.px(self.reference, k).map(|c| f64::from(c) / 255.0),
+            Whose::Theirs => self.linear[k],
+        }
+    }
+
+    /// The luminance of pixel `k` in linear light.
+    pub fn luminance(&self, whose: Whose, k: usize) -> f64 {
+        luminance_of(self.colour(whose, k))
+    }
+
+    /// The chromaticity of pixel `k` in linear light, when the pixel as
+    /// written is bright enough to have one ([`chroma`]).
+    pub fn chroma(&self, whose: Whose, k: usize) -> Option<[f64; 3]> {
+        let written = match whose {
+            Whose::Ours => self.px(self.reference, k),
+            Whose::Theirs => self.student_px(k),
+        };
+        chroma(&written)?;
+        let c = self.colour(whose, k);
+        let sum = c[0] + c[1] + c[2];
+        (sum > 0.0).then(|| c.map(|v| v / sum))
     }
 
     /// Pixel `k` of `picture`.
@@ -97,13 +195,9 @@ impl<'a> Evidence<'a> {
     }
 }
 
-/// Luminance of an 8-bit pixel, in [0, 1].
-pub(super) fn luminance(p: &[u8]) -> f64 {
-    (0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])) / 255.0
-}
-
-/// Chromaticity of a pixel: each channel over their sum.
-pub(super) fn chroma(p: &[u8]) -> Option<[f64; 3]> {
+/// Chromaticity of an 8-bit pixel: each channel over their sum; `None`
+/// when too dark for its rounding to leave a colour.
+fn chroma(p: &[u8]) -> Option<[f64; 3]> {
     let sum = f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2]);
     (sum > 15.0).then(|| [0, 1, 2].map(|c| f64::from(p[c]) / sum))
 }

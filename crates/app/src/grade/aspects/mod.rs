@@ -12,8 +12,11 @@
 //! - brightness is fitted per object, `s ≈ a + b·lit` (and `+ c·reflected`
 //!   on a mirror) by least squares on the student's own pixels, so any
 //!   ambient and diffuse constants, and reflection added or blended, fit;
+//! - the student's image is read in linear light, turned back by a tone
+//!   curve (a gamma) fitted once for the three channels ([`tone`]), so
+//!   a gamma for the screen changes no colour and no shadow;
 //! - textures are judged by their contrast and mean colour over the
-//!   object, which no mapping changes.
+//!   object.
 //!
 //! Each aspect is a file of its own, with its measure, the map of where it
 //! differs and its words in the report, over one [`evidence::Evidence`];
@@ -43,6 +46,7 @@ mod reflection;
 mod shading;
 mod shadows;
 mod textures;
+mod tone;
 mod transform;
 
 /// What a scene's image is judged on.

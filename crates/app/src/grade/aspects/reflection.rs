@@ -1,5 +1,5 @@
 //! Reflection: what mirrors show, on mirrors without a texture. The
-//! student's brightness is fitted per mirror as `a + b·lit + c·(what ours
+//! student's brightness (in linear light, [`super::tone`]) is fitted per mirror as `a + b·lit + c·(what ours
 //! sees in the mirror)`; a pixel the fit does not explain differs, and a
 //! mirror whose gain `c` on what ours shows is below a share of its
 //! reflectivity does not show it at all. What a mirror shows of a texture
@@ -11,7 +11,7 @@
 //!
 //! [`Probe::reflection_settled`]: raytracer_render::render::probe::Probe::reflection_settled
 
-use super::evidence::{clipped, luminance, Evidence, HIGHLIGHT_CONE};
+use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::fit::{predict, robust_fit, spread};
 use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 
@@ -46,7 +46,7 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
             .iter()
             .map(|&k| {
                 let p = &e.buffers.centres[k];
-                ([p.lit, p.reflected_radiance], luminance(&e.student_px(k)))
+                ([p.lit, p.reflected_radiance], e.luminance(Whose::Theirs, k))
             })
             .collect();
         let Some(beta) = robust_fit(&rows) else {

@@ -5,10 +5,11 @@
 //! chromaticity against ours; on each textured object whose texture shows
 //! (its contrast passes [`super::textures`], so a texture left out is
 //! textures' failure alone), its mean chromaticity against ours. Both
-//! away from highlights and clamped channels. A light's colour ignored
+//! away from highlights and clamped channels, and in linear light
+//! ([`super::tone`]). A light's colour ignored
 //! shows here, on plain and textured objects alike.
 
-use super::evidence::{chroma, clipped, Evidence, HIGHLIGHT_CONE};
+use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::textures::{textured, LEAST_PIXELS};
 use super::{verdict, Aspect, AspectResult, AspectThresholds};
 
@@ -30,25 +31,25 @@ fn plain(e: &Evidence, bound: f64, map: &mut [u8]) -> (f64, usize) {
                 p.lit > 0.05
                     && p.highlight < 0.9
                     && !clipped(&e.student_px(k))
-                    && chroma(&e.student_px(k)).is_some()
-                    && chroma(&e.px(e.reference, k)).is_some()
+                    && e.chroma(Whose::Theirs, k).is_some()
+                    && e.chroma(Whose::Ours, k).is_some()
             })
             .collect();
         if ks.len() < 20 {
             continue;
         }
-        let median = |pic| {
+        let median = |whose| {
             [0, 1, 2].map(|c| {
                 let mut v: Vec<f64> = ks
                     .iter()
-                    .filter_map(|&k| chroma(&e.px(pic, k)))
+                    .filter_map(|&k| e.chroma(whose, k))
                     .map(|v| v[c])
                     .collect();
                 v.sort_by(f64::total_cmp);
                 v[v.len() / 2]
             })
         };
-        let d = distance(median(e.reference), median(e.student));
+        let d = distance(median(Whose::Ours), median(Whose::Theirs));
         worst = worst.max(d);
         shaded += ks.len();
         for &k in &ks {
@@ -82,12 +83,12 @@ fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) 
         if ks.len() < LEAST_PIXELS {
             continue;
         }
-        let mean = |pic| -> [f64; 3] {
-            let all: Vec<[f64; 3]> = ks.iter().filter_map(|&k| chroma(&e.px(pic, k))).collect();
+        let mean = |whose| -> [f64; 3] {
+            let all: Vec<[f64; 3]> = ks.iter().filter_map(|&k| e.chroma(whose, k)).collect();
             let count = all.len().max(1) as f64;
             [0, 1, 2].map(|c| all.iter().map(|v| v[c]).sum::<f64>() / count)
         };
-        let d = distance(mean(e.reference), mean(e.student));
+        let d = distance(mean(Whose::Ours), mean(Whose::Theirs));
         worst = worst.max(d);
         shaded += ks.len();
         for &k in &ks {

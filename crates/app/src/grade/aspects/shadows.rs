@@ -1,11 +1,11 @@
 //! Shadows: which lit points are shadowed, on objects that neither
-//! reflect nor are textured. The student's brightness is fitted per
-//! object as `a + b·lit` on the pixels no shadow and no highlight touch;
+//! reflect nor are textured. The student's brightness (in linear light,
+//! [`super::tone`]) is fitted per object as `a + b·lit` on the pixels no shadow and no highlight touch;
 //! a pixel ours shadows that is as bright as the fit says it would be
 //! unshadowed looks lit, and a fully lit pixel darker by half its light
 //! looks shadowed.
 
-use super::evidence::{clipped, luminance, Evidence};
+use super::evidence::{clipped, Evidence, Whose};
 use super::fit::robust_fit;
 use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 
@@ -25,7 +25,7 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
                 // Not where a specular highlight may brighten it.
                 p.unshadowed - p.lit < 1e-9 && p.highlight < 0.8
             })
-            .map(|&k| ([e.buffers.centres[k].lit], luminance(&e.student_px(k))))
+            .map(|&k| ([e.buffers.centres[k].lit], e.luminance(Whose::Theirs, k)))
             .collect();
         let Some(beta) = robust_fit(&rows) else {
             continue;
@@ -33,7 +33,7 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         let (a, b) = (beta[0], beta[1].max(0.05));
         for &k in &ks {
             let probe = &e.buffers.centres[k];
-            let s = luminance(&e.student_px(k));
+            let s = e.luminance(Whose::Theirs, k);
             let r = s - (a + b * probe.lit);
             let blocked = probe.unshadowed - probe.lit;
             if blocked > 0.05 {

@@ -4,21 +4,20 @@
 //! colour under the lights is shading's ([`super::shading`]): a light's
 //! colour ignored on a textured object costs shading, not textures.
 
-use super::evidence::{luminance, Evidence};
+use super::evidence::{Evidence, Whose};
 use super::{Aspect, AspectResult, AspectThresholds};
-use crate::compare::Picture;
 
 /// The least number of pixels an object needs for its texture to be
 /// judged, and for its colour.
 pub(super) const LEAST_PIXELS: usize = 30;
 
 /// The mean absolute difference between neighbouring pixels of `ks` in
-/// `picture`, over their mean luminance.
-fn contrast(e: &Evidence, picture: &Picture, ks: &[usize], inside: &[bool]) -> f64 {
+/// `whose` image (in linear light), over their mean luminance.
+fn contrast(e: &Evidence, whose: Whose, ks: &[usize], inside: &[bool]) -> f64 {
     let (size, n) = (e.size, e.n);
     let (mut sum, mut count, mut mean) = (0.0, 0usize, 0.0);
     for &k in ks {
-        let s = luminance(&e.px(picture, k));
+        let s = e.luminance(whose, k);
         mean += s;
         let x = k as u32 % size;
         for q in [(x + 1 < size).then_some(k + 1), Some(k + size as usize)]
@@ -26,7 +25,7 @@ fn contrast(e: &Evidence, picture: &Picture, ks: &[usize], inside: &[bool]) -> f
             .flatten()
         {
             if q < n && inside[q] {
-                sum += (s - luminance(&e.px(picture, q))).abs();
+                sum += (s - e.luminance(whose, q)).abs();
                 count += 1;
             }
         }
@@ -63,11 +62,11 @@ pub(super) fn textured(e: &Evidence) -> Vec<Textured> {
         for &k in &ks {
             inside[k] = true;
         }
-        let ours = contrast(e, e.reference, &ks, &inside);
+        let ours = contrast(e, Whose::Ours, &ks, &inside);
         if ours < 0.02 {
             continue;
         }
-        let theirs = contrast(e, e.student, &ks, &inside);
+        let theirs = contrast(e, Whose::Theirs, &ks, &inside);
         found.push(Textured { ks, ours, theirs });
     }
     found
