@@ -18,6 +18,7 @@ pub mod judge;
 pub mod options;
 pub mod reference;
 pub mod report;
+pub mod session;
 pub mod student;
 pub mod student_image;
 pub mod suite;
