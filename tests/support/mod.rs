@@ -1,11 +1,13 @@
 //! Helpers shared by the integration tests: running the binary, writing
 //! and listing files, scene text to IR and to pixels in-process, and the
 //! corpus copied beside a wood texture; headless Chromium (`browser`) and
-//! the hostile-input set (`hostile`).
+//! the hostile-input set (`hostile`), and the grading tests' set-up
+//! (`grading`).
 
 #![allow(dead_code)] // each test file uses its own subset
 
 pub mod browser;
+pub mod grading;
 pub mod hostile;
 
 use std::path::{Path, PathBuf};
