@@ -17,9 +17,9 @@ use percent_encoding::{utf8_percent_encode, AsciiSet, NON_ALPHANUMERIC};
 use serde_json::Value;
 
 use crate::grade_class::class_folder;
-use crate::grade_cli::binary;
 use crate::support;
 use crate::support::browser::{chromium_available, Browser};
+use crate::support::grading::binary;
 
 /// Every `<img>` of the page: whether it loaded, and its natural width.
 const IMAGES: &str = "Array.from(document.images).map((image) => \

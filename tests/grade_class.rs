@@ -18,7 +18,7 @@ use std::path::Path;
 use percent_encoding::percent_decode_str;
 use serde_json::Value;
 
-use crate::grade_cli::{open_folder, student_binary};
+use crate::support::grading::{open_folder, student_binary};
 use crate::support::{self, run};
 
 /// Two small scenes: a ball, and a red ball off centre.

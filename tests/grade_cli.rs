@@ -9,147 +9,56 @@
 
 use std::net::TcpListener;
 use std::os::unix::fs::PermissionsExt;
-use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
 
-use crate::support::{self, bin, run};
+use crate::support::grading::{self, open_folder, Kind};
+use crate::support::{self, run};
 
 /// A small scene: a sphere on a lit floor, 32 pixels.
 const SCENE: &str = "camera 32\n\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n\n\
 plane\n  dimension 20 40\n  center 0 -1 -10\n  normal 0 1 0\n  headup 0 0 -1\n  color .8 .8 .8\n\n\
 light\n  location 6 4 -3\n  color 1 1 1\n";
 
-/// The binary, where the graded programs (run as `nobody` when the tests
-/// run as root) can execute it: in place when every folder above it lets
-/// others in, else a copy in the system's temporary folder.
-pub(crate) fn binary() -> &'static Path {
-    static BINARY: OnceLock<PathBuf> = OnceLock::new();
-    BINARY.get_or_init(|| {
-        let built = PathBuf::from(bin());
-        let open = built.ancestors().skip(1).all(|dir| {
-            dir.metadata()
-                .is_ok_and(|m| m.permissions().mode() & 0o001 != 0)
-        });
-        if open {
-            return built;
-        }
-        // This process's own copy: another suite running beside this one
-        // (or another test process) may be replacing its own meanwhile.
-        let copy = std::env::temp_dir().join(format!(
-            "raytracer-grade-tests-binary-{}",
-            std::process::id()
-        ));
-        let _ = std::fs::remove_file(&copy);
-        std::fs::copy(&built, &copy).unwrap();
-        copy
-    })
-}
+pub(crate) use crate::support::grading::student_binary;
 
-/// A copy of the binary as a student's own tracer: the grader's own
-/// executable is not in the box a program runs in (a tracer that runs it
-/// must not match), while a student may well ship a renderer of its own.
-pub(crate) fn student_binary() -> &'static Path {
-    static COPY: OnceLock<PathBuf> = OnceLock::new();
-    COPY.get_or_init(|| {
-        let copy = std::env::temp_dir().join(format!(
-            "raytracer-grade-tests-student-tracer-{}",
-            std::process::id()
-        ));
-        let _ = std::fs::remove_file(&copy);
-        std::fs::copy(bin(), &copy).unwrap();
-        std::fs::set_permissions(&copy, std::fs::Permissions::from_mode(0o755)).unwrap();
-        copy
-    })
-}
-
-/// A folder anyone may use (the graded program writes its working folder's
-/// name into it).
-pub(crate) fn open_folder(prefix: &str) -> tempfile::TempDir {
-    let dir = tempfile::Builder::new().prefix(prefix).tempdir().unwrap();
-    std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o777)).unwrap();
-    dir
-}
-
-/// A test's folder: the suite (one scene), the student script, the report
-/// and the cache. The script first records the folder it runs in.
-struct Case {
-    dir: tempfile::TempDir,
-}
+/// A test's folder ([`grading::Case`]): the one-scene suite and the
+/// student's script, graded under tight limits, as the tests run; each
+/// grading checks that the run left no process.
+struct Case(grading::Case);
 
 impl Case {
     fn new(script: &str) -> Case {
-        let dir = open_folder("grade-case-");
-        std::fs::create_dir(dir.path().join("suite")).unwrap();
-        std::fs::write(dir.path().join("suite/ball.txt"), SCENE).unwrap();
-        let student = dir.path().join("student.sh");
-        let text = format!(
-            "#!/bin/bash\nRAYTRACER={}\n{script}\n",
-            student_binary().display()
-        );
-        std::fs::write(&student, text).unwrap();
-        std::fs::set_permissions(&student, std::fs::Permissions::from_mode(0o755)).unwrap();
-        Case { dir }
+        let case = grading::Case::new("grade-case-", SCENE, script).with_defaults(&[
+            ("--timeout", "3"),
+            ("--max-file-size", "8"),
+            ("--max-output", "4"),
+        ]);
+        Case(case)
+    }
+
+    fn path(&self) -> &Path {
+        self.0.path()
     }
 
     /// Grade the student with `extra` options; the exit code, the one
     /// scene's summary entry and the seconds `grade` took.
     fn grade(&self, extra: &[&str]) -> (i32, Value, f64) {
-        let d = self.dir.path();
-        // The renderer is a word of the command, so the box holds it.
-        let tracer = format!(
-            "{} {{scene}} {{out}} {}",
-            d.join("student.sh").display(),
-            student_binary().display()
-        );
-        self.grade_tracer(&tracer, extra)
+        self.grade_tracer(&self.0.tracer(), extra)
     }
 
     /// [`Case::grade`] with the tracer command `tracer` instead of the
     /// student script.
     fn grade_tracer(&self, tracer: &str, extra: &[&str]) -> (i32, Value, f64) {
-        let d = self.dir.path();
-        let report = d.join("report");
-        let cache = d.join("cache");
-        let mut args = vec![
-            "grade",
-            "--tracer",
-            tracer,
-            "-o",
-            report.to_str().unwrap(),
-            "--cache",
-            cache.to_str().unwrap(),
-        ];
-        // Tight limits, unless the test sets its own.
-        for (option, value) in [
-            ("--timeout", "3"),
-            ("--max-file-size", "8"),
-            ("--max-output", "4"),
-        ] {
-            if !extra.contains(&option) {
-                args.extend([option, value]);
-            }
-        }
-        args.extend_from_slice(extra);
-        let suite = d.join("suite");
-        args.push(suite.to_str().unwrap());
         let start = Instant::now();
-        let output = run(&args);
+        let (code, scene, _) = self.0.grade(Kind::Tests, Some(tracer), extra, &[]);
         let seconds = start.elapsed().as_secs_f64();
-        let summary: Value =
-            serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap_or_else(
-                |_| panic!("no summary: {}", String::from_utf8_lossy(&output.stderr)),
-            ))
-            .unwrap();
+        let summary = self.0.summary(Kind::Tests, "");
         assert_eq!(summary["scenes"].as_array().unwrap().len(), 1);
-        assert_no_process_left(d);
-        (
-            output.status.code().unwrap(),
-            summary["scenes"][0].clone(),
-            seconds,
-        )
+        assert_no_process_left(self.path());
+        (code, scene, seconds)
     }
 }
 
@@ -259,7 +168,7 @@ fn a_crash_is_reported_with_its_signal_and_stderr() {
 #[test]
 fn a_program_that_cannot_start_says_why_in_one_way() {
     let case = Case::new("exit 0");
-    let d = case.dir.path();
+    let d = case.path();
     std::fs::write(d.join("plain.sh"), "#!/bin/sh\n").unwrap();
     std::fs::set_permissions(d.join("plain.sh"), std::fs::Permissions::from_mode(0o644)).unwrap();
     for program in [
@@ -372,7 +281,7 @@ fn the_network_is_out_of_reach() {
     ));
     let (_, scene, _) = case.grade(&[]);
     let report: Value = serde_json::from_slice(
-        &std::fs::read(case.dir.path().join("report/summary.json")).unwrap(),
+        &std::fs::read(case.0.report(Kind::Tests).join("summary.json")).unwrap(),
     )
     .unwrap();
     let isolated = report["sandbox"]["network_isolated"].as_bool().unwrap();

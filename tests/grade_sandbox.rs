@@ -12,12 +12,13 @@
 //! owner and mode must be what they were. The vector exists only where
 //! the grader is root: an ordinary user's grader changes no owner.
 
+use std::ffi::OsStr;
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use crate::grade_cli::{binary, open_folder};
 use crate::support;
+use crate::support::grading::{binary, kinds, open_folder, student_binary, Case, Kind, BALL};
 
 /// Replaces every entry it may rename under each `raytracer-grade-*`
 /// folder of TMP with a link to VICTIM, over and over, until STOP exists.
@@ -193,151 +194,14 @@ fn a_link_swapped_into_a_working_folder_never_redirects_the_chown() {
     );
 }
 
-/// The two kinds of run every attack is tried in: `grade` as root (CI's
-/// kind), and as an ordinary user (`nobody`, through `setpriv`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Kind {
-    Root,
-    User,
-}
+/// A lone sphere, unlit, 16 pixels: the suite of the tests whose
+/// students' runs, not their images, are what is tested.
+const SPHERE: &str = "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n";
 
-/// The kinds of run this machine can try: both as root; as an ordinary
-/// user only the user run (CI runs as root, so there it is a failure).
-fn kinds() -> Vec<Kind> {
-    if support::is_root() {
-        if !support::tool_available(
-            "setpriv",
-            "the user-run attacks",
-            "apt-get install util-linux",
-        ) {
-            return vec![Kind::Root];
-        }
-        vec![Kind::Root, Kind::User]
-    } else {
-        assert!(!support::under_ci(), "CI runs as root");
-        support::skipped("the root-run attacks: the tests do not run as root");
-        vec![Kind::User]
-    }
-}
-
-/// `grade` for a run of `kind`: a user run as `nobody` through `setpriv`
-/// when the tests run as root, else as the tests' own user.
-fn grader(kind: Kind) -> Command {
-    if kind == Kind::Root || !support::is_root() {
-        return Command::new(binary());
-    }
-    let mut command = Command::new("setpriv");
-    command
-        .args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
-        .arg(binary());
-    command
-}
-
-/// An attack's folder: a one-scene suite, the attacker's script, the
-/// report and the cache, open to `nobody`.
-struct Attack {
-    dir: tempfile::TempDir,
-}
-
-impl Attack {
-    /// `script` is the tracer's body (bash; `$1` the scene, `$2` the image,
-    /// `$RAYTRACER` a copy of the renderer the student may ship).
-    fn new(script: &str) -> Attack {
-        let dir = open_folder("grade-attack-");
-        let d = dir.path();
-        std::fs::create_dir(d.join("suite")).unwrap();
-        std::fs::write(
-            d.join("suite/ball.txt"),
-            "camera 32\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n\
-             light\n  location 6 4 -3\n  color 1 1 1\n",
-        )
-        .unwrap();
-        let text = format!(
-            "#!/bin/bash\nRAYTRACER={}\nCASE={}\n{script}\n",
-            crate::grade_cli::student_binary().display(),
-            d.display()
-        );
-        let tracer = d.join("tracer.sh");
-        std::fs::write(&tracer, text).unwrap();
-        std::fs::set_permissions(&tracer, std::fs::Permissions::from_mode(0o755)).unwrap();
-        Attack { dir }
-    }
-
-    fn path(&self) -> &Path {
-        self.dir.path()
-    }
-
-    /// The command that grades with `tracer` (default: the script, with
-    /// the student's renderer as a word so the box holds it) in a run of
-    /// `kind`, into `report-KIND`.
-    fn command(
-        &self,
-        kind: Kind,
-        tracer: Option<&str>,
-        extra: &[&str],
-        env: &[(&str, &str)],
-    ) -> Command {
-        let d = self.path();
-        let report = d.join(format!("report-{kind:?}"));
-        let _ = std::fs::remove_dir_all(&report);
-        let default = format!(
-            "{} {{scene}} {{out}} {}",
-            d.join("tracer.sh").display(),
-            crate::grade_cli::student_binary().display()
-        );
-        let mut command = grader(kind);
-        command
-            .args(["grade", "--tracer", tracer.unwrap_or(&default)])
-            .args(if extra.contains(&"--timeout") {
-                &[][..]
-            } else {
-                &["--timeout", "5"][..]
-            })
-            .args(extra)
-            .arg("-o")
-            .arg(&report)
-            .arg("--cache")
-            .arg(d.join(format!("cache-{kind:?}")))
-            .arg(d.join("suite"))
-            .env("HOME", d)
-            .stdin(Stdio::null());
-        for (key, value) in env {
-            command.env(key, value);
-        }
-        command
-    }
-
-    /// Grade as [`Attack::command`] says; the exit code, the scene's entry
-    /// and summary.json's sandbox.
-    fn grade(
-        &self,
-        kind: Kind,
-        tracer: Option<&str>,
-        extra: &[&str],
-        env: &[(&str, &str)],
-    ) -> (i32, Value, Value) {
-        self.grade_by(kind, self.command(kind, tracer, extra, env))
-    }
-
-    /// Grade by `command`, made by [`Attack::command`] for `kind`.
-    fn grade_by(&self, kind: Kind, mut command: Command) -> (i32, Value, Value) {
-        let report = self.path().join(format!("report-{kind:?}"));
-        let output = command.output().unwrap();
-        let summary: Value = serde_json::from_slice(
-            &std::fs::read(report.join("summary.json")).unwrap_or_else(|_| {
-                panic!(
-                    "{kind:?}: no summary: {}",
-                    String::from_utf8_lossy(&output.stderr)
-                )
-            }),
-        )
-        .unwrap();
-        (
-            output.status.code().unwrap_or(-1),
-            summary["scenes"][0].clone(),
-            summary["sandbox"].clone(),
-        )
-    }
+/// An attack's folder: a one-scene suite and the attacker's script
+/// (`script` is the tracer's body, as [`Case::new`] says).
+fn attack_folder(script: &str) -> Case {
+    Case::new("grade-attack-", BALL, script)
 }
 
 use serde_json::Value;
@@ -353,8 +217,8 @@ fn status(scene: &Value) -> &str {
 fn the_graders_own_executable_is_out_of_reach() {
     let grader = binary().display().to_string();
     let folder = binary().parent().unwrap().display().to_string();
-    let wrapper = Attack::new(&format!("exec {grader} render \"$1\" \"$2\""));
-    let honest = Attack::new("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let wrapper = attack_folder(&format!("exec {grader} render \"$1\" \"$2\""));
+    let honest = attack_folder("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
     for kind in kinds() {
         let (_, scene, sandbox) = honest.grade(kind, None, &[], &[]);
         assert_eq!(status(&scene), "match", "{kind:?} control: {scene}");
@@ -379,7 +243,7 @@ fn the_graders_own_executable_is_out_of_reach() {
 /// cannot be made, and the cache cannot be overwritten.
 #[test]
 fn the_reference_cache_is_out_of_reach() {
-    let attack = Attack::new(
+    let attack = attack_folder(
         "for f in $CASE/cache-*/*.png; do ln -sf \"$f\" \"$2\"; \
          printf 'P3 1 1 255 0 0 0\\n' > \"$f\"; done\n\
          ls $CASE/cache-* >&2\n\
@@ -424,8 +288,8 @@ fn the_reference_cache_is_out_of_reach() {
 /// saying anything of the file; a hard link cannot even be made.
 #[test]
 fn an_image_that_is_a_link_is_not_read() {
-    let soft = Attack::new("ln -s /etc/shadow \"$2\"");
-    let hard = Attack::new("ln /etc/shadow \"$2\" 2>/dev/null || ln /etc/passwd \"$2\"");
+    let soft = attack_folder("ln -s /etc/shadow \"$2\"");
+    let hard = attack_folder("ln /etc/shadow \"$2\" 2>/dev/null || ln /etc/passwd \"$2\"");
     for kind in kinds() {
         let (_, scene, _) = soft.grade(kind, None, &[], &[]);
         assert_eq!(status(&scene), "bad_image", "{kind:?}: {scene}");
@@ -444,7 +308,7 @@ fn an_image_that_is_a_link_is_not_read() {
 /// child that ignores SIGHUP and SIGTERM) and decoys.
 #[test]
 fn no_process_of_a_run_survives_it() {
-    let attack = Attack::new(
+    let attack = attack_folder(
         "setsid sleep 4243 </dev/null >/dev/null 2>&1 &\n\
          ( ( trap '' HUP TERM; exec -a keeper-4243 sleep 4243 ) & ) </dev/null >/dev/null 2>&1\n\
          for i in 1 2 3 4 5; do nohup sleep 4243 </dev/null >/dev/null 2>&1 & done\n\
@@ -481,7 +345,7 @@ fn processes_with(marker: &str) -> Vec<(i32, String)> {
 /// double fork that ignores SIGHUP and SIGTERM all die with it.
 #[test]
 fn nothing_of_a_run_survives_a_killed_grader() {
-    let attack = Attack::new(
+    let attack = attack_folder(
         "setsid sleep 4245 </dev/null >/dev/null 2>&1 &\n\
          ( ( trap '' HUP TERM; exec -a orphan-4245 sleep 4245 ) & ) </dev/null >/dev/null 2>&1\n\
          exec sleep 4245",
@@ -554,8 +418,8 @@ fn concurrent_root_graders_give_students_different_uids() {
         return;
     }
     let attacks = [
-        Attack::new("exec sleep 4246"),
-        Attack::new("exec sleep 4246"),
+        attack_folder("exec sleep 4246"),
+        attack_folder("exec sleep 4246"),
     ];
     let mut graders: Vec<_> = attacks
         .iter()
@@ -578,12 +442,10 @@ fn concurrent_root_graders_give_students_different_uids() {
         std::thread::sleep(std::time::Duration::from_millis(20));
         running = processes_with("4246");
     }
-    let uid_of = |pid: i32| -> u64 {
-        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
-        let line = status.lines().find(|l| l.starts_with("Uid:")).unwrap();
-        line.split_whitespace().nth(1).unwrap().parse().unwrap()
-    };
-    let mut uids: Vec<u64> = running.iter().map(|(pid, _)| uid_of(*pid)).collect();
+    let mut uids: Vec<u64> = running
+        .iter()
+        .map(|(pid, _)| uid_of(*pid).unwrap())
+        .collect();
     for (pid, _) in &running {
         // SAFETY: `kill` has no memory preconditions.
         unsafe { libc::kill(*pid, libc::SIGKILL) };
@@ -607,11 +469,98 @@ fn concurrent_root_graders_give_students_different_uids() {
     assert_eq!(uids, reported);
 }
 
+/// The instructor's `--reference-tracer` never shares a uid with a
+/// student: as root it runs as a uid leased for it as a student's is
+/// (not `nobody`, not the student's); as an ordinary user, whose box maps
+/// only the grader's own uid, it runs as the grader, as the students do,
+/// each in a user namespace of its own. Each uid is read from the host's
+/// /proc while the program runs.
+#[test]
+fn the_reference_tracer_runs_as_a_uid_of_its_own() {
+    let attack = attack_folder("sleep 1; exec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let d = attack.path();
+    let student = student_binary().display().to_string();
+    let reference = d.join("reference.sh");
+    std::fs::write(
+        &reference,
+        "#!/bin/bash\nsleep 1\nexec \"$3\" render \"$1\" \"$2\"\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&reference, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let reference = format!("{} {{scene}} {{out}} {student} 4260", reference.display());
+    let tracer = format!(
+        "{} {{scene}} {{out}} {student} 4261",
+        d.join("tracer.sh").display()
+    );
+    for kind in kinds() {
+        let mut grader = attack
+            .command(
+                kind,
+                Some(&tracer),
+                &["--reference-tracer", &reference],
+                &[],
+            )
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let (mut reference_uid, mut student_uid) = (None, None);
+        while grader.try_wait().unwrap().is_none() {
+            let seen = |marker| {
+                processes_with(marker)
+                    .iter()
+                    .find_map(|(pid, _)| uid_of(*pid))
+            };
+            reference_uid = reference_uid.or_else(|| seen("4260"));
+            student_uid = student_uid.or_else(|| seen("4261"));
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        let summary = attack.summary(kind, "");
+        let (scene, sandbox) = (&summary["scenes"][0], &summary["sandbox"]);
+        assert_eq!(status(scene), "match", "{kind:?}: {scene}");
+        let (Some(reference_uid), Some(student_uid)) = (reference_uid, student_uid) else {
+            panic!(
+                "{kind:?}: not seen running: reference {reference_uid:?}, student {student_uid:?}"
+            );
+        };
+        match kind {
+            Kind::Root => {
+                assert!(
+                    (60_000..=64_999).contains(&reference_uid),
+                    "the reference ran as uid {reference_uid}, not a leased one"
+                );
+                assert_ne!(
+                    reference_uid, student_uid,
+                    "the reference shared the student's uid"
+                );
+                assert_eq!(sandbox["user"].as_u64(), Some(student_uid), "{sandbox}");
+            }
+            Kind::User | Kind::Tests => {
+                // SAFETY: `getuid` has no preconditions.
+                let grader = if support::is_root() {
+                    65_534
+                } else {
+                    u64::from(unsafe { libc::getuid() })
+                };
+                assert_eq!((reference_uid, student_uid), (grader, grader));
+                assert_eq!(sandbox["user"], Value::Null, "{sandbox}");
+            }
+        }
+    }
+}
+
+/// The real uid of process `pid`, from /proc (none once it has gone).
+fn uid_of(pid: i32) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let line = status.lines().find(|l| l.starts_with("Uid:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
 /// A program that stops its parent (and pid 1) stops neither the grader
 /// nor its clock: the run ends at the timeout.
 #[test]
 fn a_program_cannot_stop_the_grader() {
-    let attack = Attack::new(
+    let attack = attack_folder(
         "kill -STOP $PPID 2>/dev/null; kill -STOP 1 2>/dev/null; \
          kill -STOP -1 2>/dev/null; exec sleep 30",
     );
@@ -653,7 +602,7 @@ fn socket_listeners(
 fn sockets_outside_the_box_are_out_of_reach() {
     let dir = open_folder("grade-socket-");
     let (file, name, _listeners) = socket_listeners(dir.path(), "raytracer-grade-test-");
-    let attack = Attack::new(&format!(
+    let attack = attack_folder(&format!(
         r#"python3 - <<'END' || exit 3
 import socket, sys
 for address in ['{}', '\0{name}']:
@@ -682,7 +631,7 @@ exec "$RAYTRACER" render "$1" "$2""#,
 /// run left; what it leaves in /tmp and /dev/shm dies with its box.
 #[test]
 fn a_tracer_sees_only_the_system_and_its_folder() {
-    let attack = Attack::new(
+    let attack = attack_folder(
         "ls -A / | tr '\\n' ' '; echo\n\
          ls -A /tmp | tr '\\n' ' '; echo\n\
          ls -A /dev/shm | tr '\\n' ' '; echo\n\
@@ -708,10 +657,7 @@ fn a_tracer_sees_only_the_system_and_its_folder() {
             );
             let tmp: Vec<&str> = lines[1].split_whitespace().collect();
             let attack_folder = attack.path().file_name().unwrap().to_string_lossy();
-            let renderer = crate::grade_cli::student_binary()
-                .file_name()
-                .unwrap()
-                .to_string_lossy();
+            let renderer = student_binary().file_name().unwrap().to_string_lossy();
             let mine: Vec<&&str> = tmp
                 .iter()
                 .filter(|e| **e != attack_folder && **e != renderer)
@@ -738,7 +684,7 @@ fn a_tracer_sees_only_the_system_and_its_folder() {
 /// decoded, and the report keeps no copy of it.
 #[test]
 fn an_image_larger_than_the_camera_is_not_decoded() {
-    let attack = Attack::new(
+    let attack = attack_folder(
         r#"python3 - "$2" <<'END'
 import struct, sys, zlib
 w, h = 16384, 1024
@@ -768,24 +714,18 @@ END"#,
 /// has a uid of its own; every student is graded and class.csv written.
 #[test]
 fn students_of_a_class_cannot_reach_one_another() {
-    let dir = open_folder("grade-class-attack-");
-    let d = dir.path();
-    std::fs::create_dir_all(d.join("suite")).unwrap();
-    std::fs::write(
-        d.join("suite/ball.txt"),
-        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n\
-         light\n  location 6 4 -3\n  color 1 1 1\n",
-    )
-    .unwrap();
+    let case = Case::suite(
+        "grade-class-attack-",
+        &BALL.replace("camera 32", "camera 16"),
+    );
+    let d = case.path();
     let student = |name: &str, script: &str| {
-        let folder = d.join("class").join(name);
-        std::fs::create_dir_all(&folder).unwrap();
-        std::fs::write(folder.join("tracer.txt"), "bash tracer.sh {scene} {out}\n").unwrap();
-        std::fs::write(folder.join("tracer.sh"), script).unwrap();
-        std::fs::copy(crate::grade_cli::student_binary(), folder.join("renderer")).unwrap();
-        for path in [folder.clone(), d.join("class")] {
-            std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
-        }
+        let tracer = "bash tracer.sh {scene} {out}\n";
+        case.student(
+            &format!("class/{name}"),
+            tracer,
+            &[("tracer.sh", script.as_bytes())],
+        );
     };
     // Mallory looks for reports where they are (this test's folder, where
     // the other kind's run wrote its reports) and where a grader might
@@ -807,17 +747,13 @@ fn students_of_a_class_cannot_reach_one_another() {
          exec ./renderer render \"$1\" \"$2\"\n",
     );
     for kind in kinds() {
-        let report = d.join(format!("report-{kind:?}"));
-        let mut command = grader(kind);
-        let output = command
-            .args(["grade", "--class"])
-            .arg(d.join("class"))
-            .arg("-o")
-            .arg(&report)
-            .arg("--cache")
-            .arg(d.join(format!("cache-{kind:?}")))
-            .arg(d.join("suite"))
-            .env("HOME", d)
+        let report = case.report(kind);
+        let output = case
+            .grade_command(
+                kind,
+                &report,
+                [OsStr::new("--class"), d.join("class").as_os_str()],
+            )
             .output()
             .unwrap();
         let stderr = String::from_utf8_lossy(&output.stderr);
@@ -871,7 +807,7 @@ fn cgroup_v1() -> bool {
 /// process alone is bounded.
 #[test]
 fn memory_is_bounded_per_run_by_a_control_group() {
-    let attack = Attack::new(MEMORY_ACROSS_PROCESSES);
+    let attack = attack_folder(MEMORY_ACROSS_PROCESSES);
     for kind in kinds() {
         let (_, scene, sandbox) = attack.grade(kind, None, &["--memory", "128"], &[]);
         let mechanisms = sandbox["mechanisms"].to_string();
@@ -991,7 +927,7 @@ fn a_delegated_control_group_bounds_a_user_run() {
     if !delegation_possible("a delegated group") {
         return;
     }
-    let attack = Attack::new(MEMORY_ACROSS_PROCESSES);
+    let attack = attack_folder(MEMORY_ACROSS_PROCESSES);
     let delegated = Delegated::new();
     let command = attack.command(Kind::User, None, &["--memory", "128"], &[]);
     let (_, scene, sandbox) = attack.grade_by(Kind::User, delegated.inside(&command));
@@ -1028,7 +964,7 @@ fn a_program_cannot_leave_or_loosen_its_delegated_group() {
         rmdir \"$mounted\"\n\
         [ -z \"$escaped\" ] && exec \"$RAYTRACER\" render \"$1\" \"$2\"\n\
         echo \"escaped:$escaped\"; exit 1";
-    let attack = Attack::new(&script);
+    let attack = attack_folder(&script);
     let command = attack.command(Kind::User, None, &["--memory", "128"], &[]);
     let (_, scene, sandbox) = attack.grade_by(Kind::User, delegated.inside(&command));
     assert!(
@@ -1140,12 +1076,12 @@ fn without_namespaces(command: &mut Command) -> &mut Command {
 /// running once the run ends.
 #[test]
 fn without_namespaces_grade_refuses_unless_unprotected() {
-    let honest = Attack::new(
+    let honest = attack_folder(
         "setsid sleep 4248 </dev/null >/dev/null 2>&1 &\n\
          ( ( trap '' HUP TERM; exec -a orphan-4248 sleep 4248 ) & ) </dev/null >/dev/null 2>&1\n\
          exec \"$RAYTRACER\" render \"$1\" \"$2\"",
     );
-    let link = Attack::new("ln -s /etc/passwd \"$2\"");
+    let link = attack_folder("ln -s /etc/passwd \"$2\"");
     for kind in kinds() {
         let output = without_namespaces(&mut honest.command(kind, None, &[], &[]))
             .output()
@@ -1162,7 +1098,7 @@ fn without_namespaces_grade_refuses_unless_unprotected() {
         );
 
         let unprotected = ["--unprotected"];
-        let grade = |attack: &Attack| -> (Value, Value) {
+        let grade = |attack: &Case| -> (Value, Value) {
             let report = attack.path().join(format!("report-{kind:?}"));
             let output = without_namespaces(&mut attack.command(kind, None, &unprotected, &[]))
                 .output()
@@ -1208,7 +1144,7 @@ fn without_a_box_the_fence_keeps_the_program_in() {
     let (file, name, _listeners) = socket_listeners(dir.path(), "raytracer-grade-fence-");
     let tcp = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let port = tcp.local_addr().unwrap().port();
-    let attack = Attack::new(&format!(
+    let attack = attack_folder(&format!(
         r#"check() {{ what=$1; shift; if "$@" </dev/null >/dev/null 2>&1; then echo "$what allowed"; else echo "$what refused"; fi; }}
 check secret cat $CASE/secret.txt
 check cache cat $CASE/cache-*/*.png
@@ -1269,11 +1205,11 @@ fn without_a_box_a_killed_graders_daemon_dies_with_the_next_lease_of_its_uid() {
         return;
     }
     const RANGE: &str = "65100-65109";
-    let attack = Attack::new(
+    let attack = attack_folder(
         "setsid sleep 4249 </dev/null >/dev/null 2>&1 &\n\
          exec sleep 4249",
     );
-    let honest = Attack::new("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let honest = attack_folder("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
     let mut grader = without_namespaces(&mut attack.command(
         Kind::Root,
         None,
@@ -1361,7 +1297,7 @@ fn with_descriptors(command: &Command, secret: &Path, log: &Path) -> Command {
 /// log appended through 8, in a box and without one.
 #[test]
 fn inherited_descriptors_never_reach_the_program() {
-    let attack = Attack::new(
+    let attack = attack_folder(
         "cat <&7 2>/dev/null; echo appended >&8 2>/dev/null && echo wrote\n\
          exec \"$RAYTRACER\" render \"$1\" \"$2\"",
     );
@@ -1446,7 +1382,7 @@ impl Drop for Tmp {
 /// once `grade` ends.
 #[test]
 fn a_set_user_id_file_a_run_makes_is_out_of_other_accounts_reach() {
-    let attack = Attack::new(
+    let attack = attack_folder(
         "cp /usr/bin/id helper && chmod 6755 helper 2>&1 || echo refused\n\
          chmod 755 . .. 2>/dev/null\n\
          exec sleep 4250",
@@ -1529,7 +1465,7 @@ fn nested_folders(levels: usize) -> String {
 /// made: the folder must still go.
 #[test]
 fn deep_and_closed_folders_a_run_leaves_are_removed() {
-    let attack = Attack::new(&format!(
+    let attack = attack_folder(&format!(
         "{}exec \"$RAYTRACER\" render \"$1\" \"$2\"",
         nested_folders(30_000)
     ));
@@ -1569,42 +1505,28 @@ fn deep_and_closed_folders_a_run_leaves_are_removed() {
 /// refuses a folder that deep) and the prepared folder goes with the run.
 #[test]
 fn deep_folders_a_build_leaves_are_removed() {
-    let dir = open_folder("grade-deep-build-");
-    let d = dir.path();
-    std::fs::create_dir_all(d.join("suite")).unwrap();
-    std::fs::write(
-        d.join("suite/ball.txt"),
-        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n",
-    )
-    .unwrap();
-    let student = d.join("student");
-    std::fs::create_dir_all(&student).unwrap();
-    std::fs::write(
-        student.join("tracer.txt"),
+    let case = Case::suite("grade-deep-build-", SPHERE);
+    let d = case.path();
+    let build = nested_folders(25_000);
+    let student = case.student(
+        "student",
         "./renderer render {scene} {out}\n",
-    )
-    .unwrap();
-    std::fs::write(student.join("build.txt"), "bash build.sh\n").unwrap();
-    std::fs::write(student.join("build.sh"), nested_folders(25_000)).unwrap();
-    std::fs::copy(crate::grade_cli::student_binary(), student.join("renderer")).unwrap();
-    std::fs::set_permissions(&student, std::fs::Permissions::from_mode(0o755)).unwrap();
+        &[
+            ("build.txt", b"bash build.sh\n"),
+            ("build.sh", build.as_bytes()),
+        ],
+    );
     let tmp = Tmp::new(d);
     for kind in kinds() {
         for unprotected in [false, true] {
             let run = format!("{kind:?}, unprotected {unprotected}");
             let report = d.join(format!("report-{kind:?}-{unprotected}"));
-            let mut command = grader(kind);
-            command
-                .args(["grade", "--student"])
-                .arg(&student)
-                .arg("-o")
-                .arg(&report)
-                .arg("--cache")
-                .arg(d.join(format!("cache-{kind:?}")))
-                .arg(d.join("suite"))
-                .env("HOME", d)
-                .env("TMPDIR", &tmp.0)
-                .stdin(Stdio::null());
+            let mut command = case.grade_command(
+                kind,
+                &report,
+                [OsStr::new("--student"), student.as_os_str()],
+            );
+            command.env("TMPDIR", &tmp.0);
             if unprotected {
                 command.arg("--unprotected");
                 without_namespaces(&mut command);
@@ -1627,19 +1549,22 @@ fn deep_folders_a_build_leaves_are_removed() {
 /// box.
 #[test]
 fn a_run_that_fills_its_disk_is_told_and_the_next_is_not_hurt() {
-    let blocks = Attack::new(
+    let blocks = attack_folder(
         "for i in $(seq 64); do head -c 1048576 /dev/zero > fill$i 2>/dev/null || break; done\n\
          mkdir closed; chmod 000 closed\n\
          exec \"$RAYTRACER\" render \"$1\" \"$2\"",
     );
-    let inodes = Attack::new(
+    let inodes = attack_folder(
         "for i in $(seq 40000); do : 2>/dev/null > f$i || break; done\n\
          exec \"$RAYTRACER\" render \"$1\" \"$2\"",
     );
-    let honest = Attack::new("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let honest = attack_folder("exec \"$RAYTRACER\" render \"$1\" \"$2\"");
     for kind in kinds() {
         for attack in [&blocks, &inodes] {
-            let (_, scene, _) = attack.grade(kind, None, &["--disk", "8"], &[]);
+            // Making 32,768 files takes seconds on a busy machine: the
+            // run's time is not what is tested.
+            let extra = ["--disk", "8", "--timeout", "60"];
+            let (_, scene, _) = attack.grade(kind, None, &extra, &[]);
             let reason = scene["reason"].as_str().unwrap_or_default();
             assert!(
                 reason.contains("the run's disk space (8 MiB) was full"),
@@ -1656,43 +1581,28 @@ fn a_run_that_fills_its_disk_is_told_and_the_next_is_not_hurt() {
 /// and to raise `--disk`, rather than given the kernel's words.
 #[test]
 fn a_student_folder_larger_than_the_disk_is_told_so() {
-    let dir = open_folder("grade-large-student-");
-    let d = dir.path();
-    std::fs::create_dir_all(d.join("suite")).unwrap();
-    std::fs::write(
-        d.join("suite/ball.txt"),
-        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n",
-    )
-    .unwrap();
-    let student = d.join("student");
-    std::fs::create_dir_all(&student).unwrap();
-    std::fs::write(
-        student.join("tracer.txt"),
+    let case = Case::suite("grade-large-student-", SPHERE);
+    let data = vec![7u8; 3 << 20];
+    let student = case.student(
+        "student",
         "./renderer render {scene} {out}\n",
-    )
-    .unwrap();
-    std::fs::copy(crate::grade_cli::student_binary(), student.join("renderer")).unwrap();
-    std::fs::write(student.join("data.bin"), vec![7u8; 3 << 20]).unwrap();
-    std::fs::set_permissions(&student, std::fs::Permissions::from_mode(0o755)).unwrap();
+        &[("data.bin", &data)],
+    );
     for kind in kinds() {
-        let report = d.join(format!("report-{kind:?}"));
-        let output = grader(kind)
-            .args(["grade", "--disk", "2", "--student"])
-            .arg(&student)
-            .arg("-o")
-            .arg(&report)
-            .arg("--cache")
-            .arg(d.join(format!("cache-{kind:?}")))
-            .arg(d.join("suite"))
-            .env("HOME", d)
-            .stdin(Stdio::null())
+        let args = [
+            OsStr::new("--disk"),
+            OsStr::new("2"),
+            OsStr::new("--student"),
+        ];
+        let output = case
+            .grade_command(
+                kind,
+                &case.report(kind),
+                args.iter().chain([&student.as_os_str()]),
+            )
             .output()
             .unwrap();
-        let summary: Value =
-            serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap_or_else(
-                |_| panic!("{kind:?}: {}", String::from_utf8_lossy(&output.stderr)),
-            ))
-            .unwrap();
+        let summary = case.summary(kind, &String::from_utf8_lossy(&output.stderr));
         let reason = summary["scenes"][0]["reason"].as_str().unwrap_or_default();
         assert!(
             reason.contains("do not fit the run's disk space (2 MiB, 32768 files): raise `--disk`"),
@@ -1706,23 +1616,15 @@ fn a_student_folder_larger_than_the_disk_is_told_so() {
 /// matches, class.csv is written, no daemon and nothing of a run is left.
 #[test]
 fn a_class_survives_a_student_who_leaves_a_mess() {
-    let dir = open_folder("grade-class-mess-");
-    let d = dir.path();
-    std::fs::create_dir_all(d.join("suite")).unwrap();
-    std::fs::write(
-        d.join("suite/ball.txt"),
-        "camera 16\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n",
-    )
-    .unwrap();
+    let case = Case::suite("grade-class-mess-", SPHERE);
+    let d = case.path();
     let student = |name: &str, script: &str| {
-        let folder = d.join("class").join(name);
-        std::fs::create_dir_all(&folder).unwrap();
-        std::fs::write(folder.join("tracer.txt"), "bash tracer.sh {scene} {out}\n").unwrap();
-        std::fs::write(folder.join("tracer.sh"), script).unwrap();
-        std::fs::copy(crate::grade_cli::student_binary(), folder.join("renderer")).unwrap();
-        for path in [folder.clone(), d.join("class")] {
-            std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
-        }
+        let tracer = "bash tracer.sh {scene} {out}\n";
+        case.student(
+            &format!("class/{name}"),
+            tracer,
+            &[("tracer.sh", script.as_bytes())],
+        );
     };
     student(
         "a-mess",
@@ -1737,9 +1639,7 @@ fn a_class_survives_a_student_who_leaves_a_mess() {
     // The honest student's folder (its copy of the renderer, whose size
     // the build profile sets) fits the run's disk with 16 MiB to spare,
     // which the mess's 32 MiB of writes fill.
-    let renderer = std::fs::metadata(crate::grade_cli::student_binary())
-        .unwrap()
-        .len();
+    let renderer = std::fs::metadata(student_binary()).unwrap().len();
     let disk = (renderer >> 20) + 1 + 16;
     let disk = disk.to_string();
     let tmp = Tmp::new(d);
@@ -1747,18 +1647,11 @@ fn a_class_survives_a_student_who_leaves_a_mess() {
         for unprotected in [false, true] {
             let run = format!("{kind:?}, unprotected {unprotected}");
             let report = d.join(format!("report-{kind:?}-{unprotected}"));
-            let mut command = grader(kind);
-            command
-                .args(["grade", "--disk", &disk, "--timeout", "30", "--class"])
-                .arg(d.join("class"))
-                .arg("-o")
-                .arg(&report)
-                .arg("--cache")
-                .arg(d.join(format!("cache-{kind:?}")))
-                .arg(d.join("suite"))
-                .env("HOME", d)
-                .env("TMPDIR", &tmp.0)
-                .stdin(Stdio::null());
+            let class = d.join("class");
+            let args = ["--disk", &disk, "--timeout", "30", "--class"].map(OsStr::new);
+            let mut command =
+                case.grade_command(kind, &report, args.iter().chain([&class.as_os_str()]));
+            command.env("TMPDIR", &tmp.0);
             if unprotected {
                 command.arg("--unprotected");
                 without_namespaces(&mut command);
@@ -1828,19 +1721,19 @@ fn a_key_one_run_leaves_is_not_there_for_the_next() {
         String::from_utf8_lossy(&built.stderr)
     );
     // The program is named on the command line, so a box holds it.
-    let add = Attack::new("\"$4\" add\nexec \"$RAYTRACER\" render \"$1\" \"$2\"");
-    let find = Attack::new("\"$4\" find\nexec \"$RAYTRACER\" render \"$1\" \"$2\"");
-    let tracer = |attack: &Attack| {
+    let add = attack_folder("\"$4\" add\nexec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let find = attack_folder("\"$4\" find\nexec \"$RAYTRACER\" render \"$1\" \"$2\"");
+    let tracer = |attack: &Case| {
         format!(
             "{} {{scene}} {{out}} {} {}",
             attack.path().join("tracer.sh").display(),
-            crate::grade_cli::student_binary().display(),
+            student_binary().display(),
             program.display()
         )
     };
     for kind in kinds() {
         for unprotected in [false, true] {
-            let grade = |attack: &Attack| -> Value {
+            let grade = |attack: &Case| -> Value {
                 let tracer = tracer(attack);
                 let command = if unprotected {
                     let mut command = attack.command(kind, Some(&tracer), &["--unprotected"], &[]);

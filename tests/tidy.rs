@@ -850,3 +850,205 @@ fn every_long_page_has_a_table_of_contents() {
     }
     assert!(long >= 5, "only {long} long pages");
 }
+
+/// The longest a function in grading's code may be, in lines from its
+/// `fn` to its closing brace: longer, it no longer fits in one's head.
+const MAX_FUNCTION_LINES: usize = 120;
+
+/// The functions of the box still over [`MAX_FUNCTION_LINES`], each to be
+/// taken off this list as it is shortened: the test fails on one that is
+/// listed and no longer over, so the list only shrinks.
+const LONG_FUNCTIONS_LEFT: [(&str, &str); 3] = [
+    ("crates/box/src/run.rs", "run"),
+    ("crates/box/src/jail.rs", "build_root"),
+    ("crates/box/src/jail.rs", "new"),
+];
+
+/// `code` with its comments, strings and character literals blanked out
+/// (newlines kept), so a brace in them is not counted as code.
+fn blank_literals(code: &str) -> String {
+    let bytes = code.as_bytes();
+    let mut out = bytes.to_vec();
+    let blank = |out: &mut Vec<u8>, from: usize, to: usize| {
+        for byte in &mut out[from..to.min(bytes.len())] {
+            if *byte != b'\n' {
+                *byte = b' ';
+            }
+        }
+    };
+    let ident = |i: usize| i > 0 && (bytes[i - 1].is_ascii_alphanumeric() || bytes[i - 1] == b'_');
+    let mut i = 0;
+    while i < bytes.len() {
+        let rest = &bytes[i..];
+        let end = if rest.starts_with(b"//") {
+            rest.iter()
+                .position(|&b| b == b'\n')
+                .map_or(bytes.len(), |n| i + n)
+        } else if rest.starts_with(b"/*") {
+            let mut depth = 0;
+            let mut j = i;
+            while j < bytes.len() {
+                if bytes[j..].starts_with(b"/*") {
+                    depth += 1;
+                    j += 2;
+                } else if bytes[j..].starts_with(b"*/") {
+                    depth -= 1;
+                    j += 2;
+                    if depth == 0 {
+                        break;
+                    }
+                } else {
+                    j += 1;
+                }
+            }
+            j
+        } else if rest[0] == b'r'
+            && (!ident(i) || (i > 0 && bytes[i - 1] == b'b' && !ident(i - 1)))
+            && rest[1..].iter().find(|&&b| b != b'#') == Some(&b'"')
+        {
+            let hashes = rest[1..].iter().take_while(|&&b| b == b'#').count();
+            let close: Vec<u8> = std::iter::once(b'"')
+                .chain(std::iter::repeat_n(b'#', hashes))
+                .collect();
+            let body = i + 2 + hashes;
+            bytes[body..]
+                .windows(close.len())
+                .position(|w| w == close.as_slice())
+                .map_or(bytes.len(), |n| body + n + close.len())
+        } else if rest[0] == b'"' {
+            let mut j = i + 1;
+            while j < bytes.len() && bytes[j] != b'"' {
+                j += if bytes[j] == b'\\' { 2 } else { 1 };
+            }
+            j + 1
+        } else if rest[0] == b'\'' && rest.get(1) == Some(&b'\\') {
+            rest[2..]
+                .iter()
+                .position(|&b| b == b'\'')
+                .map_or(bytes.len(), |n| i + 3 + n)
+        } else if rest[0] == b'\'' {
+            // A character literal is one character and a quote; a
+            // lifetime (`'a`) has none after its name.
+            let width = code[i + 1..].chars().next().map_or(1, char::len_utf8);
+            if bytes.get(i + 1 + width) == Some(&b'\'') {
+                i + 2 + width
+            } else {
+                i + 1
+            }
+        } else {
+            i + 1
+        };
+        if end > i + 1 {
+            blank(&mut out, i, end);
+        }
+        i = end.max(i + 1);
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Each `fn` item of `code` that has a body: its name, its first line
+/// and its length in lines, from the `fn` to the closing brace.
+fn function_lengths(code: &str) -> Vec<(String, usize, usize)> {
+    let code = blank_literals(code);
+    let bytes = code.as_bytes();
+    let line_of = |at: usize| code[..at].matches('\n').count() + 1;
+    let mut found = Vec::new();
+    for (at, _) in code.match_indices("fn ") {
+        if at > 0 && (bytes[at - 1].is_ascii_alphanumeric() || bytes[at - 1] == b'_') {
+            continue;
+        }
+        let name: String = code[at + 3..]
+            .trim_start()
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        if name.is_empty() {
+            continue;
+        }
+        // The body's brace, or the `;` of a declaration without one, at
+        // the signature's own level (an array type's `;` is in brackets).
+        let mut depth = 0i32;
+        let mut open = None;
+        for (i, &byte) in bytes.iter().enumerate().skip(at) {
+            match byte {
+                b'(' | b'[' => depth += 1,
+                b')' | b']' => depth -= 1,
+                b';' if depth == 0 => break,
+                b'{' if depth == 0 => {
+                    open = Some(i);
+                    break;
+                }
+                _ => {}
+            }
+        }
+        let Some(open) = open else { continue };
+        let mut depth = 0;
+        for (i, &byte) in bytes.iter().enumerate().skip(open) {
+            match byte {
+                b'{' => depth += 1,
+                b'}' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        let first = line_of(at);
+                        found.push((name, first, line_of(i) - first + 1));
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    found
+}
+
+/// The scanner counts lines of code, not braces in strings, characters,
+/// comments or raw strings, and tells a lifetime from a character.
+#[test]
+fn the_function_scanner_skips_braces_in_literals() {
+    let code = "fn short<'a>(x: &'a str) -> [u8; 2] {\n    let _ = \"}}\";\n    let _ = '}';\n    let _ = '\\'';\n    // }\n    /* } */\n    let _ = r#\"}\"#;\n    [0; 2]\n}\n\nfn declared(x: u8);\n\nfn after() {\n}\n";
+    assert_eq!(
+        function_lengths(code),
+        vec![("short".to_string(), 1, 9), ("after".to_string(), 13, 2)]
+    );
+}
+
+/// No function in grading (grade/, the command, the box) is over
+/// [`MAX_FUNCTION_LINES`] lines, but those [`LONG_FUNCTIONS_LEFT`] names,
+/// each of which still is.
+#[test]
+fn no_grading_function_is_over_120_lines() {
+    let mut files: Vec<String> = sources(&repository().join("crates/app/src/grade"))
+        .into_iter()
+        .map(|file| format!("crates/app/src/grade/{file}"))
+        .chain(
+            sources(&repository().join("crates/box/src"))
+                .into_iter()
+                .map(|file| format!("crates/box/src/{file}")),
+        )
+        .collect();
+    files.push("crates/app/src/commands/grade.rs".into());
+    let mut long = Vec::new();
+    for file in &files {
+        let text = std::fs::read_to_string(repository().join(file)).unwrap();
+        for (name, line, lines) in function_lengths(&text) {
+            if lines > MAX_FUNCTION_LINES {
+                long.push((file.as_str(), name, line, lines));
+            }
+        }
+    }
+    let unlisted: Vec<String> = long
+        .iter()
+        .filter(|(file, name, ..)| !LONG_FUNCTIONS_LEFT.contains(&(*file, name.as_str())))
+        .map(|(file, name, line, lines)| format!("{file}:{line} `{name}` ({lines} lines)"))
+        .collect();
+    assert!(
+        unlisted.is_empty(),
+        "functions over {MAX_FUNCTION_LINES} lines: {unlisted:?}; split them into functions that each do one thing"
+    );
+    for (file, name) in LONG_FUNCTIONS_LEFT {
+        assert!(
+            long.iter().any(|(f, n, ..)| *f == file && n == name),
+            "{file}'s `{name}` is no longer over {MAX_FUNCTION_LINES} lines: take it off LONG_FUNCTIONS_LEFT"
+        );
+    }
+}

@@ -1,12 +1,14 @@
 //! Helpers shared by the integration tests: running the binary, writing
 //! and listing files, scene text to IR and to pixels in-process, and the
 //! corpus copied beside a wood texture; headless Chromium (`browser`) and
-//! the hostile-input set (`hostile`); a command run where no namespace can
-//! be had (`namespaces`).
+//! the hostile-input set (`hostile`); the grading tests' set-up
+//! (`grading`); a command run where no namespace can be had
+//! (`namespaces`).
 
 #![allow(dead_code)] // each test file uses its own subset
 
 pub mod browser;
+pub mod grading;
 pub mod hostile;
 pub mod namespaces;
 

@@ -20,6 +20,7 @@
 
 pub mod error;
 pub mod report;
+pub mod study;
 pub mod summary;
 pub mod timing;
 

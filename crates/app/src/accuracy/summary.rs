@@ -14,6 +14,7 @@ use std::fmt::Write as _;
 
 use super::report::{Verdict, ADAPTIVE_RMSE, ADAPTIVE_TIME};
 use super::{Measurement, SPPS};
+use raytracer_render::render::adaptive::DEFAULT_THRESHOLD;
 
 /// A scene's name (its path as given) and its measurement.
 pub type Measured = (String, Measurement);
@@ -117,5 +118,56 @@ pub fn verdict_table(scenes: &[Measured], threshold: impl Fn(&Measurement) -> us
          the median of adaptive's time over uniform's within each repetition): {}.",
         tally.join(", ")
     );
+    out
+}
+
+/// The verdict tables that open a report of several scenes or thresholds:
+/// the tuning table and the rule's choice when there are several
+/// candidates, then the verdicts on the SCENES and on the held-out ones.
+pub fn verdicts(tuning: &[Measured], held_out: &[Measured], chosen: usize) -> String {
+    let thresholds = &tuning[0].1.thresholds;
+    let threshold = thresholds[chosen];
+    let mut out = String::new();
+    let names = |scenes: &[Measured]| {
+        scenes
+            .iter()
+            .map(|(name, _)| format!("`{name}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if thresholds.len() > 1 {
+        let default = if threshold == DEFAULT_THRESHOLD {
+            "the same".to_string()
+        } else {
+            format!("not the same: the rule picks {threshold}, the default is {DEFAULT_THRESHOLD}")
+        };
+        out.push_str(&format!(
+            "## Choosing the threshold on the tuning set\n\n\
+             The tuning set: {}. Each is measured at every candidate threshold; the rule \
+             picks the threshold under which the most (scene, spp) pairs meet the target, and \
+             among equals the largest. It picks **{threshold}**; the default of the binary measured \
+             (`DEFAULT_THRESHOLD`, crates/render/src/render/adaptive.rs) is {default}.\n\n{}\n",
+            names(tuning),
+            tuning_table(tuning),
+        ));
+    }
+    out.push_str(&format!(
+        "## Adaptive against uniform at threshold {threshold}: the {} scenes\n\n{}\n",
+        if held_out.is_empty() {
+            "measured"
+        } else {
+            "tuning"
+        },
+        verdict_table(tuning, |_| chosen),
+    ));
+    if !held_out.is_empty() {
+        out.push_str(&format!(
+            "## Adaptive against uniform at threshold {threshold}: the held-out scenes\n\n\
+             Scenes that played no part in the choice, measured after it at the chosen \
+             threshold only: {}.\n\n{}\n",
+            names(held_out),
+            verdict_table(held_out, |_| 0),
+        ));
+    }
     out
 }

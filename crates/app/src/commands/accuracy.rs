@@ -1,7 +1,8 @@
-//! `raytracer accuracy SCENE...`: load and check every scene, lower each
-//! (at `--size` if given, else at [`measured_size`] of its own), measure
-//! every accuracy setting against converged references
-//! ([`crate::accuracy`]) and print the report as Markdown on stdout; with
+//! `raytracer accuracy SCENE...`: load and check every scene, lower each,
+//! have [`crate::accuracy::study`] measure every accuracy setting against
+//! converged references (at `--size` if given, else at each scene's
+//! [`crate::accuracy::measured_size`]) and print the report as Markdown
+//! on stdout; with
 //! `--assets DIR`, also write each scene's plot data, its charts
 //! ([`crate::plot`]) and its f32 − f64 difference map there, each file
 //! whole or not at all, and link them from the report.
@@ -17,13 +18,13 @@ use std::path::{Path, PathBuf};
 use miette::Diagnostic;
 
 use super::Outcome;
+use crate::accuracy::study::{study, Pools, Settings};
 use crate::accuracy::summary::{self, Measured};
-use crate::accuracy::{measure, measured_size, report, Measurement, Plan};
+use crate::accuracy::{report, Measurement};
 use crate::cli::AccuracyArgs;
 use crate::plot::{self, Chart, Corner};
 use raytracer_render::ir;
 use raytracer_render::output::{self, Format};
-use raytracer_render::render::adaptive::DEFAULT_THRESHOLD;
 use raytracer_scene::diagnostic::{terminal_width, use_color};
 use raytracer_scene::diagnostic::{BoxedDiagnostic, FileError};
 use raytracer_scene::frontend::{load, Loaded};
@@ -97,39 +98,32 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
 
     // One plain line a step, on a terminal or not: a run takes about a
     // minute, and a log or CI job should show it is alive.
-    let measure_one = |k: usize, scene: &mut ir::Scene, thresholds: Vec<f64>| {
-        let own_size = scene.resolution;
-        scene.resolution = args.size.unwrap_or_else(|| measured_size(own_size));
-        let plan = Plan {
-            reps: args.reps as usize,
-            reference_spp: args.reference_spp,
-            thresholds,
-            own_size,
-        };
-        let stem = &stems[k];
-        let progress = |step: &str| sayln!("{stem}: {step}");
-        let measurement = all.install(|| measure(scene, &plan, &single, &progress));
-        (paths[k].display().to_string(), measurement)
+    let progress = |k: usize, step: &str| sayln!("{}: {step}", stems[k]);
+    let mut named: Vec<(String, ir::Scene)> = paths
+        .iter()
+        .map(|path| path.display().to_string())
+        .zip(scenes)
+        .collect();
+    let held_out = named.split_off(args.scenes.len());
+    let settings = Settings {
+        reps: args.reps as usize,
+        reference_spp: args.reference_spp,
+        size: args.size,
+        candidates: args.aa_threshold.clone(),
     };
-    let tuning_count = args.scenes.len();
-    let mut held_out_scenes = scenes.split_off(tuning_count);
-    let tuning: Vec<Measured> = scenes
-        .iter_mut()
-        .enumerate()
-        .map(|(k, scene)| measure_one(k, scene, args.aa_threshold.clone()))
-        .collect();
-    let chosen = summary::choose(&tuning);
-    let threshold = args.aa_threshold[chosen];
-    let held_out: Vec<Measured> = held_out_scenes
-        .iter_mut()
-        .enumerate()
-        .map(|(k, scene)| measure_one(tuning_count + k, scene, vec![threshold]))
-        .collect();
+    let pools = Pools {
+        all: &all,
+        single: &single,
+    };
+    let study = study(named, held_out, &settings, &pools, &progress);
 
-    let measured: Vec<&Measured> = tuning.iter().chain(&held_out).collect();
+    let measured: Vec<&Measured> = study.measured().collect();
     let alone = measured.len() == 1 && args.aa_threshold.len() == 1;
     if !alone {
-        out!("{}", verdicts(&tuning, &held_out, chosen))?;
+        out!(
+            "{}",
+            summary::verdicts(&study.tuning, &study.held_out, study.chosen)
+        )?;
         out!("## Scene by scene\n\n")?;
     }
     for (k, (name, measurement)) in measured.into_iter().enumerate() {
@@ -147,57 +141,6 @@ pub fn run(args: AccuracyArgs) -> Result<Outcome, BoxedDiagnostic> {
         }
     }
     Ok(Outcome::Success)
-}
-
-/// The verdict tables that open a report of several scenes or thresholds:
-/// the tuning table and the rule's choice when there are several
-/// candidates, then the verdicts on the SCENES and on the held-out ones.
-fn verdicts(tuning: &[Measured], held_out: &[Measured], chosen: usize) -> String {
-    let thresholds = &tuning[0].1.thresholds;
-    let threshold = thresholds[chosen];
-    let mut out = String::new();
-    let names = |scenes: &[Measured]| {
-        scenes
-            .iter()
-            .map(|(name, _)| format!("`{name}`"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    if thresholds.len() > 1 {
-        let default = if threshold == DEFAULT_THRESHOLD {
-            "the same".to_string()
-        } else {
-            format!("not the same: the rule picks {threshold}, the default is {DEFAULT_THRESHOLD}")
-        };
-        out.push_str(&format!(
-            "## Choosing the threshold on the tuning set\n\n\
-             The tuning set: {}. Each is measured at every candidate threshold; the rule \
-             picks the threshold under which the most (scene, spp) pairs meet the target, and \
-             among equals the largest. It picks **{threshold}**; the default of the binary measured \
-             (`DEFAULT_THRESHOLD`, crates/render/src/render/adaptive.rs) is {default}.\n\n{}\n",
-            names(tuning),
-            summary::tuning_table(tuning),
-        ));
-    }
-    out.push_str(&format!(
-        "## Adaptive against uniform at threshold {threshold}: the {} scenes\n\n{}\n",
-        if held_out.is_empty() {
-            "measured"
-        } else {
-            "tuning"
-        },
-        summary::verdict_table(tuning, |_| chosen),
-    ));
-    if !held_out.is_empty() {
-        out.push_str(&format!(
-            "## Adaptive against uniform at threshold {threshold}: the held-out scenes\n\n\
-             Scenes that played no part in the choice, measured after it at the chosen \
-             threshold only: {}.\n\n{}\n",
-            names(held_out),
-            summary::verdict_table(held_out, |_| 0),
-        ));
-    }
-    out
 }
 
 /// The asset stem of each scene: its file stem, or, where two scenes

@@ -10,7 +10,8 @@
 //! renderer's probe sees at each pixel; [`student`] reads a student's folder (its command, its
 //! build) for `--student` and `--class`; [`class`] merges the students'
 //! summaries into the class overview; [`report`] writes the HTML report, summary.json and
-//! Gradescope's results.json.
+//! Gradescope's results.json; [`session`] drives them all for a whole
+//! `grade` run, from its options to the class overview.
 
 pub mod aspects;
 pub mod class;
@@ -18,6 +19,7 @@ pub mod judge;
 pub mod options;
 pub mod reference;
 pub mod report;
+pub mod session;
 pub mod student;
 pub mod student_image;
 pub mod suite;

@@ -172,7 +172,7 @@ pub enum Source<'a> {
     /// scene under the same sandbox as the students, from `cwd`.
     Tracer {
         command: &'a str,
-        template: &'a Template,
+        template: Template,
         cwd: &'a Path,
         confinement: Confinement,
     },
