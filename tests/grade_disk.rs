@@ -21,8 +21,8 @@ use std::process::{Command, Stdio};
 
 use serde_json::Value;
 
-use crate::grade_cli::{binary, open_folder, student_binary};
 use crate::support;
+use crate::support::grading::{binary, open_folder, student_binary};
 use crate::support::namespaces::without_namespaces;
 
 /// Writes 64 KiB files, far past the disk space, into a folder its owner

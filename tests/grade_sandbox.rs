@@ -19,6 +19,7 @@ use std::process::{Command, Stdio};
 
 use crate::support;
 use crate::support::grading::{binary, kinds, open_folder, student_binary, Case, Kind, BALL};
+use crate::support::namespaces::without_namespaces;
 
 /// Replaces every entry it may rename under each `raytracer-grade-*`
 /// folder of TMP with a link to VICTIM, over and over, until STOP exists.
@@ -998,75 +999,6 @@ fn a_program_cannot_leave_or_loosen_its_delegated_group() {
     let output = child.inside(&control).output().unwrap();
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert_eq!(stdout.trim(), "escaped: procs procs mount", "{output:?}");
-}
-
-/// Run `command` as in a container that refuses namespaces: a seccomp
-/// filter fails `unshare` and `clone` with any `CLONE_NEW*` flag with
-/// `EPERM` (and `clone3`, whose flags a filter cannot read, with `ENOSYS`,
-/// so the C library falls back to `clone`).
-fn without_namespaces(command: &mut Command) -> &mut Command {
-    use seccompiler::{
-        SeccompAction, SeccompCmpArgLen, SeccompCmpOp, SeccompCondition, SeccompFilter, SeccompRule,
-    };
-    use std::os::unix::process::CommandExt;
-    let arch = std::env::consts::ARCH.try_into().unwrap();
-    let compile = |rules, action| -> seccompiler::BpfProgram {
-        SeccompFilter::new(rules, SeccompAction::Allow, action, arch)
-            .unwrap()
-            .try_into()
-            .unwrap()
-    };
-    let flags = [
-        libc::CLONE_NEWNS,
-        libc::CLONE_NEWUSER,
-        libc::CLONE_NEWPID,
-        libc::CLONE_NEWNET,
-        libc::CLONE_NEWIPC,
-        libc::CLONE_NEWUTS,
-        libc::CLONE_NEWCGROUP,
-    ];
-    let any_new = || -> Vec<SeccompRule> {
-        flags
-            .iter()
-            .map(|&flag| {
-                let condition = SeccompCondition::new(
-                    0,
-                    SeccompCmpArgLen::Qword,
-                    SeccompCmpOp::MaskedEq(flag as u64),
-                    flag as u64,
-                )
-                .unwrap();
-                SeccompRule::new(vec![condition]).unwrap()
-            })
-            .collect()
-    };
-    let filters = [
-        compile(
-            [(libc::SYS_clone3, vec![])].into_iter().collect(),
-            SeccompAction::Errno(libc::ENOSYS as u32),
-        ),
-        compile(
-            [
-                (libc::SYS_unshare, any_new()),
-                (libc::SYS_clone, any_new()),
-                (libc::SYS_setns, vec![]),
-            ]
-            .into_iter()
-            .collect(),
-            SeccompAction::Errno(libc::EPERM as u32),
-        ),
-    ];
-    // SAFETY: installing a filter compiled before the fork is two system calls.
-    unsafe {
-        command.pre_exec(move || {
-            for filter in &filters {
-                seccompiler::apply_filter(filter)
-                    .map_err(|_| std::io::Error::from_raw_os_error(libc::EPERM))?;
-            }
-            Ok(())
-        });
-    }
-    command
 }
 
 /// Where no namespace can be had, `grade` refuses (exit 2) unless told

@@ -341,7 +341,7 @@ fn an_instructors_reference_is_used_and_cached() {
     );
     // A copy of our renderer as the student's tracer: the grader's own
     // executable is not in the box.
-    let renderer = crate::grade_cli::student_binary();
+    let renderer = crate::support::grading::student_binary();
     let ours = format!("{} render {{scene}} {{out}}", renderer.display());
     let cache = d.join("cache");
     let grade = |extra: &[&str]| {

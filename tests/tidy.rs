@@ -855,15 +855,6 @@ fn every_long_page_has_a_table_of_contents() {
 /// `fn` to its closing brace: longer, it no longer fits in one's head.
 const MAX_FUNCTION_LINES: usize = 120;
 
-/// The functions of the box still over [`MAX_FUNCTION_LINES`], each to be
-/// taken off this list as it is shortened: the test fails on one that is
-/// listed and no longer over, so the list only shrinks.
-const LONG_FUNCTIONS_LEFT: [(&str, &str); 3] = [
-    ("crates/box/src/run.rs", "run"),
-    ("crates/box/src/jail.rs", "build_root"),
-    ("crates/box/src/jail.rs", "new"),
-];
-
 /// `code` with its comments, strings and character literals blanked out
 /// (newlines kept), so a brace in them is not counted as code.
 fn blank_literals(code: &str) -> String {
@@ -1013,8 +1004,7 @@ fn the_function_scanner_skips_braces_in_literals() {
 }
 
 /// No function in grading (grade/, the command, the box) is over
-/// [`MAX_FUNCTION_LINES`] lines, but those [`LONG_FUNCTIONS_LEFT`] names,
-/// each of which still is.
+/// [`MAX_FUNCTION_LINES`] lines.
 #[test]
 fn no_grading_function_is_over_120_lines() {
     let mut files: Vec<String> = sources(&repository().join("crates/app/src/grade"))
@@ -1032,23 +1022,12 @@ fn no_grading_function_is_over_120_lines() {
         let text = std::fs::read_to_string(repository().join(file)).unwrap();
         for (name, line, lines) in function_lengths(&text) {
             if lines > MAX_FUNCTION_LINES {
-                long.push((file.as_str(), name, line, lines));
+                long.push(format!("{file}:{line} `{name}` ({lines} lines)"));
             }
         }
     }
-    let unlisted: Vec<String> = long
-        .iter()
-        .filter(|(file, name, ..)| !LONG_FUNCTIONS_LEFT.contains(&(*file, name.as_str())))
-        .map(|(file, name, line, lines)| format!("{file}:{line} `{name}` ({lines} lines)"))
-        .collect();
     assert!(
-        unlisted.is_empty(),
-        "functions over {MAX_FUNCTION_LINES} lines: {unlisted:?}; split them into functions that each do one thing"
+        long.is_empty(),
+        "functions over {MAX_FUNCTION_LINES} lines: {long:?}; split them into functions that each do one thing"
     );
-    for (file, name) in LONG_FUNCTIONS_LEFT {
-        assert!(
-            long.iter().any(|(f, n, ..)| *f == file && n == name),
-            "{file}'s `{name}` is no longer over {MAX_FUNCTION_LINES} lines: take it off LONG_FUNCTIONS_LEFT"
-        );
-    }
 }
