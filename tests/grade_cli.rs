@@ -14,15 +14,13 @@ use std::time::{Duration, Instant};
 
 use serde_json::Value;
 
-use crate::support::grading::{self, open_folder, Kind};
+use crate::support::grading::{self, open_folder, student_binary, Kind};
 use crate::support::{self, run};
 
 /// A small scene: a sphere on a lit floor, 32 pixels.
 const SCENE: &str = "camera 32\n\nsphere\n  dimension 1\n  center 0 0 -5\n  color .9 .6 .3\n\n\
 plane\n  dimension 20 40\n  center 0 -1 -10\n  normal 0 1 0\n  headup 0 0 -1\n  color .8 .8 .8\n\n\
 light\n  location 6 4 -3\n  color 1 1 1\n";
-
-pub(crate) use crate::support::grading::student_binary;
 
 /// A test's folder ([`grading::Case`]): the one-scene suite and the
 /// student's script, graded under tight limits, as the tests run; each
@@ -204,16 +202,19 @@ fn a_hang_is_killed_at_the_timeout_with_its_children() {
     assert!(seconds < 10.0, "{seconds}");
 }
 
+/// The reason names the CPU limit, not the wall-clock one: the limit on
+/// CPU time acted first. How long a second of CPU takes on the wall clock
+/// depends on the machine's load (on two loaded cores, over 15 s), so the
+/// wall-clock timeout is far above it and no wall time is asserted.
 #[test]
 fn a_cpu_spin_stops_at_the_cpu_limit() {
     let case = Case::new("while :; do :; done");
-    let (_, scene, _) = case.grade(&["--cpu", "1", "--timeout", "20"]);
+    let (_, scene, _) = case.grade(&["--cpu", "1", "--timeout", "120"]);
     assert_eq!(
         status(&scene),
         ("timeout", "CPU time limit (SIGXCPU)"),
         "{scene}"
     );
-    assert!(scene["seconds"].as_f64().unwrap() < 15.0);
 }
 
 #[test]
