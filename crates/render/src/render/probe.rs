@@ -1,7 +1,9 @@
 //! What our reference sees at each pixel, for judging a student's image
 //! aspect by aspect: which object a camera ray meets, which lights reach
 //! that point, how much direct light arrives with and without shadows,
-//! what the mirror direction meets there, and the texture coordinates.
+//! what the mirror direction meets there, and the texture coordinates
+//! with the light a texel is multiplied by there, so a judge can colour
+//! the object under another texture mapping than ours.
 //!
 //! A separate pass from [`super::render`], so the normal render path is
 //! untouched: [`buffers`] traces one ray through each pixel centre and one
@@ -62,6 +64,19 @@ pub struct Probe {
     pub highlight: f64,
     /// The texture coordinates, on a textured object.
     pub uv: Option<(f64, f64)>,
+    /// Per channel, what our renderer multiplies the object's colour (or
+    /// texel) by here, leaving out any highlight: the ambient share plus
+    /// `diffuse · I · max(0, N·L̂)` of each light that reaches the point.
+    pub light: [f64; 3],
+}
+
+/// A textured object: which of [`Buffers::textures`] it wears, and
+/// whether it is a sphere (else a plane), which decides the mappings a
+/// tracer may choose.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Wears {
+    pub texture: usize,
+    pub sphere: bool,
 }
 
 /// The probes of a whole frame.
@@ -77,6 +92,9 @@ pub struct Buffers {
     pub textured: Vec<bool>,
     /// Per object of the IR: whether it reflects.
     pub reflective: Vec<bool>,
+    /// The scene's textures, and per object of the IR the one it wears.
+    pub textures: Vec<ir::Texture>,
+    pub wears: Vec<Option<Wears>>,
     /// The probes of the same scene with each plane's two `dimension`
     /// values swapped, when a plane is not square: the assignment does not
     /// say which runs along `headup`, so a pixel is stable only where
@@ -181,7 +199,7 @@ pub fn swapped_planes(scene: &ir::Scene) -> Option<ir::Scene> {
 
 /// What camera ray `ray` meets: a caller of the tracer's parts, apart
 /// from the integrator, so the render path is unchanged.
-fn probe(tracer: &Tracer<f64>, ray: Ray<f64>) -> Probe {
+fn probe(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>) -> Probe {
     let luminance = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
     let Some(hit) = tracer.world.closest(&ray, f64::INFINITY) else {
         return Probe::default();
@@ -198,6 +216,7 @@ fn probe(tracer: &Tracer<f64>, ray: Ray<f64>) -> Probe {
         object: Some(prim.id),
         reflectivity: material.reflectivity,
         uv: surface.uv,
+        light: [model.ambient; 3],
         ..Probe::default()
     };
     let origin = offset_origin::<f64>(surface.point, n, surface.error_scale);
@@ -227,6 +246,9 @@ fn probe(tracer: &Tracer<f64>, ray: Ray<f64>) -> Probe {
                 .occluded(&shadow, distance * <f64 as Real>::SHADOW_REACH)
         {
             probe.lit += lit;
+            for (c, channel) in probe.light.iter_mut().enumerate() {
+                *channel += model.diffuse * light.color[c] * cos;
+            }
             if i < MAX_PROBED_LIGHTS {
                 probe.visible |= 1 << i;
             }
@@ -259,7 +281,7 @@ fn probe_all(scene: &ir::Scene, max_depth: u32, model: Model) -> Buffers {
             .map(|k| {
                 let (x, y) = (k % n, k / n);
                 let ray = camera_ray::<f64>(size, f64::from(x) + offset, f64::from(y) + offset);
-                probe(&tracer, ray)
+                probe(&tracer, &model, ray)
             })
             .collect()
     };
@@ -276,6 +298,19 @@ fn probe_all(scene: &ir::Scene, max_depth: u32, model: Model) -> Buffers {
             .objects
             .iter()
             .map(|o| scene.materials[o.material as usize].reflectivity > 0.0)
+            .collect(),
+        textures: scene.textures.clone(),
+        wears: scene
+            .objects
+            .iter()
+            .map(|o| {
+                scene.materials[o.material as usize]
+                    .texture
+                    .map(|texture| Wears {
+                        texture,
+                        sphere: matches!(o.shape, ir::Shape::Sphere { .. }),
+                    })
+            })
             .collect(),
         swapped: None,
     }

@@ -15,8 +15,9 @@
 //! - the student's image is read in linear light, turned back by a tone
 //!   curve (a gamma) fitted once for the three channels ([`tone`]), so
 //!   a gamma for the screen changes no colour and no shadow;
-//! - textures are judged by their contrast and mean colour over the
-//!   object.
+//! - textures are judged by their contrast over the object, and their
+//!   colour against ours under the student's own texture mapping, fitted
+//!   among those the assignment allows ([`mapping`]).
 //!
 //! Each aspect is a file of its own, with its measure, the map of where it
 //! differs and its words in the report, over one [`evidence::Evidence`];
@@ -42,6 +43,7 @@ use raytracer_render::render::probe::Buffers;
 mod evidence;
 mod fit;
 mod geometry;
+mod mapping;
 mod reflection;
 mod shading;
 mod shadows;

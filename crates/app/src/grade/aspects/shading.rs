@@ -4,12 +4,16 @@
 //! choose, the hue is not). On each lit plain object, its median
 //! chromaticity against ours; on each textured object whose texture shows
 //! (its contrast passes [`super::textures`], so a texture left out is
-//! textures' failure alone), its mean chromaticity against ours. Both
+//! textures' failure alone), its mean chromaticity against what ours
+//! would show under the student's own texture mapping, fitted among those
+//! the assignment allows ([`super::mapping`]), as the mapping is theirs
+//! to choose and changes which texels a visible half shows. Both
 //! away from highlights and clamped channels, and in linear light
 //! ([`super::tone`]). A light's colour ignored
 //! shows here, on plain and textured objects alike.
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
+use super::mapping;
 use super::textures::{textured, LEAST_PIXELS};
 use super::{verdict, Aspect, AspectResult, AspectThresholds};
 
@@ -59,12 +63,29 @@ fn plain(e: &Evidence, bound: f64, map: &mut [u8]) -> (f64, usize) {
     (worst, shaded)
 }
 
-/// The worst distance of a textured object's mean chromaticity from ours,
+/// The chromaticity of a colour in linear light, when bright enough to
+/// have one (as [`Evidence::chroma`] asks of an 8-bit pixel).
+fn chroma_of(c: [f64; 3]) -> Option<[f64; 3]> {
+    let sum = c[0] + c[1] + c[2];
+    (sum > 15.0 / 255.0).then(|| c.map(|v| v / sum))
+}
+
+/// The worst distance of a textured object's mean chromaticity from what
+/// ours would show under the student's own mapping ([`mapping::fit`]),
 /// over the objects whose texture shows, and the pixels judged, marking
 /// `map`.
 fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> (f64, usize) {
     let (mut worst, mut shaded) = (0.0f64, 0usize);
     for object in textured(e) {
+        let Some(wears) = e
+            .buffers
+            .wears
+            .get(object.object as usize)
+            .copied()
+            .flatten()
+        else {
+            continue;
+        };
         if object.theirs / object.ours < thresholds.texture_contrast {
             continue;
         }
@@ -75,23 +96,30 @@ fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) 
             .iter()
             .copied()
             .filter(|&k| {
-                e.buffers.centres[k].highlight <= HIGHLIGHT_CONE
-                    && !clipped(&e.student_px(k))
-                    && !clipped(&e.px(e.reference, k))
+                e.buffers.centres[k].highlight <= HIGHLIGHT_CONE && !clipped(&e.student_px(k))
             })
             .collect();
-        if ks.len() < LEAST_PIXELS {
+        let fitted = mapping::fit(e, wears, &ks);
+        let pairs: Vec<(usize, [f64; 3], [f64; 3])> = ks
+            .iter()
+            .filter_map(|&k| {
+                let predicted = mapping::colour(e, wears, fitted, &e.buffers.centres[k]);
+                if predicted.iter().any(|&c| c >= 250.0 / 255.0) {
+                    return None;
+                }
+                Some((k, chroma_of(predicted)?, e.chroma(Whose::Theirs, k)?))
+            })
+            .collect();
+        if pairs.len() < LEAST_PIXELS {
             continue;
         }
-        let mean = |whose| -> [f64; 3] {
-            let all: Vec<[f64; 3]> = ks.iter().filter_map(|&k| e.chroma(whose, k)).collect();
-            let count = all.len().max(1) as f64;
-            [0, 1, 2].map(|c| all.iter().map(|v| v[c]).sum::<f64>() / count)
-        };
-        let d = distance(mean(Whose::Ours), mean(Whose::Theirs));
+        let count = pairs.len() as f64;
+        let ours = [0, 1, 2].map(|c| pairs.iter().map(|p| p.1[c]).sum::<f64>() / count);
+        let theirs = [0, 1, 2].map(|c| pairs.iter().map(|p| p.2[c]).sum::<f64>() / count);
+        let d = distance(ours, theirs);
         worst = worst.max(d);
-        shaded += ks.len();
-        for &k in &ks {
+        shaded += pairs.len();
+        for &(k, _, _) in &pairs {
             map[k] = 1 + u8::from(d > thresholds.texture_colour);
         }
     }

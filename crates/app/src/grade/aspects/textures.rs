@@ -41,6 +41,7 @@ fn contrast(e: &Evidence, whose: Whose, ks: &[usize], inside: &[bool]) -> f64 {
 /// A textured object whose texture shows in our image: its stable
 /// pixels and the contrast of ours and of the student's over them.
 pub(super) struct Textured {
+    pub object: u32,
     pub ks: Vec<usize>,
     pub ours: f64,
     pub theirs: f64,
@@ -67,7 +68,12 @@ pub(super) fn textured(e: &Evidence) -> Vec<Textured> {
             continue;
         }
         let theirs = contrast(e, Whose::Theirs, &ks, &inside);
-        found.push(Textured { ks, ours, theirs });
+        found.push(Textured {
+            object,
+            ks,
+            ours,
+            theirs,
+        });
     }
     found
 }
