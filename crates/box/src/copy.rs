@@ -96,8 +96,8 @@ fn open_regular_at(dir: &OwnedFd, name: &OsStr) -> io::Result<Option<File>> {
     Ok(file.metadata()?.is_file().then_some(file))
 }
 
-/// The kind of `name` in `dir`, the link itself when it is one.
-pub(crate) fn kind_at(dir: &OwnedFd, name: &CStr) -> io::Result<libc::mode_t> {
+/// `fstatat` of `name` in `dir`, the link itself when it is one.
+pub(crate) fn stat_at(dir: &OwnedFd, name: &CStr) -> io::Result<libc::stat> {
     // SAFETY: `stat` is plain data, filled by the call.
     let mut stat: libc::stat = unsafe { std::mem::zeroed() };
     // SAFETY: valid descriptor, C string and out pointer.
@@ -112,7 +112,12 @@ pub(crate) fn kind_at(dir: &OwnedFd, name: &CStr) -> io::Result<libc::mode_t> {
     if result != 0 {
         return Err(io::Error::last_os_error());
     }
-    Ok(stat.st_mode & libc::S_IFMT)
+    Ok(stat)
+}
+
+/// The kind of `name` in `dir`, the link itself when it is one.
+pub(crate) fn kind_at(dir: &OwnedFd, name: &CStr) -> io::Result<libc::mode_t> {
+    Ok(stat_at(dir, name)?.st_mode & libc::S_IFMT)
 }
 
 /// The target of the link `name` in `dir`, as written.

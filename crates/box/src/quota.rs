@@ -42,7 +42,7 @@ use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use crate::copy::open_at;
+use crate::copy::{open_at, stat_at};
 use crate::procs::descendants;
 
 /// The shortest pause between two walks.
@@ -355,25 +355,6 @@ fn stat_of(fd: &OwnedFd) -> io::Result<libc::stat> {
     let mut stat: libc::stat = unsafe { std::mem::zeroed() };
     // SAFETY: a valid descriptor and out pointer.
     if unsafe { libc::fstat(fd.as_raw_fd(), &mut stat) } != 0 {
-        return Err(io::Error::last_os_error());
-    }
-    Ok(stat)
-}
-
-/// `fstatat` of `name` in `dir`, the link itself when it is one.
-fn stat_at(dir: &OwnedFd, name: &CStr) -> io::Result<libc::stat> {
-    // SAFETY: `stat` is plain data, filled by the call.
-    let mut stat: libc::stat = unsafe { std::mem::zeroed() };
-    // SAFETY: valid descriptor, C string and out pointer.
-    let result = unsafe {
-        libc::fstatat(
-            dir.as_raw_fd(),
-            name.as_ptr(),
-            &mut stat,
-            libc::AT_SYMLINK_NOFOLLOW,
-        )
-    };
-    if result != 0 {
         return Err(io::Error::last_os_error());
     }
     Ok(stat)
