@@ -25,14 +25,16 @@ build:
 TEST_THREADS ?= $(shell echo $$(( $$(nproc) * 2 )))
 
 # The tests that need programs outside cargo or root (Slurm, browsers,
-# editors, POV-Ray, GNU parallel, shells and man, the sandbox's attacks, the
-# classes of student tracers in Java, Python and JavaScript, Gradescope's
-# container in podman, docs/grading.md's examples, which grade Python
-# students in the sandbox): the full tier,
+# editors, POV-Ray, GNU parallel, shells and man, the sandbox's attacks and
+# its full disks, the classes of student tracers in Java, Python and
+# JavaScript, Gradescope's container in podman, docs/grading.md's examples
+# and its `--tracer` commands, which grade students in the sandbox): the
+# full tier,
 # which `make test` and CI run and `make check` leaves out.
 FULL_TIER := slurm:: neovim:: vim_syntax:: vscode:: pov:: preview_browser:: \
-	grade_browser:: grade_sandbox:: grade_students:: grade_class:: distributed:: install:: \
-	gradescope:: docs::the_grading_examples_run_as_written
+	grade_browser:: grade_sandbox:: grade_disk:: grade_students:: grade_class:: \
+	grade_doc_tracers:: distributed:: install:: gradescope:: \
+	docs::the_grading_examples_run_as_written
 
 # The fast tier, what a contributor runs after each edit: every crate's unit
 # tests and the integration tests that need nothing but cargo and the
