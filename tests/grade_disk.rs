@@ -15,14 +15,15 @@
 //! and one student whose build fills its folder, which lies on the
 //! grader's disk in a box too.
 
+use std::ffi::OsStr;
 use std::os::unix::fs::PermissionsExt;
-use std::path::Path;
-use std::process::{Command, Stdio};
+use std::path::{Path, PathBuf};
+use std::process::{Output, Stdio};
 
 use serde_json::Value;
 
 use crate::support;
-use crate::support::grading::{binary, open_folder, student_binary};
+use crate::support::grading::{grader, open_folder, student_binary, Kind};
 use crate::support::namespaces::without_namespaces;
 
 /// Writes 64 KiB files, far past the disk space, into a folder its owner
@@ -66,17 +67,53 @@ fn kinds() -> Vec<(bool, bool)> {
     kinds
 }
 
-/// `grade` as root, or as `nobody` through `setpriv` when the tests run
-/// as root (else as the tests' own user).
-fn grader(root: bool) -> Command {
-    if root || !support::is_root() {
-        return Command::new(binary());
+/// The disk bound each run gets: each student's folder (its copy of the
+/// renderer, whose size the build profile sets) fits it with 8 MiB to
+/// spare; and the reason a run past it is given.
+fn disk_bound() -> (String, String) {
+    let renderer = std::fs::metadata(student_binary()).unwrap().len();
+    let disk = ((renderer >> 20) + 1 + 8).to_string();
+    let full = format!("the run's disk space ({disk} MiB) was full");
+    (disk, full)
+}
+
+/// A temporary folder in `d` that every account may write, as /tmp is.
+fn shared_tmp(d: &Path) -> PathBuf {
+    let tmp = d.join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o1777)).unwrap();
+    tmp
+}
+
+/// `grade` of `what` (`--student FOLDER` or `--class FOLDER`) on `d`'s
+/// suite, as root or as an ordinary user, boxed or `--unprotected` (made
+/// to find no namespace), with `disk` MiB and `tmp` as its `TMPDIR`;
+/// the report goes to `report`.
+fn grade(
+    d: &Path,
+    (root, unprotected): (bool, bool),
+    disk: &str,
+    tmp: &Path,
+    what: [&OsStr; 2],
+    report: &Path,
+) -> Output {
+    let mut command = grader(if root { Kind::Root } else { Kind::User });
+    command
+        .args(["grade", "--disk", disk, "--timeout", "60"])
+        .args(what)
+        .arg("-o")
+        .arg(report)
+        .arg("--cache")
+        .arg(d.join(format!("cache-{root}")))
+        .arg(d.join("suite"))
+        .env("HOME", d)
+        .env("TMPDIR", tmp)
+        .stdin(Stdio::null());
+    if unprotected {
+        command.arg("--unprotected");
+        without_namespaces(&mut command);
     }
-    let mut command = Command::new("setpriv");
-    command
-        .args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
-        .arg(binary());
-    command
+    command.output().unwrap()
 }
 
 /// The class: each student's folder holds `tracer.sh` and a copy of the
@@ -121,32 +158,13 @@ fn a_build_that_fills_its_folder_is_stopped_and_told_in_every_kind_of_run() {
         "for i in $(seq 4096); do head -c 65536 /dev/zero > fill$i || exit 1; done\n",
     )
     .unwrap();
-    let renderer = std::fs::metadata(student_binary()).unwrap().len();
-    let disk = ((renderer >> 20) + 1 + 8).to_string();
-    let full = format!("the run's disk space ({disk} MiB) was full");
-    let tmp = d.join("tmp");
-    std::fs::create_dir(&tmp).unwrap();
-    std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o1777)).unwrap();
+    let (disk, full) = disk_bound();
+    let tmp = shared_tmp(d);
     for (root, unprotected) in kinds() {
         let run = format!("root {root}, unprotected {unprotected}");
         let report = d.join(format!("report-{root}-{unprotected}"));
-        let mut command = grader(root);
-        command
-            .args(["grade", "--disk", &disk, "--timeout", "60", "--student"])
-            .arg(&student)
-            .arg("-o")
-            .arg(&report)
-            .arg("--cache")
-            .arg(d.join(format!("cache-{root}")))
-            .arg(d.join("suite"))
-            .env("HOME", d)
-            .env("TMPDIR", &tmp)
-            .stdin(Stdio::null());
-        if unprotected {
-            command.arg("--unprotected");
-            without_namespaces(&mut command);
-        }
-        let output = command.output().unwrap();
+        let what = [OsStr::new("--student"), student.as_os_str()];
+        let output = grade(d, (root, unprotected), &disk, &tmp, what, &report);
         let stderr = String::from_utf8_lossy(&output.stderr);
         let summary: Value = serde_json::from_slice(
             &std::fs::read(report.join("summary.json"))
@@ -180,34 +198,14 @@ fn a_run_that_fills_its_disk_space_is_stopped_and_told_in_every_kind_of_run() {
     let dir = open_folder("grade-disk-");
     let d = dir.path();
     class(d);
-    // Each student's folder (its copy of the renderer, whose size the
-    // build profile sets) fits the run's disk with 8 MiB to spare.
-    let renderer = std::fs::metadata(student_binary()).unwrap().len();
-    let disk = ((renderer >> 20) + 1 + 8).to_string();
-    let full = format!("the run's disk space ({disk} MiB) was full");
-    let tmp = d.join("tmp");
-    std::fs::create_dir(&tmp).unwrap();
-    std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o1777)).unwrap();
+    let (disk, full) = disk_bound();
+    let tmp = shared_tmp(d);
+    let class = d.join("class");
     for (root, unprotected) in kinds() {
         let run = format!("root {root}, unprotected {unprotected}");
         let report = d.join(format!("report-{root}-{unprotected}"));
-        let mut command = grader(root);
-        command
-            .args(["grade", "--disk", &disk, "--timeout", "60", "--class"])
-            .arg(d.join("class"))
-            .arg("-o")
-            .arg(&report)
-            .arg("--cache")
-            .arg(d.join(format!("cache-{root}")))
-            .arg(d.join("suite"))
-            .env("HOME", d)
-            .env("TMPDIR", &tmp)
-            .stdin(Stdio::null());
-        if unprotected {
-            command.arg("--unprotected");
-            without_namespaces(&mut command);
-        }
-        let output = command.output().unwrap();
+        let what = [OsStr::new("--class"), class.as_os_str()];
+        let output = grade(d, (root, unprotected), &disk, &tmp, what, &report);
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert_eq!(output.status.code(), Some(1), "{run}: {stderr}");
         for student in ["a-small-files", "b-many-files", "c-removed-file"] {
