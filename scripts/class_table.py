@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
 """The closing table of a class graded by `raytracer grade --class`.
 
-Usage: scripts/class_table.py REPORT [REPORT...]
+Usage: scripts/class_table.py [--into FILE] REPORT [REPORT...]
 
 For each student of each REPORT folder (its REPORT/<student>/summary.json),
 one Markdown row: the class (the report folder's name), the student, the
 aspects that lost points with the scenes where they did, and the score.
 Aspects that fail on a scene carrying no points (a robustness scene) are
-left out: they cost nothing.
+left out: they cost nothing. With --into, the table replaces the one that
+follows the line `<!-- class table: scripts/class_table.py -->` in FILE
+(`make class-table` writes docs/grading.md's so); else it is printed.
 """
 
 import json
@@ -36,16 +38,46 @@ def rows(report):
         yield student, words or "none", summary["score"], summary["max_score"]
 
 
-def main():
-    if len(sys.argv) < 2:
-        print(__doc__.strip().splitlines()[2], file=sys.stderr)
-        return 2
-    print("| class | student | aspects that lost points (scenes) | score |")
-    print("|---|---|---|---|")
-    for report in sys.argv[1:]:
+MARKER = "<!-- class table: scripts/class_table.py -->"
+
+
+def table(reports):
+    lines = [
+        "| class | student | aspects that lost points (scenes) | score |",
+        "|---|---|---|---|",
+    ]
+    for report in reports:
         name = os.path.basename(os.path.normpath(report))
         for student, words, score, top in rows(report):
-            print(f"| {name} | `{student}` | {words} | {score:g} / {top:g} |")
+            lines.append(f"| {name} | `{student}` | {words} | {score:g} / {top:g} |")
+    return lines
+
+
+def write_into(path, lines):
+    with open(path, encoding="utf-8") as f:
+        text = f.read().split("\n")
+    start = text.index(MARKER) + 1
+    end = start
+    while end < len(text) and text[end].startswith("|"):
+        end += 1
+    text[start:end] = lines
+    with open(path, "w", encoding="utf-8") as f:
+        f.write("\n".join(text))
+
+
+def main():
+    args = sys.argv[1:]
+    into = None
+    if args[:1] == ["--into"] and len(args) >= 2:
+        into, args = args[1], args[2:]
+    if not args:
+        print(__doc__.strip().splitlines()[2], file=sys.stderr)
+        return 2
+    lines = table(args)
+    if into:
+        write_into(into, lines)
+    else:
+        print("\n".join(lines))
     return 0
 
 

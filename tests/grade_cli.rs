@@ -115,12 +115,18 @@ fn a_right_tracer_matches() {
 fn moved_darker_and_resized_images_differ_for_their_reasons() {
     // A moved sphere fails geometry (its other aspects pass); another hue
     // fails shading alone, which weighs what geometry and shadows weigh (a
-    // third each); a darker sphere of the same hue is a reading of the
-    // shading constants and matches.
+    // third each); a darker scene of the same hues (every colour halved,
+    // as a diffuse and an ambient weight of half ours give) is a reading
+    // of the shading constants and matches. (One object darker than the
+    // others is not: a tracer has one diffuse weight for the scene.)
     for (edit, reason, score) in [
         ("s/center 0 0 -5/center .5 0 -5/", "geometry", 0.666667),
         ("s/color .9 .6 .3/color .3 .6 .9/", "shading", 0.666667),
-        ("s/color .9 .6 .3/color .45 .3 .15/", "", 1.0),
+        (
+            "s/color .9 .6 .3/color .45 .3 .15/; s/color .8 .8 .8/color .4 .4 .4/",
+            "",
+            1.0,
+        ),
         (
             "s/camera 32/camera 40/",
             "size: expected 32 × 32, found 40 × 40 (not decoded: larger than the camera)",

@@ -1,23 +1,22 @@
 //! The test tracers of tests/students graded by `raytracer grade --class`
 //! on the scenes of the built-in suite that exercise their bugs: each
-//! correct reading fails no structural aspect (geometry, shadows,
-//! reflection, textures) on any of them and earns at least 80 % of the
-//! points, those whose texture mapping is not ours fail no aspect at all
-//! (their mapping is fitted), and each buggy tracer fails its bug's aspect on the scenes that
-//! exercise it.
+//! correct reading loses no point on any of them, each buggy tracer fails
+//! its bug's aspect on the scenes that exercise it, and the bugs whose
+//! effect lies in one aspect fail no other ([`CONFINED`]).
 //!
-//! `tune/` (C) is the class the thresholds were chosen on; `judge/` (Java,
-//! Python) was not looked at while choosing them, and found two misses;
-//! the mechanisms that fixed them (a mirror must show what ours shows; a
-//! highlight is not a reflection's or a texture colour's error) were
-//! chosen on `tune/` and `judge/` together and then judged, unchanged, on
-//! `held_out/` (JavaScript), written after them (docs/grading.md, "How the
-//! thresholds were chosen"). To keep `make test` short, each class is
-//! graded on ten scenes (`SCENES`), which between them exercise every
-//! bug, one scene at a time. The tracers need `cc`, `javac`/`java`,
-//! `python3` and `node`. Last, the instructor's reference
-//! (`--reference-tracer`, `--references`) and our renderer with a course's
-//! constants (`--reference-options`) replace ours.
+//! `tune/` (C) is the class the thresholds and mechanisms were chosen on;
+//! `judge/` (Java, Python) was not looked at while choosing the first
+//! thresholds, and found two misses; `held_out/` (JavaScript) judged the
+//! mechanisms that fixed them. `fresh/` (C++, Python) was written from the
+//! assignment alone after those, and graded once, unchanged, when the
+//! readings' fits (falloff, tone curve, pixel corners) were settled on the
+//! other three: what it found is [`KNOWN_MISSES`] (docs/grading.md,
+//! "How the thresholds were chosen"). To keep `make test` short, each
+//! class is graded on twelve scenes (`SCENES`), which between them
+//! exercise every bug, one scene at a time. The tracers need `cc`,
+//! `javac`/`java`, `python3`, `node` and `g++`. Last, the instructor's
+//! reference (`--reference-tracer`, `--references`) and our renderer with
+//! a course's constants (`--reference-options`) replace ours.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -27,8 +26,9 @@ use serde_json::Value;
 use crate::support::{self, run};
 
 /// The scenes graded, by their path in the built-in suite.
-const SCENES: [&str; 11] = [
+const SCENES: [&str; 12] = [
     "sample.txt",
+    "field/texture.scene",
     "big_shadow.txt",
     "beyond_light.txt",
     "facing_mirrors.txt",
@@ -41,11 +41,8 @@ const SCENES: [&str; 11] = [
     "hard/inside_sphere.txt",
 ];
 
-/// The correct readings of each class. (`falloff`, a correct reading of
-/// tune, is not among them yet: the judge does not fit a light's falloff
-/// with distance, and it loses shadows on five scenes; docs/grading.md,
-/// "Readings the assignment leaves open".)
-const CORRECT: [&str; 13] = [
+/// The correct readings of each class.
+const CORRECT: [&str; 25] = [
     "correct_centres",
     "correct_centres_py",
     "correct_corners",
@@ -59,19 +56,84 @@ const CORRECT: [&str; 13] = [
     "blinn_phong",
     "supersampling",
     "rotated_texture",
+    "falloff",
+    "correct_cpp",
+    "correct_py",
+    "cpp_jitter16",
+    "cpp_phong_light",
+    "cpp_srgb",
+    "cpp_depth2",
+    "cpp_tex_times_color",
+    "py_exposure",
+    "py_atten",
+    "py_sphere_ylinear",
+    "py_refl_pow2",
 ];
 
-/// The structural aspects: those a correct reading must never fail.
-const STRUCTURAL: [&str; 4] = ["geometry", "shadows", "reflection", "textures"];
+/// What the fresh class, graded once, found: correct readings that lose
+/// points, by class, student, aspect and scene. Tone curves that are not
+/// a power (sRGB's linear toe, an exposure `1 − e^(−2c)`) and a
+/// reflection added squared are not among the readings the judge fits
+/// (docs/grading.md, "Readings the assignment leaves open"). The test
+/// holds that these are the only ones.
+const KNOWN_MISSES: [(&str, &str, &str, &str); 10] = [
+    ("fresh", "cpp_srgb", "textures", "checker.txt"),
+    ("fresh", "cpp_srgb", "textures", "textures.txt"),
+    ("fresh", "cpp_srgb", "shading", "textures.txt"),
+    ("fresh", "py_exposure", "shading", "beyond_light.txt"),
+    ("fresh", "py_exposure", "shading", "big_shadow.txt"),
+    ("fresh", "py_exposure", "shading", "field/texture.scene"),
+    ("fresh", "py_exposure", "shading", "mirror.txt"),
+    ("fresh", "py_exposure", "shading", "reflection.txt"),
+    ("fresh", "py_exposure", "shading", "textures.txt"),
+    ("fresh", "py_refl_pow2", "reflection", "facing_mirrors.txt"),
+];
 
-/// The correct readings whose texture mapping is not ours: their mapping
-/// is fitted, so they lose no aspect at all, shading included, on any of
-/// [`SCENES`] (shading takes a texture's colour under the fitted mapping).
-const MAPPINGS: [&str; 2] = ["other_texture_mapping", "rotated_texture"];
+/// The bugs whose effect lies in their own aspect alone: on none of
+/// [`SCENES`] may they fail another. (Shadow rays that hit their own
+/// surface, or reach past the light, also change what a mirror shows of
+/// a shadowed point and the colour of the points they darken; a mirror
+/// that shows the wrong thing, the tone curve read from the only lit
+/// object of field/texture.scene, a mirror; a wrong
+/// root, which points a ray meets at all; a field of view, where every
+/// object lies; a light behind a surface subtracting light, the colours
+/// and what looks shadowed.)
+const CONFINED: [&str; 11] = [
+    "light_colour_ignored",
+    "no_recursion",
+    "no_shadows",
+    "flipped_image",
+    "transposed_image",
+    "texture_ignored",
+    "reflection_sign",
+    "cpp_bug_bgr",
+    "cpp_bug_backface",
+    "py_bug_refl_nooffset",
+    "py_bug_refl_raw",
+];
 
 /// Each bug's aspect and the scenes where it must fail, in every class
 /// that has it.
-const BUGS: [(&str, &str, &[&str]); 10] = [
+const BUGS: [(&str, &str, &[&str]); 17] = [
+    ("cpp_bug_bgr", "shading", &["sample.txt", "colours.txt"]),
+    ("cpp_bug_fov", "geometry", &["sample.txt", "colours.txt"]),
+    (
+        "cpp_bug_ndotl",
+        "shading",
+        &["colours.txt", "big_shadow.txt"],
+    ),
+    ("cpp_bug_backface", "shading", &["field/texture.scene"]),
+    (
+        "py_bug_refl_nooffset",
+        "reflection",
+        &["facing_mirrors.txt"],
+    ),
+    (
+        "py_bug_refl_raw",
+        "reflection",
+        &["facing_mirrors.txt", "reflection.txt"],
+    ),
+    ("py_bug_shadow_d2", "shadows", &["beyond_light.txt"]),
     ("light_colour_ignored", "shading", &["sample.txt"]),
     ("unbounded_shadow", "shadows", &["beyond_light.txt"]),
     ("no_recursion", "reflection", &["facing_mirrors.txt"]),
@@ -118,10 +180,11 @@ const WRONG_ROOT: [(&str, &str, &[&str]); 2] = [
 
 /// Each class: its folder under tests/students, the programs its tracers
 /// need, and how many students it has (all of them must be graded).
-const CLASSES: [(&str, &[&str], usize); 3] = [
+const CLASSES: [(&str, &[&str], usize); 4] = [
     ("tune", &["cc"], 24),
     ("judge", &["javac", "python3"], 17),
     ("held_out", &["node"], 6),
+    ("fresh", &["g++", "python3"], 18),
 ];
 
 /// A class graded: each student's summary.json by name, and the folder
@@ -226,31 +289,19 @@ fn check_class(class: &str) {
             continue;
         }
         for scene in SCENES {
-            let structural: Vec<String> = failed(summary, scene)
-                .into_iter()
-                .filter(|a| STRUCTURAL.contains(&a.as_str()))
-                .collect();
-            if !structural.is_empty() {
-                problems.push(format!("{class}/{name} fails {structural:?} on {scene}"));
+            for aspect in failed(summary, scene) {
+                let known = KNOWN_MISSES.contains(&(class, name.as_str(), aspect.as_str(), scene));
+                if !known {
+                    problems.push(format!("{class}/{name} fails {aspect} on {scene}"));
+                }
             }
-        }
-        let (score, max) = (
-            summary["score"].as_f64().unwrap(),
-            summary["max_score"].as_f64().unwrap(),
-        );
-        if score < 0.8 * max {
-            problems.push(format!("{class}/{name} earns {score} of {max}"));
         }
     }
-    for name in MAPPINGS {
-        let Some(summary) = summaries.get(name) else {
-            continue;
-        };
-        for scene in SCENES {
-            let lost = failed(summary, scene);
-            if !lost.is_empty() {
-                problems.push(format!("{class}/{name} fails {lost:?} on {scene}"));
-            }
+    for &(_, name, aspect, scene) in KNOWN_MISSES.iter().filter(|m| m.0 == class) {
+        if !failed(&summaries[name], scene).contains(&aspect.to_string()) {
+            problems.push(format!(
+                "{class}/{name} now passes {aspect} on {scene}: take it out of KNOWN_MISSES"
+            ));
         }
     }
     let wrong_root = WRONG_ROOT
@@ -266,6 +317,19 @@ fn check_class(class: &str) {
         for scene in scenes {
             if !failed(summary, scene).iter().any(|a| a == aspect) {
                 problems.push(format!("{class}/{name} passes {aspect} on {scene}"));
+            }
+        }
+        if CONFINED.contains(&name) {
+            for scene in SCENES {
+                let others: Vec<String> = failed(summary, scene)
+                    .into_iter()
+                    .filter(|a| a != aspect)
+                    .collect();
+                if !others.is_empty() {
+                    problems.push(format!(
+                        "{class}/{name}, a bug of {aspect}, fails {others:?} on {scene}"
+                    ));
+                }
             }
         }
     }
@@ -341,6 +405,11 @@ fn the_judging_class_gets_the_verdicts_it_should() {
 #[test]
 fn the_held_out_class_gets_the_verdicts_it_should() {
     check_class("held_out");
+}
+
+#[test]
+fn the_fresh_class_gets_the_verdicts_it_should() {
+    check_class("fresh");
 }
 
 /// The course's own solution as the reference (`--reference-tracer`), run

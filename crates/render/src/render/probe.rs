@@ -31,7 +31,7 @@ pub const MAX_PROBED_LIGHTS: usize = 64;
 pub const SETTLED: f64 = 2.0 / 255.0;
 
 /// What one camera ray of our reference meets.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Probe {
     /// The object (its index in the IR) the ray meets first.
     pub object: Option<u32>,
@@ -44,10 +44,22 @@ pub struct Probe {
     /// The same sum over every light in front of the surface, as if
     /// nothing cast a shadow.
     pub unshadowed: f64,
+    /// Each light in front of the surface, its share of
+    /// [`Probe::unshadowed`] and how far it is: what a fit needs of a
+    /// tracer whose light falls off with distance (the assignment leaves
+    /// that open).
+    pub lights: Vec<LightShare>,
     /// The object's reflectivity (0 for a miss).
     pub reflectivity: f64,
+    /// The luminance of the object's colour (or texel) at the point.
+    pub albedo: f64,
     /// The object the mirror direction meets (only on a reflective object).
     pub reflected: Option<u32>,
+    /// What the mirror direction meets, when it is neither a mirror nor
+    /// textured: its [`Probe::albedo`] and [`Probe::lit`] (both 0 for the
+    /// background). A tracer shows there `k·(a·albedo + b·lit)` under its
+    /// own constants, which ours (in [`Probe::reflected_radiance`]) fixes.
+    pub shown: Option<[f64; 2]>,
     /// The luminance of our radiance along the mirror direction, each
     /// channel clamped to 1 (only on a reflective object).
     pub reflected_radiance: f64,
@@ -68,6 +80,18 @@ pub struct Probe {
     /// texel) by here, leaving out any highlight: the ambient share plus
     /// `diffuse · I · max(0, N·L̂)` of each light that reaches the point.
     pub light: [f64; 3],
+}
+
+/// One light in front of a probed point ([`Probe::lights`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightShare {
+    /// Its term of [`Probe::unshadowed`]: `luminance(albedo ⊙ I)·N·L̂`.
+    pub lit: f64,
+    /// Its distance to the point.
+    pub distance: f64,
+    /// Whether its shadow ray reaches it (its term is then in
+    /// [`Probe::lit`] too).
+    pub reaches: bool,
 }
 
 /// A textured object: which of [`Buffers::textures`] it wears, and
@@ -103,6 +127,50 @@ pub struct Buffers {
 }
 
 impl Buffers {
+    /// The same frame probed half a pixel up and to the left, as a tracer
+    /// whose rays go through pixels' top-left corners sees it: each
+    /// pixel's probe is its top-left corner's, and each corner's is the
+    /// centre of the pixel up and to the left of it (the nearest pixel's
+    /// centre on the top and left edges).
+    pub fn through_corners(&self) -> Buffers {
+        let size = self.size;
+        let centres = (0..size)
+            .flat_map(|y| (0..size).map(move |x| (x, y)))
+            .map(|(x, y)| self.corner(x, y).clone())
+            .collect();
+        let corners = (0..=size)
+            .flat_map(|y| (0..=size).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                let back = |v: u32| v.saturating_sub(1).min(size - 1);
+                self.centre(back(x), back(y)).clone()
+            })
+            .collect();
+        Buffers {
+            size,
+            centres,
+            corners,
+            swapped: self
+                .swapped
+                .as_ref()
+                .map(|other| Box::new(other.through_corners())),
+            ..self.clone_without_probes()
+        }
+    }
+
+    /// This frame's scene facts, with no probes.
+    fn clone_without_probes(&self) -> Buffers {
+        Buffers {
+            size: self.size,
+            centres: Vec::new(),
+            corners: Vec::new(),
+            textured: self.textured.clone(),
+            reflective: self.reflective.clone(),
+            textures: self.textures.clone(),
+            wears: self.wears.clone(),
+            swapped: None,
+        }
+    }
+
     /// The probe at the centre of pixel `(x, y)`.
     pub fn centre(&self, x: u32, y: u32) -> &Probe {
         &self.centres[(y * self.size + x) as usize]
@@ -200,6 +268,11 @@ pub fn swapped_planes(scene: &ir::Scene) -> Option<ir::Scene> {
 /// What camera ray `ray` meets: a caller of the tracer's parts, apart
 /// from the integrator, so the render path is unchanged.
 fn probe(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>) -> Probe {
+    probe_to(tracer, model, ray, true)
+}
+
+/// [`probe`], following the mirror direction when `reflect`.
+fn probe_to(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>, reflect: bool) -> Probe {
     let luminance = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
     let Some(hit) = tracer.world.closest(&ray, f64::INFINITY) else {
         return Probe::default();
@@ -215,6 +288,7 @@ fn probe(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>) -> Probe {
     let mut probe = Probe {
         object: Some(prim.id),
         reflectivity: material.reflectivity,
+        albedo: luminance(albedo),
         uv: surface.uv,
         light: [model.ambient; 3],
         ..Probe::default()
@@ -233,6 +307,11 @@ fn probe(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>) -> Probe {
         }
         let lit = luminance(albedo * light.color) * cos;
         probe.unshadowed += lit;
+        probe.lights.push(LightShare {
+            lit,
+            distance: length.wide(),
+            reaches: false,
+        });
         let to_light = light.position - origin;
         let distance = to_light.length();
         let shadow = Ray {
@@ -246,6 +325,9 @@ fn probe(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>) -> Probe {
                 .occluded(&shadow, distance * <f64 as Real>::SHADOW_REACH)
         {
             probe.lit += lit;
+            if let Some(share) = probe.lights.last_mut() {
+                share.reaches = true;
+            }
             for (c, channel) in probe.light.iter_mut().enumerate() {
                 *channel += model.diffuse * light.color[c] * cos;
             }
@@ -255,16 +337,21 @@ fn probe(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>) -> Probe {
             probe.highlight = probe.highlight.max(mirror.dot(towards).wide());
         }
     }
-    if material.reflectivity > 0.0 {
+    if material.reflectivity > 0.0 && reflect {
         let reflected = Ray {
             origin,
             dir: mirror,
             from: hit.slot,
         };
-        probe.reflected = tracer
-            .world
-            .closest(&reflected, f64::INFINITY)
-            .map(|h| tracer.world.prims[h.slot as usize].id);
+        let seen = probe_to(tracer, model, reflected, false);
+        probe.reflected = seen.object;
+        probe.shown = match seen.object {
+            None => Some([0.0, 0.0]),
+            Some(_) if seen.reflectivity == 0.0 && seen.uv.is_none() => {
+                Some([seen.albedo, seen.lit])
+            }
+            Some(_) => None,
+        };
         let c = tracer.radiance(reflected, &mut counters).min(DVec3::ONE);
         probe.reflected_radiance = luminance(c);
     }
@@ -352,6 +439,48 @@ mod tests {
         assert!(b.stable(0, 0, |p| p.object));
         // A mirror showing a plain sphere shows it under every reading.
         assert!(floor.reflection_settled);
+        // What it shows: the sphere's colour, and no light, as the sphere
+        // hides its lit top from the floor.
+        let shown = floor.shown.expect("a plain sphere");
+        assert!(
+            (shown[0] - 0.2126).abs() < 1e-9 && shown[1] == 0.0,
+            "{shown:?}"
+        );
+        // The light above: one share, blocked, three units away less the
+        // floor's half unit.
+        assert_eq!(floor.lights.len(), 1);
+        let share = floor.lights[0];
+        assert!(!share.reaches && share.lit > 0.0, "{share:?}");
+        assert!((share.distance - 3.5).abs() < 0.5, "{share:?}");
+    }
+
+    #[test]
+    fn through_corners_moves_the_probes_half_a_pixel_up_and_left() {
+        let s = scene(
+            "camera 8
+sphere
+dimension .4
+center .1 .05 -2
+color 1 1 1
+             light
+location 0 3 0
+color 1 1 1
+",
+        );
+        let b = buffers(&s, 2, Model::default());
+        let moved = b.through_corners();
+        for y in 0..8 {
+            for x in 0..8 {
+                assert_eq!(moved.centre(x, y), b.corner(x, y));
+            }
+        }
+        for y in 1..=8 {
+            for x in 1..=8 {
+                let back = |v: u32| (v - 1).min(7);
+                assert_eq!(moved.corner(x, y), b.centre(back(x), back(y)));
+            }
+        }
+        assert_eq!(moved.corner(0, 0), b.centre(0, 0));
     }
 
     #[test]

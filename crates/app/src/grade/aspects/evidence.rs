@@ -5,6 +5,7 @@
 //! image turned back to linear light by their fitted tone curve
 //! ([`super::tone`]).
 
+use super::falloff::{self, Group, LightFit};
 use super::tone::{self, luminance_of, Row};
 use crate::compare::Picture;
 use raytracer_render::render::probe::{Buffers, Probe};
@@ -31,6 +32,13 @@ pub(super) struct Evidence<'a> {
     pub plain: Vec<u32>,
     /// The student's fitted tone curve's exponent ([`super::tone`]).
     pub gamma: f64,
+    /// The least share of the image's spread the tone fit leaves
+    /// unexplained: how well these probes explain the image.
+    pub unexplained: Option<f64>,
+    /// The scene's fit of the student's light on plain objects, with
+    /// its falloff with distance ([`super::falloff`]); `None` when no
+    /// plain object tells it.
+    pub light: Option<LightFit>,
     /// The student's pixels in linear light, `(v/255)^γ` per channel.
     linear: Vec<[f64; 3]>,
 }
@@ -57,6 +65,8 @@ impl<'a> Evidence<'a> {
             objects,
             plain: Vec::new(),
             gamma: 1.0,
+            unexplained: None,
+            light: None,
             linear: Vec::new(),
         };
         evidence.plain = evidence
@@ -68,62 +78,114 @@ impl<'a> Evidence<'a> {
                 first.reflectivity <= 0.0 && first.uv.is_none()
             })
             .collect();
-        evidence.gamma = tone::fit_gamma(&evidence.tone_rows());
-        let gamma = evidence.gamma;
+        // The light's falloff on the image as written, the tone curve
+        // with the light that falloff leaves, and the falloff again in
+        // linear light, until the falloff settles: a falloff read as a
+        // curve would bend every colour, and a curve read as a falloff
+        // would dim every light.
         evidence.linear = student
+            .rgb
+            .chunks_exact(3)
+            .map(|p| [0, 1, 2].map(|c| f64::from(p[c]) / 255.0))
+            .collect();
+        let mut light = falloff::fit(&evidence.light_groups());
+        for _ in 0..2 {
+            let falloff = light.as_ref().map(|l| l.falloff);
+            evidence.read_tone(&|p| falloff.map_or(p.lit, |f| f.lit(p)));
+            light = falloff::fit(&evidence.light_groups());
+            if light.as_ref().map(|l| l.falloff) == falloff {
+                break;
+            }
+        }
+        evidence.light = light;
+        evidence
+    }
+
+    /// The pixels of each plain object that tell the scene's light fit
+    /// ([`super::falloff`]): stable, fully lit (no light of ours
+    /// blocked), away from highlight lobes and clamping.
+    pub fn light_groups(&self) -> Vec<Group<'a>> {
+        let e = self;
+        e.plain
+            .iter()
+            .map(|&object| {
+                let rows = e
+                    .pixels_of(object, &|p| p.visible)
+                    .into_iter()
+                    .filter(|&k| {
+                        let p = &e.buffers.centres[k];
+                        p.unshadowed - p.lit < 1e-9
+                            && p.highlight < 0.8
+                            && !clipped(&e.student_px(k))
+                    })
+                    .map(|k| (&e.buffers.centres[k], e.luminance(Whose::Theirs, k)))
+                    .collect();
+                (object, rows)
+            })
+            .filter(|(_, rows): &Group| rows.len() >= 10)
+            .collect()
+    }
+
+    /// Fit the tone curve with `lit` the light that reaches a point, and
+    /// turn the student's image back to linear light by it.
+    fn read_tone(&mut self, lit: &dyn Fn(&Probe) -> f64) {
+        let [plain, mirrors, textured] = self.tone_rows(lit);
+        let tone = tone::fit_gamma(&plain, &mirrors, &textured);
+        self.gamma = tone.gamma;
+        self.unexplained = tone.unexplained;
+        let gamma = tone.gamma;
+        self.linear = self
+            .student
             .rgb
             .chunks_exact(3)
             .map(|p| [0, 1, 2].map(|c| (f64::from(p[c]) / 255.0).powf(gamma)))
             .collect();
-        evidence
     }
 
     /// The pixels of each object that tell the curve, with what ours sees
-    /// there: its unshadowed pixels away from highlights (out of the
-    /// cone where any highlight lobe may lie) and clamping,
-    /// on plain objects and mirrors (whose reflection ours settles, and not
-    /// of a texture); textured objects only when no other object tells, as
-    /// what they show depends on the mapping.
-    pub fn tone_rows(&self) -> Vec<Vec<Row>> {
+    /// there (`lit`, the light that reaches the point, and on a mirror
+    /// what it shows): its unshadowed pixels away from highlights (out of
+    /// the cone where any highlight lobe may lie) and clamping, by kind:
+    /// plain objects, mirrors (where they show nothing or an object that
+    /// is neither a mirror nor textured) and textured objects.
+    pub fn tone_rows(&self, lit: &dyn Fn(&Probe) -> f64) -> [Vec<Vec<Row>>; 3] {
         let e = self;
         let rows = |object: u32, textured: bool| -> Vec<Row> {
             e.pixels_of(object, &|p| {
                 p.visible ^ (u64::from(p.reflected.map_or(u32::MAX, |r| r)) << 32)
             })
             .into_iter()
-            .filter(|&k| {
+            .filter_map(|k| {
                 let p = &e.buffers.centres[k];
-                let settled = p.reflectivity == 0.0
-                    || (p.reflection_settled
-                        && p.reflected
-                            .is_none_or(|r| e.buffers.textured.get(r as usize) != Some(&true)));
-                p.unshadowed - p.lit < 1e-9
+                // On a mirror, what it shows must be an object that is
+                // neither a mirror nor textured, or nothing.
+                let shown = if p.reflectivity == 0.0 {
+                    [0.0, 0.0]
+                } else {
+                    p.shown?
+                };
+                let told = p.unshadowed - p.lit < 1e-9
                     && p.highlight <= HIGHLIGHT_CONE
-                    && settled
                     && p.uv.is_some() == textured
-                    && !clipped(&e.student_px(k))
-            })
-            .map(|k| {
-                let p = &e.buffers.centres[k];
-                (e.student_px(k), [p.lit, p.reflected_radiance])
+                    && !clipped(&e.student_px(k));
+                told.then_some((e.student_px(k), [lit(p), shown[0], shown[1]]))
             })
             .collect()
         };
         let enough = |g: &Vec<Row>| g.len() >= 30;
-        let untextured: Vec<_> = e
-            .objects
-            .iter()
-            .map(|&o| rows(o, false))
-            .filter(enough)
-            .collect();
-        if !untextured.is_empty() {
-            return untextured;
-        }
-        e.objects
-            .iter()
-            .map(|&o| rows(o, true))
-            .filter(enough)
-            .collect()
+        let kinds: [&dyn Fn(u32) -> bool; 3] = [
+            &|o| e.plain.contains(&o),
+            &|o| !e.plain.contains(&o) && e.first_probe(o).uv.is_none(),
+            &|o| e.first_probe(o).uv.is_some(),
+        ];
+        kinds.map(|kind| {
+            e.objects
+                .iter()
+                .filter(|&&o| kind(o))
+                .map(|&o| rows(o, e.first_probe(o).uv.is_some()))
+                .filter(enough)
+                .collect()
+        })
     }
 
     /// Pixel `k` in linear light, in [0, 1]: ours as it is, the student's

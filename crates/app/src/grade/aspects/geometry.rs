@@ -59,10 +59,14 @@ fn expected(e: &Evidence, k: usize) -> (Option<bool>, Option<bool>) {
     )
 }
 
-/// Which pixel the student's rays go through, when the image tells:
-/// the centres and the corners each miss some pixels ours surely covers
-/// or surely leaves empty, and one misses markedly fewer.
-pub(super) fn pixel_reading(e: &Evidence) -> Option<String> {
+/// Which pixel the student's rays go through, when the image tells,
+/// from the image judged on the probes of each (`centres`, `corners`):
+/// the one whose light explains the image twice as well (what ours sees
+/// half a pixel away is another brightness, over every lit object), or
+/// else the one that misses markedly fewer of the pixels ours surely
+/// covers or surely leaves empty.
+pub(super) fn pixel_reading(centres: &Evidence, corners: &Evidence) -> Option<Reading> {
+    let e = centres;
     let bg = background(e);
     let (mut centre_miss, mut corner_miss, mut total) = (0usize, 0usize, 0usize);
     for k in 0..e.n {
@@ -73,13 +77,40 @@ pub(super) fn pixel_reading(e: &Evidence) -> Option<String> {
             corner_miss += usize::from(b != seen);
         }
     }
-    (total > 0 && centre_miss.abs_diff(corner_miss) * 500 >= total).then(|| {
-        if corner_miss < centre_miss {
-            "your image fits rays through pixel corners (the assignment's \"usually the centre\" allows it)".to_string()
+    let pick = |corners_better: bool| {
+        if corners_better {
+            Reading::Corners
         } else {
-            "your image fits rays through pixel centres".to_string()
+            Reading::Centres
         }
+    };
+    // How well each reading's light explains the image, where it tells
+    // twice as well; else which pixels each covers.
+    let light = match (centres.unexplained, corners.unexplained) {
+        (Some(a), Some(b)) if a.min(b) < 0.5 * a.max(b) => Some(pick(b < a)),
+        _ => None,
+    };
+    light.or_else(|| {
+        (total > 0 && centre_miss.abs_diff(corner_miss) * 500 >= total)
+            .then_some(pick(corner_miss < centre_miss))
     })
+}
+
+/// Where a student's rays go through each pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Reading {
+    Centres,
+    /// Its top-left corner.
+    Corners,
+}
+
+impl Reading {
+    pub fn words(self) -> &'static str {
+        match self {
+            Reading::Centres => "your image fits rays through pixel centres",
+            Reading::Corners => "your image fits rays through pixel corners (the assignment's \"usually the centre\" allows it)",
+        }
+    }
 }
 
 /// Whether pixel colour `p` is not the background `bg`.

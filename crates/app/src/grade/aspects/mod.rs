@@ -6,18 +6,25 @@
 //! assignment leaves open (docs/grading.md, "Readings the assignment
 //! allows") and to change under the bugs students make:
 //!
-//! - only pixels *stable* for what a measure reads (the same at the
-//!   pixel's centre and its four corners) are judged, so rays through
-//!   pixel centres or corners are both fine;
-//! - brightness is fitted per object, `s ≈ a + b·lit` (and `+ c·reflected`
-//!   on a mirror) by least squares on the student's own pixels, so any
-//!   ambient and diffuse constants, and reflection added or blended, fit;
+//! - the student's pixel reading is fitted first: the image is judged on
+//!   the probes through pixel centres or through their top-left corners,
+//!   whichever explains it ([`geometry::pixel_reading`]), and only pixels
+//!   *stable* for what a measure reads (the same at the pixel's centre
+//!   and its four corners) are judged;
+//! - brightness is fitted, `s ≈ a + b·lit` (and what a mirror shows, by
+//!   its colour and light) by least squares on the student's own pixels,
+//!   so any ambient and diffuse constants, and reflection added or
+//!   blended, fit; on plain objects with one gain for the scene and the
+//!   student's falloff with distance ([`falloff`]);
 //! - the student's image is read in linear light, turned back by a tone
 //!   curve (a gamma) fitted once for the three channels ([`tone`]), so
 //!   a gamma for the screen changes no colour and no shadow;
 //! - textures are judged by their contrast over the object, and their
 //!   colour against ours under the student's own texture mapping, fitted
-//!   among those the assignment allows ([`mapping`]).
+//!   among those the assignment allows ([`mapping`]);
+//! - an image upside down, mirrored or transposed is turned back and
+//!   judged so, its geometry failing and naming the transform, even on a
+//!   scene whose coverage the transform keeps ([`recognise`]).
 //!
 //! Each aspect is a file of its own, with its measure, the map of where it
 //! differs and its words in the report, over one [`evidence::Evidence`];
@@ -41,6 +48,7 @@ use evidence::Evidence;
 use raytracer_render::render::probe::Buffers;
 
 mod evidence;
+mod falloff;
 mod fit;
 mod geometry;
 mod mapping;
@@ -167,6 +175,19 @@ pub struct Judged {
     pub transform: Option<&'static str>,
 }
 
+impl AspectResult {
+    /// Whether the aspect was judged and its measure lies at least
+    /// halfway from its bound to a perfect measure (0, or for textures'
+    /// contrast, which must reach its bound, 1).
+    fn clear_pass(&self) -> bool {
+        match (self.judged, self.measure, self.aspect) {
+            (true, Some(m), Aspect::Textures) => m >= (1.0 + self.threshold) / 2.0,
+            (true, Some(m), _) => m <= self.threshold / 2.0,
+            _ => false,
+        }
+    }
+}
+
 /// The points of each aspect on a scene.
 pub type AspectPoints = Vec<(Aspect, f64)>;
 
@@ -197,31 +218,51 @@ fn judge_all(
     (results, maps)
 }
 
-/// The whole-image transform that turns a student's image whose geometry
-/// fails back into one whose geometry passes, and that image; `None` when
-/// none does.
+/// The whole-image transform that turns a student's image back into one
+/// ours explains, with the verdicts and maps of the image turned back;
+/// `None` when none does. When geometry fails as the image is, turned
+/// back it must pass; when it passes (the transform keeps the scene's
+/// coverage, as a symmetric scene's does), every aspect judged as the
+/// image is must be judged and pass turned back, each that failed by a
+/// clear margin ([`AspectResult::clear_pass`]): a lucky symmetry may
+/// bring a buggy image to the bound, not well within it.
 fn recognise(
     buffers: &Buffers,
     reference: &Picture,
     student: &Picture,
     thresholds: &AspectThresholds,
-) -> Option<(transform::Transform, Picture)> {
+    as_is: &[AspectResult],
+) -> Option<(transform::Transform, Verdicts)> {
+    let geometry_failed = as_is[0].judged && !as_is[0].pass;
     transform::Transform::ALL.into_iter().find_map(|t| {
         let turned = t.undo(student);
         let evidence = Evidence::new(buffers, reference, &turned);
-        let mut map = vec![0u8; evidence.n];
-        let geometry = geometry::judge(&evidence, thresholds, &mut map);
-        (geometry.judged && geometry.pass).then_some((t, turned))
+        if geometry_failed {
+            let mut map = vec![0u8; evidence.n];
+            let geometry = geometry::judge(&evidence, thresholds, &mut map);
+            if !(geometry.judged && geometry.pass) {
+                return None;
+            }
+        }
+        let verdicts = judge_all(&evidence, thresholds);
+        let explained = || {
+            as_is.iter().zip(&verdicts.0).all(|(before, after)| {
+                !before.judged
+                    || (after.judged && after.pass && (before.pass || after.clear_pass()))
+            })
+        };
+        (geometry_failed || explained()).then_some((t, verdicts))
     })
 }
 
-/// Judge `student` (of the reference's size) aspect by aspect. When its
-/// geometry fails but passes with the image turned back by a whole-image
-/// transform ([`transform`]), geometry fails naming it, and the other
-/// aspects are judged on the image turned back. (Where the transform
-/// keeps the scene's coverage, geometry cannot tell it, and the image is
-/// judged as it is: deciding it from the other aspects alone would take a
-/// lucky symmetry for a transform.)
+/// Every aspect's verdict and map.
+type Verdicts = (Vec<AspectResult>, Vec<Vec<u8>>);
+
+/// Judge `student` (of the reference's size) aspect by aspect, on the
+/// probes of the pixel reading its image fits (centres or corners,
+/// [`geometry::pixel_reading`]). When a whole-image transform turns it
+/// back into one ours explains ([`recognise`]), geometry fails naming it,
+/// and the other aspects are judged on the image turned back.
 pub fn judge(
     buffers: &Buffers,
     reference: &Picture,
@@ -229,33 +270,45 @@ pub fn judge(
     thresholds: &AspectThresholds,
     points: &AspectPoints,
 ) -> Judged {
-    let evidence = Evidence::new(buffers, reference, student);
+    let through_corners = buffers.through_corners();
+    let centres = Evidence::new(buffers, reference, student);
+    let corners = Evidence::new(&through_corners, reference, student);
+    let reading = geometry::pixel_reading(&centres, &corners);
+    let (buffers, evidence) = match reading {
+        Some(geometry::Reading::Corners) => (&through_corners, corners),
+        _ => (buffers, centres),
+    };
     let (mut results, mut maps) = judge_all(&evidence, thresholds);
-    let recognised = (results[0].judged && !results[0].pass)
-        .then(|| recognise(buffers, reference, student, thresholds))
+    let geometry_failed = results[0].judged && !results[0].pass;
+    let recognised = results
+        .iter()
+        .any(|r| !r.pass)
+        .then(|| recognise(buffers, reference, student, thresholds, &results))
         .flatten();
     let transform = recognised.as_ref().map(|(t, _)| t.words());
-    let evidence = match &recognised {
-        Some((_, turned)) => {
-            let turned_evidence = Evidence::new(buffers, reference, turned);
-            let (turned_results, turned_maps) = judge_all(&turned_evidence, thresholds);
-            // Geometry as the image is; the others turned back.
-            for (k, (result, map)) in turned_results.into_iter().zip(turned_maps).enumerate() {
-                if k > 0 {
-                    results[k] = result;
-                    maps[k] = map;
-                }
+    if let Some((t, (turned_results, turned_maps))) = recognised {
+        // Geometry as the image is; the others turned back.
+        for (k, (result, map)) in turned_results.into_iter().zip(turned_maps).enumerate() {
+            if k > 0 {
+                results[k] = result;
+                maps[k] = map;
             }
-            turned_evidence
         }
-        None => evidence,
-    };
-    if let Some(words) = transform {
         let geometry = &mut results[0];
-        geometry.detail = format!(
-            "{}; turned back, your image fits ours: it is likely {words}",
-            geometry.detail
-        );
+        geometry.detail = if geometry_failed {
+            format!(
+                "{}; turned back, your image fits ours: it is likely {}",
+                geometry.detail,
+                t.words()
+            )
+        } else {
+            geometry.pass = false;
+            format!(
+                "{}, but only turned back does your image fit ours in every aspect: it is likely {}",
+                geometry.detail,
+                t.words()
+            )
+        };
     }
     for result in &mut results {
         result.points = points
@@ -269,7 +322,7 @@ pub fn judge(
     Judged {
         results,
         maps,
-        reading: geometry::pixel_reading(&evidence),
+        reading: reading.map(|r| r.words().to_string()),
         transform,
     }
 }

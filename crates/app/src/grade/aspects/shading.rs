@@ -9,8 +9,10 @@
 //! the assignment allows ([`super::mapping`]), as the mapping is theirs
 //! to choose and changes which texels a visible half shows. Both
 //! away from highlights and clamped channels, and in linear light
-//! ([`super::tone`]). A light's colour ignored
-//! shows here, on plain and textured objects alike.
+//! ([`super::tone`]). On plain objects, only the points the student's
+//! image shows lit, as the scene's light fit reads it: which points a
+//! light reaches is shadows' to judge. A light's colour ignored shows
+//! here, on plain and textured objects alike.
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::mapping;
@@ -32,7 +34,13 @@ fn plain(e: &Evidence, bound: f64, map: &mut [u8]) -> (f64, usize) {
             .into_iter()
             .filter(|&k| {
                 let p = &e.buffers.centres[k];
+                // Lit in ours and in theirs: which points a light
+                // reaches is shadows' to judge.
+                let shadowed = e.light.as_ref().and_then(|light| {
+                    light.looks_shadowed(object, p, e.luminance(Whose::Theirs, k))
+                });
                 p.lit > 0.05
+                    && shadowed != Some(true)
                     && p.highlight < 0.9
                     && !clipped(&e.student_px(k))
                     && e.chroma(Whose::Theirs, k).is_some()
