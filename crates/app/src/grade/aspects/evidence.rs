@@ -52,6 +52,28 @@ pub(super) enum Whose {
 
 impl<'a> Evidence<'a> {
     pub fn new(buffers: &'a Buffers, reference: &'a Picture, student: &'a Picture) -> Self {
+        let mut evidence = Evidence::unfitted(buffers, reference, student);
+        // The light's falloff on the image as written, the tone curve
+        // with the light that falloff leaves, and the falloff again in
+        // linear light, until the falloff settles: a falloff read as a
+        // curve would bend every colour, and a curve read as a falloff
+        // would dim every light.
+        let mut light = falloff::fit(&evidence.light_groups());
+        for _ in 0..2 {
+            let falloff = light.as_ref().map(|l| l.falloff);
+            evidence.read_tone(&|p| falloff.map_or(p.lit, |f| f.lit(p)));
+            light = falloff::fit(&evidence.light_groups());
+            if light.as_ref().map(|l| l.falloff) == falloff {
+                break;
+            }
+        }
+        evidence.light = light;
+        evidence
+    }
+
+    /// The evidence with no reading fitted: the image read as written,
+    /// no light fit. Enough for geometry, which reads only coverage.
+    pub fn unfitted(buffers: &'a Buffers, reference: &'a Picture, student: &'a Picture) -> Self {
         let size = buffers.size;
         let mut objects: Vec<u32> = buffers.centres.iter().filter_map(|p| p.object).collect();
         objects.sort_unstable();
@@ -78,26 +100,11 @@ impl<'a> Evidence<'a> {
                 first.reflectivity <= 0.0 && first.uv.is_none()
             })
             .collect();
-        // The light's falloff on the image as written, the tone curve
-        // with the light that falloff leaves, and the falloff again in
-        // linear light, until the falloff settles: a falloff read as a
-        // curve would bend every colour, and a curve read as a falloff
-        // would dim every light.
         evidence.linear = student
             .rgb
             .chunks_exact(3)
             .map(|p| [0, 1, 2].map(|c| f64::from(p[c]) / 255.0))
             .collect();
-        let mut light = falloff::fit(&evidence.light_groups());
-        for _ in 0..2 {
-            let falloff = light.as_ref().map(|l| l.falloff);
-            evidence.read_tone(&|p| falloff.map_or(p.lit, |f| f.lit(p)));
-            light = falloff::fit(&evidence.light_groups());
-            if light.as_ref().map(|l| l.falloff) == falloff {
-                break;
-            }
-        }
-        evidence.light = light;
         evidence
     }
 

@@ -236,14 +236,16 @@ fn recognise(
     let geometry_failed = as_is[0].judged && !as_is[0].pass;
     transform::Transform::ALL.into_iter().find_map(|t| {
         let turned = t.undo(student);
-        let evidence = Evidence::new(buffers, reference, &turned);
-        if geometry_failed {
-            let mut map = vec![0u8; evidence.n];
-            let geometry = geometry::judge(&evidence, thresholds, &mut map);
-            if !(geometry.judged && geometry.pass) {
-                return None;
-            }
+        // Geometry judged as the image is must be judged and pass turned
+        // back, either way; it reads coverage alone, so it is judged
+        // before the readings are fitted.
+        let coverage = Evidence::unfitted(buffers, reference, &turned);
+        let mut map = vec![0u8; coverage.n];
+        let geometry = geometry::judge(&coverage, thresholds, &mut map);
+        if as_is[0].judged && !(geometry.judged && geometry.pass) {
+            return None;
         }
+        let evidence = Evidence::new(buffers, reference, &turned);
         let verdicts = judge_all(&evidence, thresholds);
         let explained = || {
             as_is.iter().zip(&verdicts.0).all(|(before, after)| {
