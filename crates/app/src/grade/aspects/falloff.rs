@@ -19,6 +19,7 @@
 //! out of the fit: an object whose lit side a tracer darkens cannot get
 //! a gain, or a falloff, of its own.
 
+use super::fit::outlier_bound;
 use raytracer_render::render::probe::Probe;
 
 /// The share of none's unexplained spread a falloff must leave less
@@ -153,13 +154,12 @@ fn fit_under(groups: &[Group], falloff: Falloff) -> Option<(LightFit, f64)> {
             break;
         };
         let residual = |o: usize, (x, y): (f64, f64)| y - (fit.1[o] + fit.0 * x);
-        let mut all: Vec<f64> = xs
-            .iter()
-            .enumerate()
-            .flat_map(|(o, g)| g.iter().map(move |&r| residual(o, r).abs()))
-            .collect();
-        all.sort_by(f64::total_cmp);
-        let bound = (3.0 * all[all.len() / 2]).max(3.0 / 255.0);
+        let bound = outlier_bound(
+            xs.iter()
+                .enumerate()
+                .flat_map(|(o, g)| g.iter().map(move |&r| residual(o, r).abs()))
+                .collect(),
+        );
         keep = xs
             .iter()
             .enumerate()

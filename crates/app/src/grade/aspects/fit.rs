@@ -22,14 +22,19 @@ pub(super) fn robust_fit<const K: usize>(rows: &[([f64; K], f64)]) -> Option<Vec
             .iter()
             .map(|r| (r.1 - predict(&beta, &r.0)).abs())
             .collect();
-        let mut sorted = residuals.clone();
-        sorted.sort_by(f64::total_cmp);
-        let median = sorted[sorted.len() / 2];
-        let bound = (3.0 * median).max(3.0 / 255.0);
+        let bound = outlier_bound(residuals.clone());
         keep = residuals.iter().map(|&r| r <= bound).collect();
         fit = Some(beta);
     }
     fit
+}
+
+/// The largest absolute residual a robust fit keeps: three times the
+/// median one, and at least 3 of 255 (rounding alone is never an
+/// outlier). `residuals` must not be empty.
+pub(super) fn outlier_bound(mut residuals: Vec<f64>) -> f64 {
+    residuals.sort_by(f64::total_cmp);
+    (3.0 * residuals[residuals.len() / 2]).max(3.0 / 255.0)
 }
 
 pub(super) fn predict(beta: &[f64], x: &[f64]) -> f64 {

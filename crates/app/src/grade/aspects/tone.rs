@@ -75,16 +75,18 @@ pub(super) fn fit_gamma(plain: &[Vec<Row>], mirrors: &[Vec<Row>], textured: &[Ve
 /// curve (`γ` = 2.2): one leaves less than [`KEEP_CLAMPING`] of what the
 /// other leaves.
 fn tells(scored: &[(f64, f64)]) -> bool {
-    let at = |gamma: f64| {
-        scored
-            .iter()
-            .find(|(g, _)| (g - gamma).abs() < 1e-9)
-            .map(|s| s.1)
-    };
-    match (at(1.0), at(2.2)) {
+    match (score_at(scored, 1.0), score_at(scored, 2.2)) {
         (Some(a), Some(b)) => a.min(b) < KEEP_CLAMPING * a.max(b),
         _ => false,
     }
+}
+
+/// The unexplained share `scored` gives `gamma`, when it was scored.
+fn score_at(scored: &[(f64, f64)], gamma: f64) -> Option<f64> {
+    scored
+        .iter()
+        .find(|(g, _)| (g - gamma).abs() < 1e-9)
+        .map(|s| s.1)
 }
 
 /// Each candidate `γ` with the share of the image's spread the fits of
@@ -134,9 +136,8 @@ fn decide(scored: &[(f64, f64)]) -> Fitted {
             unexplained: None,
         };
     };
-    let clamping = scored.iter().find(|(g, _)| (g - 1.0).abs() < 1e-9);
-    let gamma = match clamping {
-        Some(&(_, u)) if best >= KEEP_CLAMPING * u => 1.0,
+    let gamma = match score_at(scored, 1.0) {
+        Some(u) if best >= KEEP_CLAMPING * u => 1.0,
         _ => best_gamma,
     };
     Fitted {
