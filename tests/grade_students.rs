@@ -10,11 +10,15 @@
 //! mechanisms that fixed them. `fresh/` (C++, Python) was written from the
 //! assignment alone after those, and graded once, unchanged, when the
 //! readings' fits (falloff, tone curve, pixel corners) were settled on the
-//! other three: what it found is [`KNOWN_MISSES`] (docs/grading.md,
-//! "How the thresholds were chosen"). To keep `make test` short, each
-//! class is graded on twelve scenes (`SCENES`), which between them
-//! exercise every bug, one scene at a time. The tracers need `cc`,
-//! `javac`/`java`, `python3`, `node` and `g++`. Last, the instructor's
+//! other three; what it found (curves that are no power, a squared
+//! reflection) is fitted now, and it joined the tuning. `unseen/` (Go,
+//! Java) was written from the assignment alone and graded once, when
+//! those fits were settled: what it found is [`KNOWN_MISSES`] and
+//! [`UNCAUGHT`] (docs/grading.md, "How the thresholds were chosen"). To
+//! keep `make test` short, each class is graded on twelve scenes
+//! (`SCENES`), which between them exercise every bug, one scene at a
+//! time. The tracers need `cc`, `javac`/`java`, `python3`, `node`, `g++`
+//! and `go`. Last, the instructor's
 //! reference (`--reference-tracer`, `--references`) and our renderer with
 //! a course's constants (`--reference-options`) replace ours.
 
@@ -42,7 +46,7 @@ const SCENES: [&str; 12] = [
 ];
 
 /// The correct readings of each class.
-const CORRECT: [&str; 25] = [
+const CORRECT: [&str; 32] = [
     "correct_centres",
     "correct_centres_py",
     "correct_corners",
@@ -68,37 +72,46 @@ const CORRECT: [&str; 25] = [
     "py_atten",
     "py_sphere_ylinear",
     "py_refl_pow2",
+    "correct_go",
+    "correct_java",
+    "go_reinhard",
+    "go_hue_clamp",
+    "go_phong_objcolour",
+    "java_ss3x3",
+    "java_bilinear",
 ];
 
-/// What the fresh class, graded once, found: correct readings that lose
-/// points, by class, student, aspect and scene. Tone curves that are not
-/// a power (sRGB's linear toe, an exposure `1 − e^(−2c)`) and a
-/// reflection added squared are not among the readings the judge fits
-/// (docs/grading.md, "Readings the assignment leaves open"). The test
-/// holds that these are the only ones.
-const KNOWN_MISSES: [(&str, &str, &str, &str); 10] = [
-    ("fresh", "cpp_srgb", "textures", "checker.txt"),
-    ("fresh", "cpp_srgb", "textures", "textures.txt"),
-    ("fresh", "cpp_srgb", "shading", "textures.txt"),
-    ("fresh", "py_exposure", "shading", "beyond_light.txt"),
-    ("fresh", "py_exposure", "shading", "big_shadow.txt"),
-    ("fresh", "py_exposure", "shading", "field/texture.scene"),
-    ("fresh", "py_exposure", "shading", "mirror.txt"),
-    ("fresh", "py_exposure", "shading", "reflection.txt"),
-    ("fresh", "py_exposure", "shading", "textures.txt"),
-    ("fresh", "py_refl_pow2", "reflection", "facing_mirrors.txt"),
-];
+/// Correct readings that lose points, by class, student, aspect and
+/// scene: what the last class graded once found and the judge does not
+/// fit. The fresh class's (an sRGB curve, an exposure, a squared
+/// reflection) are fitted now; the unseen class's Reinhard curve loses
+/// `shading` on mirror.txt, where the only plain object that tells the
+/// curve is a grey floor whose narrow range of light a power of 3 fits
+/// about as well, and the green sphere's colour is then read through the
+/// wrong curve (docs/grading.md, "Readings the assignment leaves open").
+/// The test holds that these are the only ones.
+const KNOWN_MISSES: [(&str, &str, &str, &str); 1] =
+    [("unseen", "go_reinhard", "shading", "mirror.txt")];
+
+/// Bugs no aspect catches on [`SCENES`], by class and student, with
+/// why: the test holds that they still pass every scene, so the list
+/// stays true. `cpp_bug_backface` (planes lit on their front alone) shows
+/// only on field/texture.scene, in the mirror's own faint light where it
+/// shows a texture, which is not judged; it lost `shading` there only
+/// while the mirror set the tone curve.
+const UNCAUGHT: [(&str, &str); 1] = [("fresh", "cpp_bug_backface")];
 
 /// The bugs whose effect lies in their own aspect alone: on none of
 /// [`SCENES`] may they fail another. (Shadow rays that hit their own
-/// surface, or reach past the light, also change what a mirror shows of
-/// a shadowed point and the colour of the points they darken; a mirror
-/// that shows the wrong thing, the tone curve read from the only lit
-/// object of field/texture.scene, a mirror; a wrong
-/// root, which points a ray meets at all; a field of view, where every
-/// object lies; a light behind a surface subtracting light, the colours
-/// and what looks shadowed.)
+/// surface, or reach past the light, or leave away from it, also change
+/// what a mirror shows of a shadowed point and the colour of the points
+/// they darken; a wrong root, which points a ray meets at all; a field
+/// of view, where every object lies; a light behind a surface
+/// subtracting light, the colours and what looks shadowed; a diffuse term
+/// aimed the wrong way or a light dropped, the shadows' fit; planes
+/// without edges, what lies behind them.)
 const CONFINED: [&str; 11] = [
+    "unnormalised_reflection",
     "light_colour_ignored",
     "no_recursion",
     "no_shadows",
@@ -107,14 +120,13 @@ const CONFINED: [&str; 11] = [
     "texture_ignored",
     "reflection_sign",
     "cpp_bug_bgr",
-    "cpp_bug_backface",
     "py_bug_refl_nooffset",
     "py_bug_refl_raw",
 ];
 
 /// Each bug's aspect and the scenes where it must fail, in every class
 /// that has it.
-const BUGS: [(&str, &str, &[&str]); 17] = [
+const BUGS: [(&str, &str, &[&str]); 21] = [
     ("cpp_bug_bgr", "shading", &["sample.txt", "colours.txt"]),
     ("cpp_bug_fov", "geometry", &["sample.txt", "colours.txt"]),
     (
@@ -122,7 +134,6 @@ const BUGS: [(&str, &str, &[&str]); 17] = [
         "shading",
         &["colours.txt", "big_shadow.txt"],
     ),
-    ("cpp_bug_backface", "shading", &["field/texture.scene"]),
     (
         "py_bug_refl_nooffset",
         "reflection",
@@ -134,6 +145,22 @@ const BUGS: [(&str, &str, &[&str]); 17] = [
         &["facing_mirrors.txt", "reflection.txt"],
     ),
     ("py_bug_shadow_d2", "shadows", &["beyond_light.txt"]),
+    // Expected, before grading, to fail `reflection` on reflection.txt
+    // (its mirror sphere's radius is 0.7): that mirror shows mostly the
+    // black background, where its wrong directions change little.
+    ("go_bug_sphere_normal", "shading", &["big_shadow.txt"]),
+    ("go_bug_light_position", "shading", &["sample.txt"]),
+    (
+        "java_bug_shadow_dir",
+        "shadows",
+        &["big_shadow.txt", "colours.txt"],
+    ),
+    ("java_bug_last_section", "shading", &["sample.txt"]),
+    (
+        "java_bug_infinite_plane",
+        "geometry",
+        &["sample.txt", "colours.txt"],
+    ),
     ("light_colour_ignored", "shading", &["sample.txt"]),
     ("unbounded_shadow", "shadows", &["beyond_light.txt"]),
     ("no_recursion", "reflection", &["facing_mirrors.txt"]),
@@ -180,11 +207,12 @@ const WRONG_ROOT: [(&str, &str, &[&str]); 2] = [
 
 /// Each class: its folder under tests/students, the programs its tracers
 /// need, and how many students it has (all of them must be graded).
-const CLASSES: [(&str, &[&str], usize); 4] = [
+const CLASSES: [(&str, &[&str], usize); 5] = [
     ("tune", &["cc"], 24),
     ("judge", &["javac", "python3"], 17),
     ("held_out", &["node"], 6),
     ("fresh", &["g++", "python3"], 18),
+    ("unseen", &["go", "javac"], 12),
 ];
 
 /// A class graded: each student's summary.json by name, and the folder
@@ -304,6 +332,16 @@ fn check_class(class: &str) {
             ));
         }
     }
+    for &(_, name) in UNCAUGHT.iter().filter(|u| u.0 == class) {
+        for scene in SCENES {
+            let lost = failed(&summaries[name], scene);
+            if !lost.is_empty() {
+                problems.push(format!(
+                    "{class}/{name} now fails {lost:?} on {scene}: take it out of UNCAUGHT"
+                ));
+            }
+        }
+    }
     let wrong_root = WRONG_ROOT
         .iter()
         .filter(|(c, _, _)| *c == class)
@@ -410,6 +448,11 @@ fn the_held_out_class_gets_the_verdicts_it_should() {
 #[test]
 fn the_fresh_class_gets_the_verdicts_it_should() {
     check_class("fresh");
+}
+
+#[test]
+fn the_unseen_class_gets_the_verdicts_it_should() {
+    check_class("unseen");
 }
 
 /// The course's own solution as the reference (`--reference-tracer`), run

@@ -46,14 +46,19 @@ pub fn skipped(why: &str) {
     let _ = writeln!(std::io::stderr(), "SKIPPED {why}");
 }
 
-/// Whether `program --version` runs. When it does not, the test that asked
-/// (`test`) fails under CI, which installs every program the tests drive
-/// (`.ci/run`, with `install`), and otherwise says it was skipped.
+/// Whether `program --version` (or `program version`) runs. When it does
+/// not, the test that asked (`test`) fails under CI, which installs every
+/// program the tests drive (`.ci/run`, with `install`), and otherwise says
+/// it was skipped.
 pub fn tool_available(program: &str, test: &str, install: &str) -> bool {
-    let found = Command::new(program)
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
+    // `--version`, or `version` for the programs that take a command
+    // (Go).
+    let found = ["--version", "version"].iter().any(|flag| {
+        Command::new(program)
+            .arg(flag)
+            .output()
+            .is_ok_and(|o| o.status.success())
+    });
     if !found {
         assert!(
             !under_ci(),

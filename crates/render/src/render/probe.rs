@@ -85,6 +85,8 @@ pub struct Probe {
 /// One light in front of a probed point ([`Probe::lights`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightShare {
+    /// Which light of the scene it is (its index in the scene's lights).
+    pub light: usize,
     /// Its term of [`Probe::unshadowed`]: `luminance(albedo ⊙ I)·N·L̂`.
     pub lit: f64,
     /// Its distance to the point.
@@ -308,6 +310,7 @@ fn probe_to(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>, reflect: bool) -
         let lit = luminance(albedo * light.color) * cos;
         probe.unshadowed += lit;
         probe.lights.push(LightShare {
+            light: i,
             lit,
             distance: length.wide(),
             reaches: false,

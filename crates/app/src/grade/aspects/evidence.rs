@@ -5,8 +5,9 @@
 //! image turned back to linear light by their fitted tone curve
 //! ([`super::tone`]).
 
-use super::falloff::{self, Group, LightFit};
-use super::tone::{self, luminance_of, Row};
+use super::falloff::{self, Falloff, Group, LightFit};
+use super::mapping;
+use super::tone::{self, luminance_of, Curve, Reads, Row};
 use crate::compare::Picture;
 use raytracer_render::render::probe::{Buffers, Probe};
 
@@ -15,6 +16,21 @@ use raytracer_render::render::probe::{Buffers, Probe};
 /// Phong highlight `k_s·(R·V)^n` is below 0.04 out of this cone (60°) for
 /// any `k_s ≤ 1` and `n ≥ 5`. A highlight only ever brightens.
 pub(super) const HIGHLIGHT_CONE: f64 = 0.5;
+
+/// The fewest pixels an object needs to tell the tone curve.
+const TONE_ROWS: usize = 30;
+
+/// The most pixels of an object the tone curve is fitted on, evenly
+/// spread over it: every curve tried is fitted to every object, and
+/// hundreds of pixels tell a line as well as thousands (the rounding of
+/// each value, not their number, limits the fit).
+const TONE_SAMPLE: usize = 400;
+
+/// At most [`TONE_SAMPLE`] of `rows`, evenly spaced.
+fn thinned<T>(rows: Vec<T>) -> Vec<T> {
+    let step = rows.len().div_ceil(TONE_SAMPLE).max(1);
+    rows.into_iter().step_by(step).collect()
+}
 
 /// One scene's evidence: the two images (of one size) and the probes.
 pub(super) struct Evidence<'a> {
@@ -30,8 +46,8 @@ pub(super) struct Evidence<'a> {
     /// The objects that neither reflect nor are textured: where shadows
     /// and shading are judged.
     pub plain: Vec<u32>,
-    /// The student's fitted tone curve's exponent ([`super::tone`]).
-    pub gamma: f64,
+    /// The student's fitted tone curve ([`super::tone`]).
+    pub curve: Curve,
     /// The least share of the image's spread the tone fit leaves
     /// unexplained: how well these probes explain the image.
     pub unexplained: Option<f64>,
@@ -39,7 +55,7 @@ pub(super) struct Evidence<'a> {
     /// its falloff with distance ([`super::falloff`]); `None` when no
     /// plain object tells it.
     pub light: Option<LightFit>,
-    /// The student's pixels in linear light, `(v/255)^γ` per channel.
+    /// The student's pixels in linear light, through their curve.
     linear: Vec<[f64; 3]>,
 }
 
@@ -61,7 +77,7 @@ impl<'a> Evidence<'a> {
         let mut light = falloff::fit(&evidence.light_groups());
         for _ in 0..2 {
             let falloff = light.as_ref().map(|l| l.falloff);
-            evidence.read_tone(&|p| falloff.map_or(p.lit, |f| f.lit(p)));
+            evidence.read_tone(falloff.unwrap_or(Falloff::NONE));
             light = falloff::fit(&evidence.light_groups());
             if light.as_ref().map(|l| l.falloff) == falloff {
                 break;
@@ -86,7 +102,7 @@ impl<'a> Evidence<'a> {
             n: (size * size) as usize,
             objects,
             plain: Vec::new(),
-            gamma: 1.0,
+            curve: Curve::CLAMPING,
             unexplained: None,
             light: None,
             linear: Vec::new(),
@@ -133,69 +149,129 @@ impl<'a> Evidence<'a> {
             .collect()
     }
 
-    /// Fit the tone curve with `lit` the light that reaches a point, and
-    /// turn the student's image back to linear light by it.
-    fn read_tone(&mut self, lit: &dyn Fn(&Probe) -> f64) {
-        let [plain, mirrors, textured] = self.tone_rows(lit);
-        let tone = tone::fit_gamma(&plain, &mirrors, &textured);
-        self.gamma = tone.gamma;
+    /// Fit the tone curve with each light dimmed by `falloff`, and turn
+    /// the student's image back to linear light by it.
+    fn read_tone(&mut self, falloff: Falloff) {
+        let [plain, mirrors] = self.tone_rows(falloff);
+        let tone = tone::fit(&plain, &mirrors, &|| self.textured_tone_rows());
+        self.curve = tone.curve;
         self.unexplained = tone.unexplained;
-        let gamma = tone.gamma;
+        let curve = tone.curve;
         self.linear = self
             .student
             .rgb
             .chunks_exact(3)
-            .map(|p| [0, 1, 2].map(|c| (f64::from(p[c]) / 255.0).powf(gamma)))
+            .map(|p| [0, 1, 2].map(|c| curve.linear(f64::from(p[c]) / 255.0)))
             .collect();
     }
 
-    /// The pixels of each object that tell the curve, with what ours sees
-    /// there (`lit`, the light that reaches the point, and on a mirror
-    /// what it shows): its unshadowed pixels away from highlights (out of
-    /// the cone where any highlight lobe may lie) and clamping, by kind:
-    /// plain objects, mirrors (where they show nothing or an object that
-    /// is neither a mirror nor textured) and textured objects.
-    pub fn tone_rows(&self, lit: &dyn Fn(&Probe) -> f64) -> [Vec<Vec<Row>>; 3] {
-        let e = self;
-        let rows = |object: u32, textured: bool| -> Vec<Row> {
-            e.pixels_of(object, &|p| {
-                p.visible ^ (u64::from(p.reflected.map_or(u32::MAX, |r| r)) << 32)
-            })
-            .into_iter()
-            .filter_map(|k| {
-                let p = &e.buffers.centres[k];
-                // On a mirror, what it shows must be an object that is
-                // neither a mirror nor textured, or nothing.
-                let shown = if p.reflectivity == 0.0 {
-                    [0.0, 0.0]
-                } else {
-                    p.shown?
-                };
-                let told = p.unshadowed - p.lit < 1e-9
-                    && p.highlight <= HIGHLIGHT_CONE
-                    && p.uv.is_some() == textured
-                    && !clipped(&e.student_px(k));
-                told.then_some((e.student_px(k), [lit(p), shown[0], shown[1]]))
-            })
-            .collect()
-        };
-        let enough = |g: &Vec<Row>| g.len() >= 30;
-        let kinds: [&dyn Fn(u32) -> bool; 3] = [
-            &|o| e.plain.contains(&o),
-            &|o| !e.plain.contains(&o) && e.first_probe(o).uv.is_none(),
-            &|o| e.first_probe(o).uv.is_some(),
-        ];
-        kinds.map(|kind| {
-            e.objects
-                .iter()
-                .filter(|&&o| kind(o))
-                .map(|&o| rows(o, e.first_probe(o).uv.is_some()))
-                .filter(enough)
-                .collect()
-        })
+    /// Whether pixel `k` tells the curve: no light of ours blocked there,
+    /// out of the cone where any highlight lobe may lie, and no channel
+    /// clamped.
+    fn tells_tone(&self, k: usize) -> bool {
+        let p = &self.buffers.centres[k];
+        p.unshadowed - p.lit < 1e-9
+            && p.highlight <= HIGHLIGHT_CONE
+            && !clipped(&self.student_px(k))
     }
 
-    /// Pixel `k` in linear light, in [0, 1]: ours as it is, the student's
+    /// The pixels of each object that tell the curve ([`Self::tells_tone`]),
+    /// with what ours sees there, each light dimmed by `falloff`, by kind.
+    /// A plain object's three channels, each with the light of each lamp
+    /// ([`Falloff::shares`]: a channel is a line in them, whatever the
+    /// lights' colours); a mirror's luminance (where it shows nothing or
+    /// an object that is neither a mirror nor textured), with the light
+    /// that reaches it and the colour and light of what it shows.
+    fn tone_rows(&self, falloff: Falloff) -> [Vec<tone::Group>; 2] {
+        let e = self;
+        let stable = |object: u32| {
+            let ks = e.pixels_of(object, &|p| {
+                p.visible ^ (u64::from(p.reflected.map_or(u32::MAX, |r| r)) << 32)
+            });
+            ks.into_iter().filter(|&k| e.tells_tone(k))
+        };
+        let enough = |g: &tone::Group| g.1.len() >= TONE_ROWS;
+        let plain = e
+            .plain
+            .iter()
+            .flat_map(|&object| {
+                let rows: Vec<Row> = thinned(stable(object).collect())
+                    .into_iter()
+                    .map(|k| (e.student_px(k), falloff.shares(&e.buffers.centres[k])))
+                    .collect();
+                (0..3).map(move |c| (Reads::Channel(c), rows.clone()))
+            })
+            .filter(enough)
+            .collect();
+        let mirrors = e
+            .objects
+            .iter()
+            .filter(|&&o| !e.plain.contains(&o) && e.first_probe(o).uv.is_none())
+            .map(|&object| {
+                let rows = stable(object)
+                    .filter_map(|k| {
+                        let p = &e.buffers.centres[k];
+                        // What it shows must be an object that is neither
+                        // a mirror nor textured, or nothing.
+                        let shown = p.shown?;
+                        Some((e.student_px(k), [falloff.lit(p), shown[0], shown[1]]))
+                    })
+                    .collect();
+                (Reads::Luminance, thinned(rows))
+            })
+            .filter(enough)
+            .collect();
+        [plain, mirrors]
+    }
+
+    /// The pixels of each textured object that tell the curve, channel by
+    /// channel, with what ours shows there under the student's own
+    /// texture mapping ([`mapping::fit`], on the image as read so far):
+    /// the light times the texel their mapping reads, and the texel alone
+    /// (any ambient share of theirs), so the texture's pattern is in what
+    /// ours sees, not left to the curve.
+    fn textured_tone_rows(&self) -> Vec<tone::Group> {
+        let e = self;
+        e.objects
+            .iter()
+            .filter_map(|&object| {
+                let wears = e.buffers.wears.get(object as usize).copied().flatten()?;
+                let ks = thinned(
+                    e.pixels_of(object, &|p| p.visible)
+                        .into_iter()
+                        .filter(|&k| e.tells_tone(k))
+                        .collect(),
+                );
+                if ks.len() < TONE_ROWS {
+                    return None;
+                }
+                let theirs = |k| e.luminance(Whose::Theirs, k);
+                let seen = mapping::Seen {
+                    buffers: e.buffers,
+                    theirs: &theirs,
+                };
+                let fitted = mapping::fit(&seen, wears, &ks);
+                let texels: Vec<[f64; 3]> = ks
+                    .iter()
+                    .map(|&k| mapping::texel_at(e.buffers, wears, fitted, &e.buffers.centres[k]))
+                    .collect();
+                Some((0..3).map(move |c| {
+                    let rows = ks
+                        .iter()
+                        .zip(&texels)
+                        .map(|(&k, texel)| {
+                            let light = e.buffers.centres[k].light[c];
+                            (e.student_px(k), [texel[c] * light, texel[c], 0.0])
+                        })
+                        .collect();
+                    (Reads::Channel(c), rows)
+                }))
+            })
+            .flatten()
+            .collect()
+    }
+
+    /// Pixel `k` in linear light: ours as it is, in [0, 1], the student's
     /// turned back by their tone curve.
     pub fn colour(&self, whose: Whose, k: usize) -> [f64; 3] {
         match whose {

@@ -41,7 +41,7 @@ pub(super) struct Falloff {
 
 impl Falloff {
     /// No falloff: every light's gain is 1.
-    const NONE: Falloff = Falloff {
+    pub const NONE: Falloff = Falloff {
         shape: None,
         scale: 1.0,
     };
@@ -65,7 +65,17 @@ impl Falloff {
             .sum()
     }
 
-    /// The same, were nothing in the way.
+    /// The light of the scene's first two lights that reach `probe`'s
+    /// point, and of the others together, each dimmed by its distance.
+    pub fn shares(&self, probe: &Probe) -> [f64; 3] {
+        let mut shares = [0.0; 3];
+        for l in probe.lights.iter().filter(|l| l.reaches) {
+            shares[l.light.min(2)] += l.lit * self.gain(l.distance);
+        }
+        shares
+    }
+
+    /// The same as [`Falloff::lit`], were nothing in the way.
     pub fn unshadowed(&self, probe: &Probe) -> f64 {
         probe
             .lights

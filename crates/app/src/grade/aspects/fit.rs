@@ -33,8 +33,9 @@ pub(super) fn robust_fit<const K: usize>(rows: &[([f64; K], f64)]) -> Option<Vec
 /// median one, and at least 3 of 255 (rounding alone is never an
 /// outlier). `residuals` must not be empty.
 pub(super) fn outlier_bound(mut residuals: Vec<f64>) -> f64 {
-    residuals.sort_by(f64::total_cmp);
-    (3.0 * residuals[residuals.len() / 2]).max(3.0 / 255.0)
+    let middle = residuals.len() / 2;
+    let (_, median, _) = residuals.select_nth_unstable_by(middle, f64::total_cmp);
+    (3.0 * *median).max(3.0 / 255.0)
 }
 
 pub(super) fn predict(beta: &[f64], x: &[f64]) -> f64 {

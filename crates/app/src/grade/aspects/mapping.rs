@@ -23,9 +23,8 @@
 //! refined in steps of 1/1024 round the best: a texel of a 512-wide
 //! texture.
 
-use super::evidence::{Evidence, Whose};
 use super::tone::luminance_of;
-use raytracer_render::render::probe::{Probe, Wears};
+use raytracer_render::render::probe::{Buffers, Probe, Wears};
 use raytracer_render::render::trace::texel;
 
 /// One mapping of the family: how it turns our coordinates `(u, v)` into
@@ -133,23 +132,45 @@ fn sphere_family(around: Option<Mapping>, step: f64, steps: i32) -> Vec<Mapping>
 /// The colour ours would show at pixel `k` (in linear light) if our
 /// renderer mapped `wears`' texture by `mapping`: the light there times
 /// the texel the mapping reads.
-pub(super) fn colour(e: &Evidence, wears: Wears, mapping: Mapping, probe: &Probe) -> [f64; 3] {
-    let uv = probe.uv.unwrap_or_default();
-    let (u, v) = mapping.apply(uv);
-    let t = texel(&e.buffers.textures[wears.texture], u, v);
+pub(super) fn colour(buffers: &Buffers, wears: Wears, mapping: Mapping, probe: &Probe) -> [f64; 3] {
+    let t = texel_at(buffers, wears, mapping, probe);
     let l = probe.light;
-    [t.x * l[0], t.y * l[1], t.z * l[2]]
+    [t[0] * l[0], t[1] * l[1], t[2] * l[2]]
+}
+
+/// The texel `mapping` reads of `wears`' texture at `probe`'s point.
+pub(super) fn texel_at(
+    buffers: &Buffers,
+    wears: Wears,
+    mapping: Mapping,
+    probe: &Probe,
+) -> [f64; 3] {
+    let (u, v) = mapping.apply(probe.uv.unwrap_or_default());
+    let t = texel(&buffers.textures[wears.texture], u, v);
+    [t.x, t.y, t.z].map(f64::from)
+}
+
+/// What a mapping is fitted to: our probes, and the student's luminance
+/// in linear light at pixel `k` ([`super::evidence::Evidence::luminance`]).
+pub(super) struct Seen<'a> {
+    pub buffers: &'a Buffers,
+    pub theirs: &'a dyn Fn(usize) -> f64,
 }
 
 /// How well `mapping` explains the student's luminance over pixels `ks`:
 /// the squared correlation of theirs with what ours would show, the share
 /// a least-squares line `a + b·x` explains (0 when either is flat).
-fn explained(e: &Evidence, wears: Wears, mapping: Mapping, ks: &[usize]) -> f64 {
+fn explained(seen: &Seen, wears: Wears, mapping: Mapping, ks: &[usize]) -> f64 {
     let n = ks.len() as f64;
     let (mut sx, mut sy, mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
     for &k in ks {
-        let x = luminance_of(colour(e, wears, mapping, &e.buffers.centres[k]));
-        let y = e.luminance(Whose::Theirs, k);
+        let x = luminance_of(colour(
+            seen.buffers,
+            wears,
+            mapping,
+            &seen.buffers.centres[k],
+        ));
+        let y = (seen.theirs)(k);
         sx += x;
         sy += y;
         sxx += x * x;
@@ -169,10 +190,10 @@ fn explained(e: &Evidence, wears: Wears, mapping: Mapping, ks: &[usize]) -> f64 
 /// The mapping of `candidates` that explains the student's pixels `ks`
 /// best; the first of the best on a tie, so ours wins where the texture
 /// looks the same under several (a symmetric image).
-fn best(e: &Evidence, wears: Wears, ks: &[usize], candidates: Vec<Mapping>) -> (Mapping, f64) {
+fn best(seen: &Seen, wears: Wears, ks: &[usize], candidates: Vec<Mapping>) -> (Mapping, f64) {
     candidates
         .into_iter()
-        .map(|m| (m, explained(e, wears, m, ks)))
+        .map(|m| (m, explained(seen, wears, m, ks)))
         .fold(None, |best: Option<(Mapping, f64)>, (m, s)| match best {
             Some((_, b)) if b >= s => best,
             _ => Some((m, s)),
@@ -182,17 +203,22 @@ fn best(e: &Evidence, wears: Wears, ks: &[usize], candidates: Vec<Mapping>) -> (
 
 /// The student's mapping of the texture `wears` on the object whose
 /// pixels are `ks`: the mapping of its family that explains them best.
-pub(super) fn fit(e: &Evidence, wears: Wears, ks: &[usize]) -> Mapping {
+pub(super) fn fit(seen: &Seen, wears: Wears, ks: &[usize]) -> Mapping {
     if ks.is_empty() {
         return ours(wears.sphere);
     }
     if !wears.sphere {
-        return best(e, wears, ks, plane_family()).0;
+        return best(seen, wears, ks, plane_family()).0;
     }
     let mut candidates = vec![ours(true)];
     candidates.extend(sphere_family(None, 1.0 / 64.0, 64));
-    let (coarse, score) = best(e, wears, ks, candidates);
-    let (fine, fine_score) = best(e, wears, ks, sphere_family(Some(coarse), 1.0 / 1024.0, 16));
+    let (coarse, score) = best(seen, wears, ks, candidates);
+    let (fine, fine_score) = best(
+        seen,
+        wears,
+        ks,
+        sphere_family(Some(coarse), 1.0 / 1024.0, 16),
+    );
     if fine_score > score {
         fine
     } else {
@@ -202,6 +228,7 @@ pub(super) fn fit(e: &Evidence, wears: Wears, ks: &[usize]) -> Mapping {
 
 #[cfg(test)]
 mod tests {
+    use super::super::evidence::{Evidence, Whose};
     use super::*;
     use crate::compare::Picture;
     use raytracer_render::ir;
@@ -232,14 +259,13 @@ mod tests {
 
     /// The image a tracer mapping the texture by `mapping` writes (no
     /// highlight, clamped to 8 bits).
-    fn picture(buffers: &Buffers, reference: &Picture, mapping: Mapping) -> Picture {
+    fn picture(buffers: &Buffers, mapping: Mapping) -> Picture {
         let wears = buffers.wears[0].unwrap();
-        let e = Evidence::new(buffers, reference, reference);
         let rgb = buffers
             .centres
             .iter()
             .flat_map(|p| match p.object {
-                Some(0) => colour(&e, wears, mapping, p).map(|c| (c.min(1.0) * 255.0) as u8),
+                Some(0) => colour(buffers, wears, mapping, p).map(|c| (c.min(1.0) * 255.0) as u8),
                 _ => [0; 3],
             })
             .collect();
@@ -253,15 +279,15 @@ mod tests {
     /// The mapping fitted to an image made with `truth`.
     fn fitted(text: &str, truth: Mapping) -> Mapping {
         let buffers = probe::buffers(&scene(text), 4, Model::default());
-        let blank = Picture {
-            width: buffers.size,
-            height: buffers.size,
-            rgb: vec![0; (buffers.size * buffers.size * 3) as usize],
-        };
-        let student = picture(&buffers, &blank, truth);
+        let student = picture(&buffers, truth);
         let e = Evidence::new(&buffers, &student, &student);
         let ks = e.pixels_of(0, &|p| p.visible);
-        fit(&e, buffers.wears[0].unwrap(), &ks)
+        let theirs = |k| e.luminance(Whose::Theirs, k);
+        let seen = Seen {
+            buffers: &buffers,
+            theirs: &theirs,
+        };
+        fit(&seen, buffers.wears[0].unwrap(), &ks)
     }
 
     const SPHERE: &str = "camera 64\nsphere\ndimension 1\ncenter 0 0 -3\ncolor 1 1 1\n\

@@ -17,8 +17,10 @@
 //!   blended, fit; on plain objects with one gain for the scene and the
 //!   student's falloff with distance ([`falloff`]);
 //! - the student's image is read in linear light, turned back by a tone
-//!   curve (a gamma) fitted once for the three channels ([`tone`]), so
-//!   a gamma for the screen changes no colour and no shadow;
+//!   curve (a power after a highlight shoulder) fitted once for the three
+//!   channels ([`tone`]), so a gamma, sRGB or an exposure changes no
+//!   colour and no shadow; a mirror may add what it shows to a power
+//!   ([`reflection`]);
 //! - textures are judged by their contrast over the object, and their
 //!   colour against ours under the student's own texture mapping, fitted
 //!   among those the assignment allows ([`mapping`]);
@@ -162,9 +164,11 @@ pub struct AspectResult {
     pub image: Option<String>,
 }
 
-/// What [`judge`] found: each aspect, a map per aspect, the pixel
-/// reading the image fits, when it tells, and the whole-image transform
-/// that explains a failed geometry, when one does.
+/// What [`judge`] found: each aspect, a map per aspect, the readings the
+/// image fits where they are not the plainest (the pixel reading, when
+/// it tells; a tone curve other than clamping; a falloff with distance),
+/// and the whole-image transform that explains a failed geometry, when
+/// one does.
 pub struct Judged {
     pub results: Vec<AspectResult>,
     /// Per aspect, per pixel: 0 not judged, 1 agrees, 2 differs.
@@ -280,6 +284,16 @@ pub fn judge(
         Some(geometry::Reading::Corners) => (&through_corners, corners),
         _ => (buffers, centres),
     };
+    let readings: Vec<String> = reading
+        .map(|r| r.words().to_string())
+        .into_iter()
+        .chain(evidence.curve.words())
+        .chain(
+            (evidence.light.as_ref())
+                .and_then(|l| l.falloff.words())
+                .map(|falloff| format!("your image reads with {falloff}")),
+        )
+        .collect();
     let (mut results, mut maps) = judge_all(&evidence, thresholds);
     let geometry_failed = results[0].judged && !results[0].pass;
     let recognised = results
@@ -324,7 +338,7 @@ pub fn judge(
     Judged {
         results,
         maps,
-        reading: reading.map(|r| r.words().to_string()),
+        reading: (!readings.is_empty()).then(|| readings.join("; ")),
         transform,
     }
 }

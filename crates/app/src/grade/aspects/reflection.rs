@@ -1,6 +1,9 @@
 //! Reflection: what mirrors show, on mirrors without a texture. The
-//! student's brightness (in linear light, [`super::tone`]) is fitted per mirror as `a + b·lit + c·(what ours
-//! sees in the mirror)`; a pixel the fit does not explain differs, and a
+//! student's brightness (in linear light, [`super::tone`]) is fitted per
+//! mirror as `a + b·lit + c·(what ours sees in the mirror)ⁿ`, the power
+//! `n` being the student's to choose (the assignment offers
+//! `(reflected colour)ⁿ · reflectivity` beside the plain term, [`fit_shape`]);
+//! a pixel the fit does not explain differs, and a
 //! mirror whose gain `c` on what ours shows is below a share of its
 //! reflectivity does not show it at all. What a mirror shows of a texture
 //! (the mapping is open) is not judged, nor what it shows of another
@@ -14,6 +17,65 @@
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::fit::{predict, robust_fit, spread};
 use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
+
+/// The powers of what a mirror shows tried: the assignment's own variant
+/// of the reflection's term is `(reflected colour)ⁿ · reflectivity`.
+const POWERS: [f64; 4] = [1.0, 1.5, 2.0, 3.0];
+
+/// The share of the plain term's (`n` = 1) root-mean-square residual
+/// another power must leave less than to be read into the mirror, as a
+/// tone curve must earn its place over clamping ([`super::tone`]).
+const KEEP_PLAIN: f64 = 0.9;
+
+/// The student's brightness over mirror pixels `ks` fitted as
+/// `a + b·lit + c·(what ours sees in the mirror)ⁿ`, with the power `n`
+/// of [`POWERS`] that explains it, kept only where it earns its place
+/// ([`KEEP_PLAIN`]): the rows and the fit; `None` when nothing fits.
+fn fit_shape(e: &Evidence, ks: &[usize]) -> Option<Shape> {
+    let fit = |n: f64| {
+        let rows: Vec<([f64; 2], f64)> = ks
+            .iter()
+            .map(|&k| {
+                let p = &e.buffers.centres[k];
+                (
+                    [p.lit, p.reflected_radiance.max(0.0).powf(n)],
+                    e.luminance(Whose::Theirs, k),
+                )
+            })
+            .collect();
+        let beta = robust_fit(&rows)?;
+        let squares: f64 = rows
+            .iter()
+            .map(|(x, y)| (y - predict(&beta, x)).powi(2))
+            .sum();
+        let left = (squares / rows.len() as f64).sqrt();
+        Some(Shape {
+            power: n,
+            rows,
+            beta,
+            left,
+        })
+    };
+    let plain = fit(POWERS[0])?;
+    let bound = KEEP_PLAIN * plain.left;
+    let best = POWERS[1..]
+        .iter()
+        .filter_map(|&n| fit(n))
+        .filter(|f| f.left < bound)
+        .min_by(|a, b| a.left.total_cmp(&b.left))
+        .unwrap_or(plain);
+    Some(best)
+}
+
+/// A mirror's fit ([`fit_shape`]): the power of what it shows, each
+/// pixel's row (`lit`, what ours sees there to that power; the student's
+/// luminance), the fit, and its root-mean-square residual.
+struct Shape {
+    power: f64,
+    rows: Vec<([f64; 2], f64)>,
+    beta: Vec<f64>,
+    left: f64,
+}
 
 /// Judge reflection, marking `map`.
 pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
@@ -42,32 +104,29 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
                 !clipped(&e.student_px(k)) && p.highlight < 0.95 && !indirect
             })
             .collect();
-        let rows: Vec<([f64; 2], f64)> = ks
-            .iter()
-            .map(|&k| {
-                let p = &e.buffers.centres[k];
-                ([p.lit, p.reflected_radiance], e.luminance(Whose::Theirs, k))
-            })
-            .collect();
-        let Some(beta) = robust_fit(&rows) else {
+        let Some(shape) = fit_shape(e, &ks) else {
             continue;
         };
         counts.mirrors += 1;
+        counts.power = counts.power.max(shape.power);
         // Whether the student's mirror shows what ours shows at all: the
         // fit's gain on it against the mirror's reflectivity, told only
         // where what ours shows varies enough over the mirror to tell a
         // gain from the intercept.
-        let shown: Vec<f64> = rows.iter().map(|(x, _)| x[1]).collect();
-        let gain = (spread(&shown) >= 0.03).then(|| beta[2] / first.reflectivity);
+        let shown: Vec<f64> = ks
+            .iter()
+            .map(|&k| e.buffers.centres[k].reflected_radiance)
+            .collect();
+        let gain = (spread(&shown) >= 0.03).then(|| shape.beta[2] / first.reflectivity);
         if let Some(gain) = gain {
             counts.weakest_gain = counts.weakest_gain.min(gain);
         }
         let missing = gain.is_some_and(|g| g < thresholds.reflection_gain);
-        for (&k, (x, s)) in ks.iter().zip(&rows) {
-            let r = s - predict(&beta, x);
+        for (&k, (x, s)) in ks.iter().zip(&shape.rows) {
+            let r = s - predict(&shape.beta, x);
             // A highlight only brightens: not a reflection's error.
             let highlight = r > 0.0 && e.buffers.centres[k].highlight > HIGHLIGHT_CONE;
-            let shows = x[1] > 0.03;
+            let shows = e.buffers.centres[k].reflected_radiance > 0.03;
             let bad = (r.abs() > 0.06 && !highlight) || (missing && shows);
             if shows {
                 counts.showing += 1;
@@ -116,6 +175,8 @@ struct Counts {
     dark_bad: usize,
     mirrors: usize,
     weakest_gain: f64,
+    /// The largest power of what a mirror shows read into a mirror.
+    power: f64,
 }
 
 /// The verdict's words for `counts`, the gain a mirror must reach being
@@ -128,6 +189,7 @@ fn detail(counts: &Counts, least_gain: f64) -> String {
         dark_bad,
         mirrors,
         weakest_gain,
+        power,
     } = *counts;
     if showing >= 20 {
         let mut parts: Vec<String> = [
@@ -154,6 +216,11 @@ fn detail(counts: &Counts, least_gain: f64) -> String {
                 "the mirror shows {:.0} % of what ours shows (at least {:.0} %)",
                 100.0 * weakest_gain,
                 100.0 * least_gain
+            ));
+        }
+        if power > 1.0 {
+            parts.push(format!(
+                "your mirrors read as adding what they show to the power {power}"
             ));
         }
         parts.join("; ")

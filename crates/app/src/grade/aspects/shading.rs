@@ -107,11 +107,16 @@ fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) 
                 e.buffers.centres[k].highlight <= HIGHLIGHT_CONE && !clipped(&e.student_px(k))
             })
             .collect();
-        let fitted = mapping::fit(e, wears, &ks);
+        let theirs = |k| e.luminance(Whose::Theirs, k);
+        let seen = mapping::Seen {
+            buffers: e.buffers,
+            theirs: &theirs,
+        };
+        let fitted = mapping::fit(&seen, wears, &ks);
         let pairs: Vec<(usize, [f64; 3], [f64; 3])> = ks
             .iter()
             .filter_map(|&k| {
-                let predicted = mapping::colour(e, wears, fitted, &e.buffers.centres[k]);
+                let predicted = mapping::colour(e.buffers, wears, fitted, &e.buffers.centres[k]);
                 if predicted.iter().any(|&c| c >= 250.0 / 255.0) {
                     return None;
                 }
