@@ -272,8 +272,9 @@ fn unexplained(objects: &[Group], curve: Curve) -> Option<f64> {
 /// place as a curve does over clamping: a power other than 1 when it
 /// leaves less than [`KEEP_CLAMPING`] of what clamping leaves, and a
 /// shoulder when it leaves less than that share of what the power alone
-/// leaves; either only when it leaves less than [`EXPLAINED`]. The powers are tried alone in fine steps; with a shoulder, in
-/// steps of 0.2 first and then in fine steps around the best.
+/// leaves; either only when it leaves less than [`EXPLAINED`]. The powers
+/// are tried alone in fine steps; with a shoulder, in steps of 0.2 first
+/// and then in fine steps around the best.
 fn decide(objects: &[Group]) -> Fitted {
     let scored = |curves: &mut dyn Iterator<Item = Curve>| -> Option<(Curve, f64)> {
         curves
