@@ -2,10 +2,10 @@
 //! student's brightness (in linear light, [`super::tone`]) is fitted per
 //! mirror as `a + b·lit + c·(what ours sees in the mirror)ⁿ`, the power
 //! `n` being the student's to choose (the assignment offers
-//! `(reflected colour)ⁿ · reflectivity` beside the plain term, [`fit_shape`]);
-//! a pixel the fit does not explain differs, and a
-//! mirror whose gain `c` on what ours shows is below a share of its
-//! reflectivity does not show it at all. What a mirror shows of a texture
+//! `(reflected colour)ⁿ · reflectivity` beside the plain term:
+//! [`fit_shape`]); a pixel the fit does not explain differs, and a mirror
+//! whose gain `c` on what ours shows is below a share of its reflectivity
+//! does not show it at all. What a mirror shows of a texture
 //! (the mapping is open) is not judged, nor what it shows of another
 //! mirror where the readings (added or blended, any depth of two
 //! reflections or more) differ ([`Probe::reflection_settled`]), nor where
@@ -30,7 +30,7 @@ const KEEP_PLAIN: f64 = 0.9;
 /// The student's brightness over mirror pixels `ks` fitted as
 /// `a + b·lit + c·(what ours sees in the mirror)ⁿ`, with the power `n`
 /// of [`POWERS`] that explains it, kept only where it earns its place
-/// ([`KEEP_PLAIN`]): the rows and the fit; `None` when nothing fits.
+/// ([`KEEP_PLAIN`]); `None` when nothing fits.
 fn fit_shape(e: &Evidence, ks: &[usize]) -> Option<Shape> {
     let fit = |n: f64| {
         let rows: Vec<([f64; 2], f64)> = ks
