@@ -9,7 +9,7 @@ use super::falloff::{self, Falloff, Group, LightFit};
 use super::mapping;
 use super::tone::{self, luminance_of, Curve, Reads, Row};
 use crate::compare::Picture;
-use raytracer_render::render::probe::{Buffers, Probe};
+use raytracer_render::render::probe::{Buffers, Probe, Wears};
 
 /// The cosine between the mirror direction and a light's direction above
 /// which a pixel may hold a specular highlight the tracer chose to draw: a
@@ -245,12 +245,7 @@ impl<'a> Evidence<'a> {
                 if ks.len() < TONE_ROWS {
                     return None;
                 }
-                let theirs = |k| e.luminance(Whose::Theirs, k);
-                let seen = mapping::Seen {
-                    buffers: e.buffers,
-                    theirs: &theirs,
-                };
-                let fitted = mapping::fit(&seen, wears, &ks);
+                let fitted = e.mapping_of(wears, &ks);
                 let texels: Vec<[f64; 3]> = ks
                     .iter()
                     .map(|&k| mapping::texel_at(e.buffers, wears, fitted, &e.buffers.centres[k]))
@@ -269,6 +264,18 @@ impl<'a> Evidence<'a> {
             })
             .flatten()
             .collect()
+    }
+
+    /// The student's mapping of the texture `wears` on the object whose
+    /// pixels are `ks`, fitted on their luminance as read so far
+    /// ([`mapping::fit`]).
+    pub fn mapping_of(&self, wears: Wears, ks: &[usize]) -> mapping::Mapping {
+        let theirs = |k| self.luminance(Whose::Theirs, k);
+        let seen = mapping::Seen {
+            buffers: self.buffers,
+            theirs: &theirs,
+        };
+        mapping::fit(&seen, wears, ks)
     }
 
     /// Pixel `k` in linear light: ours as it is, in [0, 1], the student's

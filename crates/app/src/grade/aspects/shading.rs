@@ -79,7 +79,7 @@ fn chroma_of(c: [f64; 3]) -> Option<[f64; 3]> {
 }
 
 /// The worst distance of a textured object's mean chromaticity from what
-/// ours would show under the student's own mapping ([`mapping::fit`]),
+/// ours would show under the student's own mapping ([`Evidence::mapping_of`]),
 /// over the objects whose texture shows, and the pixels judged, marking
 /// `map`.
 fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> (f64, usize) {
@@ -107,12 +107,7 @@ fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) 
                 e.buffers.centres[k].highlight <= HIGHLIGHT_CONE && !clipped(&e.student_px(k))
             })
             .collect();
-        let theirs = |k| e.luminance(Whose::Theirs, k);
-        let seen = mapping::Seen {
-            buffers: e.buffers,
-            theirs: &theirs,
-        };
-        let fitted = mapping::fit(&seen, wears, &ks);
+        let fitted = e.mapping_of(wears, &ks);
         let pairs: Vec<(usize, [f64; 3], [f64; 3])> = ks
             .iter()
             .filter_map(|&k| {
