@@ -48,6 +48,9 @@ pub(super) struct Evidence<'a> {
     pub plain: Vec<u32>,
     /// The student's fitted tone curve ([`super::tone`]).
     pub curve: Curve,
+    /// Every curve the image cannot tell from [`Self::curve`], it first
+    /// ([`tone::Fitted::plausible`]).
+    pub plausible: Vec<Curve>,
     /// The least share of the image's spread the tone fit leaves
     /// unexplained: how well these probes explain the image.
     pub unexplained: Option<f64>,
@@ -103,6 +106,7 @@ impl<'a> Evidence<'a> {
             objects,
             plain: Vec::new(),
             curve: Curve::CLAMPING,
+            plausible: vec![Curve::CLAMPING],
             unexplained: None,
             light: None,
             linear: Vec::new(),
@@ -156,6 +160,7 @@ impl<'a> Evidence<'a> {
         let tone = tone::fit(&plain, &mirrors, &|| self.textured_tone_rows());
         self.curve = tone.curve;
         self.unexplained = tone.unexplained;
+        self.plausible = tone.plausible;
         let curve = tone.curve;
         self.linear = self
             .student
@@ -295,14 +300,23 @@ impl<'a> Evidence<'a> {
     /// The chromaticity of pixel `k` in linear light, when the pixel as
     /// written is bright enough to have one ([`chroma`]).
     pub fn chroma(&self, whose: Whose, k: usize) -> Option<[f64; 3]> {
-        let written = match whose {
-            Whose::Ours => self.px(self.reference, k),
-            Whose::Theirs => self.student_px(k),
-        };
+        match whose {
+            Whose::Ours => {
+                let written = self.px(self.reference, k);
+                chroma(&written)?;
+                chroma_of_light(written.map(|v| f64::from(v) / 255.0))
+            }
+            Whose::Theirs => self.chroma_under(self.curve, k),
+        }
+    }
+
+    /// The chromaticity of the student's pixel `k` in linear light under
+    /// `curve` (one of [`Self::plausible`]), when the pixel as written is
+    /// bright enough to have one.
+    pub fn chroma_under(&self, curve: Curve, k: usize) -> Option<[f64; 3]> {
+        let written = self.student_px(k);
         chroma(&written)?;
-        let c = self.colour(whose, k);
-        let sum = c[0] + c[1] + c[2];
-        (sum > 0.0).then(|| c.map(|v| v / sum))
+        chroma_of_light(written.map(|v| curve.linear(f64::from(v) / 255.0)))
     }
 
     /// Pixel `k` of `picture`.
@@ -352,6 +366,13 @@ impl<'a> Evidence<'a> {
 fn chroma(p: &[u8]) -> Option<[f64; 3]> {
     let sum = f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2]);
     (sum > 15.0).then(|| [0, 1, 2].map(|c| f64::from(p[c]) / sum))
+}
+
+/// Each channel of a colour in linear light over their sum; `None` for
+/// black.
+fn chroma_of_light(c: [f64; 3]) -> Option<[f64; 3]> {
+    let sum = c[0] + c[1] + c[2];
+    (sum > 0.0).then(|| c.map(|v| v / sum))
 }
 
 /// A channel at the top of its range: the tracer may have clamped it.

@@ -9,14 +9,19 @@
 //! the assignment allows ([`super::mapping`]), as the mapping is theirs
 //! to choose and changes which texels a visible half shows. Both
 //! away from highlights and clamped channels, and in linear light
-//! ([`super::tone`]). On plain objects, only the points the student's
-//! image shows lit, as the scene's light fit reads it: which points a
-//! light reaches is shadows' to judge. A light's colour ignored shows
-//! here, on plain and textured objects alike.
+//! ([`super::tone`]): through the student's curve, or through any curve
+//! their image cannot tell from it ([`Evidence::plausible`]) that brings
+//! the colour nearer ours, as a saturated colour read through a curve
+//! the image does not tell says nothing of the student. On plain
+//! objects, only the points the student's image shows lit, as the
+//! scene's light fit reads it: which points a light reaches is shadows'
+//! to judge. A light's colour ignored shows here, on plain and textured
+//! objects alike.
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::mapping;
 use super::textures::{textured, LEAST_PIXELS};
+use super::tone::Curve;
 use super::{verdict, Aspect, AspectResult, AspectThresholds};
 
 /// The L1 distance between two chromaticities.
@@ -50,18 +55,17 @@ fn plain(e: &Evidence, bound: f64, map: &mut [u8]) -> (f64, usize) {
         if ks.len() < 20 {
             continue;
         }
-        let median = |whose| {
+        let median = |chroma: &dyn Fn(usize) -> Option<[f64; 3]>| {
             [0, 1, 2].map(|c| {
-                let mut v: Vec<f64> = ks
-                    .iter()
-                    .filter_map(|&k| e.chroma(whose, k))
-                    .map(|v| v[c])
-                    .collect();
+                let mut v: Vec<f64> = ks.iter().filter_map(|&k| chroma(k)).map(|v| v[c]).collect();
                 v.sort_by(f64::total_cmp);
                 v[v.len() / 2]
             })
         };
-        let d = distance(median(Whose::Ours), median(Whose::Theirs));
+        let ours = median(&|k| e.chroma(Whose::Ours, k));
+        let d = nearest(e, &|curve| {
+            distance(ours, median(&|k| e.chroma_under(curve, k)))
+        });
         worst = worst.max(d);
         shaded += ks.len();
         for &k in &ks {
@@ -69,6 +73,27 @@ fn plain(e: &Evidence, bound: f64, map: &mut [u8]) -> (f64, usize) {
         }
     }
     (worst, shaded)
+}
+
+/// The mean of `colours`, each channel.
+fn mean(colours: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
+    let (mut sum, mut count) = ([0.0; 3], 0.0);
+    for c in colours {
+        (0..3).for_each(|k| sum[k] += c[k]);
+        count += 1.0;
+    }
+    sum.map(|v| v / f64::max(count, 1.0))
+}
+
+/// The least of `distance` under the curves the student's image cannot
+/// tell apart ([`Evidence::plausible`]): a colour is read through their
+/// curve, and where the image leaves the curve open, the hue is judged
+/// under the reading that explains it best.
+fn nearest(e: &Evidence, distance: &dyn Fn(Curve) -> f64) -> f64 {
+    e.plausible
+        .iter()
+        .map(|&curve| distance(curve))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The chromaticity of a colour in linear light, when bright enough to
@@ -108,26 +133,28 @@ fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) 
             })
             .collect();
         let fitted = e.mapping_of(wears, &ks);
-        let pairs: Vec<(usize, [f64; 3], [f64; 3])> = ks
+        let pairs: Vec<(usize, [f64; 3])> = ks
             .iter()
             .filter_map(|&k| {
                 let predicted = mapping::colour(e.buffers, wears, fitted, &e.buffers.centres[k]);
                 if predicted.iter().any(|&c| c >= 250.0 / 255.0) {
                     return None;
                 }
-                Some((k, chroma_of(predicted)?, e.chroma(Whose::Theirs, k)?))
+                e.chroma(Whose::Theirs, k)?;
+                Some((k, chroma_of(predicted)?))
             })
             .collect();
         if pairs.len() < LEAST_PIXELS {
             continue;
         }
-        let count = pairs.len() as f64;
-        let ours = [0, 1, 2].map(|c| pairs.iter().map(|p| p.1[c]).sum::<f64>() / count);
-        let theirs = [0, 1, 2].map(|c| pairs.iter().map(|p| p.2[c]).sum::<f64>() / count);
-        let d = distance(ours, theirs);
+        let ours = mean(pairs.iter().map(|p| p.1));
+        let d = nearest(e, &|curve| {
+            let theirs = mean(pairs.iter().filter_map(|p| e.chroma_under(curve, p.0)));
+            distance(ours, theirs)
+        });
         worst = worst.max(d);
         shaded += pairs.len();
-        for &(k, _, _) in &pairs {
+        for &(k, _) in &pairs {
             map[k] = 1 + u8::from(d > thresholds.texture_colour);
         }
     }

@@ -20,6 +20,9 @@
 //! is kept only when it leaves less than nine tenths of what clamping
 //! leaves ([`KEEP_CLAMPING`]): on a scene with little light to tell,
 //! every curve fits about as well, and the image is then read as written.
+//! The curves the chosen one does not beat by that same share are kept
+//! with it ([`Fitted::plausible`]): the image cannot tell them apart, so
+//! no verdict may rest on which of them is the student's.
 
 use super::fit::{predict, robust_fit};
 
@@ -274,11 +277,16 @@ fn unexplained(objects: &[Group], curve: Curve) -> Option<f64> {
 /// shoulder when it leaves less than that share of what the power alone
 /// leaves; either only when it leaves less than [`EXPLAINED`]. The powers
 /// are tried alone in fine steps; with a shoulder, in steps of 0.2 first
-/// and then in fine steps around the best.
+/// and then in fine steps around the best. With it, every curve tried
+/// that it does not beat by that same share ([`Fitted::plausible`]).
 fn decide(objects: &[Group]) -> Fitted {
-    let scored = |curves: &mut dyn Iterator<Item = Curve>| -> Option<(Curve, f64)> {
-        curves
-            .filter_map(|c| unexplained(objects, c).map(|u| (c, u)))
+    let mut tried: Vec<(Curve, f64)> = Vec::new();
+    let mut scored = |curves: &mut dyn Iterator<Item = Curve>| -> Option<(Curve, f64)> {
+        let start = tried.len();
+        tried.extend(curves.filter_map(|c| unexplained(objects, c).map(|u| (c, u))));
+        tried[start..]
+            .iter()
+            .copied()
             .min_by(|a, b| a.1.total_cmp(&b.1))
     };
     let power = |gamma| Curve {
@@ -289,12 +297,8 @@ fn decide(objects: &[Group]) -> Fitted {
         return Fitted {
             curve: Curve::CLAMPING,
             unexplained: None,
+            plausible: vec![Curve::CLAMPING],
         };
-    };
-    let earns = |left: f64, before: f64| left < KEEP_CLAMPING * before && left < EXPLAINED;
-    let mut curve = match unexplained(objects, Curve::CLAMPING) {
-        Some(left) if !earns(power_left, left) => Curve::CLAMPING,
-        _ => best_power,
     };
     let coarse = scored(&mut shoulders().flat_map(|shoulder| {
         powers()
@@ -311,6 +315,11 @@ fn decide(objects: &[Group]) -> Fitted {
                 }),
         )
     });
+    let earns = |left: f64, before: f64| left < KEEP_CLAMPING * before && left < EXPLAINED;
+    let mut curve = match unexplained(objects, Curve::CLAMPING) {
+        Some(left) if !earns(power_left, left) => Curve::CLAMPING,
+        _ => best_power,
+    };
     let mut least = power_left;
     if let Some((with_shoulder, left)) = shouldered {
         least = least.min(left);
@@ -318,9 +327,19 @@ fn decide(objects: &[Group]) -> Fitted {
             curve = with_shoulder;
         }
     }
+    let mut plausible = vec![curve];
+    if least < EXPLAINED {
+        plausible.extend(
+            tried
+                .iter()
+                .filter(|&&(c, left)| c != curve && least >= KEEP_CLAMPING * left)
+                .map(|&(c, _)| c),
+        );
+    }
     Fitted {
         curve,
         unexplained: Some(least),
+        plausible,
     }
 }
 
@@ -329,6 +348,11 @@ fn decide(objects: &[Group]) -> Fitted {
 pub(super) struct Fitted {
     pub curve: Curve,
     pub unexplained: Option<f64>,
+    /// The chosen curve first, then every other curve tried that it does
+    /// not beat by the share a freedom must earn ([`KEEP_CLAMPING`]): the
+    /// readings the image cannot tell from it. The chosen curve alone
+    /// when none explains the image ([`EXPLAINED`]).
+    pub plausible: Vec<Curve>,
 }
 
 /// The root mean square of `values`; 0 for none.
@@ -346,9 +370,14 @@ mod tests {
     /// An object whose light runs from 0.05 to 0.85, written through
     /// `curve` after `0.05 + 0.8·x`.
     fn written(curve: &dyn Fn(f64) -> f64) -> Group {
+        written_over(curve, 0.05, 0.85)
+    }
+
+    /// The same with the light running from `least` to `most`.
+    fn written_over(curve: &dyn Fn(f64) -> f64, least: f64, most: f64) -> Group {
         let rows = (0..200)
             .map(|i| {
-                let lit = 0.05 + 0.8 * f64::from(i) / 200.0;
+                let lit = least + (most - least) * f64::from(i) / 200.0;
                 let v = (255.0 * curve(0.05 + 0.8 * lit)).round() as u8;
                 ([v, v, v], [lit, 0.0, 0.0])
             })
@@ -441,6 +470,35 @@ mod tests {
             let off = misfit(fitted, &one);
             assert!(off < 1.5, "channel {c}: {fitted:?} leaves {off:.2} of 255");
         }
+    }
+
+    #[test]
+    fn a_narrow_light_leaves_the_curve_open() {
+        // A grey object under little spread of light, written through
+        // Reinhard's curve: a power fits it about as well, and both are
+        // among the curves the image cannot tell apart.
+        let reinhard = |x: f64| 2.0 * x / (1.0 + 2.0 * x);
+        let narrow = fit(&[written_over(&reinhard, 0.3, 0.6)], &[], &Vec::new);
+        let reinhards = narrow
+            .plausible
+            .iter()
+            .filter(|c| matches!(c.shoulder, Shoulder::Reinhard(_)))
+            .count();
+        let powers = narrow
+            .plausible
+            .iter()
+            .filter(|c| c.shoulder == Shoulder::None)
+            .count();
+        assert!(reinhards > 0 && powers > 0, "{:?}", narrow.plausible);
+        assert_eq!(narrow.plausible[0], narrow.curve);
+        // Over a wide light, clamping is not among them.
+        let wide = fit(&[written(&reinhard)], &[], &Vec::new);
+        assert!(
+            !wide.plausible.contains(&Curve::CLAMPING),
+            "{:?}",
+            wide.plausible
+        );
+        assert!(wide.plausible.len() < narrow.plausible.len());
     }
 
     #[test]
