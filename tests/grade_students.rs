@@ -198,6 +198,18 @@ const BUGS: [(&str, &str, &[&str]); 21] = [
     ),
 ];
 
+/// Words a report must hold, by class, student, scene and aspect: where
+/// the fraction alone would mislead. A plane drawn unlit from behind reads
+/// as shadows that look lit, as the fit gives each object its own
+/// intercept.
+const REPORT_WORDS: [(&str, &str, &str, &str, &str); 1] = [(
+    "fresh",
+    "cpp_bug_backface",
+    "big_shadow.txt",
+    "shadows",
+    "no light reaches it",
+)];
+
 /// The wrong root differs by class: tune (C) takes the far root, so
 /// spheres shadow themselves; judge (Python) takes only the near one, so
 /// the camera inside a sphere sees nothing. held_out has none.
@@ -303,6 +315,20 @@ fn failed(summary: &Value, scene: &str) -> Vec<String> {
         .collect()
 }
 
+/// What `summary` says of `aspect` on `scene`.
+fn detail(summary: &Value, scene: &str, aspect: &str) -> String {
+    summary["scenes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["scene"] == scene)
+        .and_then(|s| s["aspects"].as_array())
+        .and_then(|a| a.iter().find(|a| a["aspect"] == aspect))
+        .and_then(|a| a["detail"].as_str())
+        .unwrap_or_default()
+        .to_string()
+}
+
 fn check_class(class: &str) {
     let (_, tools, students) = CLASSES.iter().find(|(c, _, _)| *c == class).unwrap();
     for tool in *tools {
@@ -369,6 +395,14 @@ fn check_class(class: &str) {
                     ));
                 }
             }
+        }
+    }
+    for &(_, name, scene, aspect, words) in REPORT_WORDS.iter().filter(|w| w.0 == class) {
+        let detail = detail(&summaries[name], scene, aspect);
+        if !detail.contains(words) {
+            problems.push(format!(
+                "{class}/{name}'s {aspect} on {scene} does not say {words:?}: {detail}"
+            ));
         }
     }
     let (reports, suite) = (dir.path().join("reports"), dir.path().join("suite"));

@@ -6,14 +6,59 @@
 //! scene, and `lit` each light's share dimmed by the student's falloff
 //! with distance. A pixel ours shadows that is as bright as the fit says
 //! it would be unshadowed looks lit, and a fully lit pixel darker by half
-//! its light looks shadowed.
+//! its light looks shadowed. With its own intercept, an object the
+//! student draws the same lit and shadowed reads as shadows that look
+//! lit, whether no shadow falls on it or no light reaches it at all (a
+//! plane lit on its front alone, seen from behind), so a failing report
+//! names both.
 
 use super::evidence::{clipped, Evidence, Whose};
 use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 
+/// A running mean.
+#[derive(Default)]
+struct Mean {
+    sum: f64,
+    count: usize,
+}
+
+impl Mean {
+    fn add(&mut self, v: f64) {
+        self.sum += v;
+        self.count += 1;
+    }
+
+    fn get(&self) -> f64 {
+        self.sum / self.count.max(1) as f64
+    }
+}
+
+/// The student's brightness on one object where ours is lit and where
+/// ours is shadowed, and the light the fit says the shadows take.
+#[derive(Default)]
+struct Sides {
+    lit: Mean,
+    shadowed: Mean,
+    taken: Mean,
+}
+
+impl Sides {
+    /// Whether the object looks the same lit and shadowed: its shadowed
+    /// points darker than its lit ones by less than half the light the
+    /// shadows take (the bound a single pixel is held to), on 20 pixels
+    /// of each. Either no shadow falls on it, or no light reaches it,
+    /// which the per-object intercept of the fit cannot tell apart.
+    fn alike(&self) -> bool {
+        self.lit.count >= 20
+            && self.shadowed.count >= 20
+            && self.lit.get() - self.shadowed.get() < 0.5 * self.taken.get()
+    }
+}
+
 /// Judge shadows, marking `map`.
 pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
     let (mut shadowed, mut shadowed_bad, mut lit, mut lit_bad) = (0usize, 0usize, 0usize, 0usize);
+    let mut alike = 0usize;
     if let Some(light) = &e.light {
         let b = light.least_gain();
         for &object in &e.plain {
@@ -24,6 +69,7 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
                 .pixels_of(object, &|p| p.visible)
                 .into_iter()
                 .filter(|&k| !clipped(&e.student_px(k)));
+            let mut sides = Sides::default();
             for k in ks {
                 let probe = &e.buffers.centres[k];
                 let s = e.luminance(Whose::Theirs, k);
@@ -33,16 +79,20 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
                 if blocked > 0.05 {
                     shadowed += 1;
                     let taken = light.falloff.unshadowed(probe) - lit_here;
+                    sides.shadowed.add(s);
+                    sides.taken.add(b * taken);
                     let bad = r > 0.5 * b * taken && r > 4.0 / 255.0;
                     shadowed_bad += usize::from(bad);
                     map[k] = 1 + u8::from(bad);
                 } else if blocked < 1e-9 && probe.lit > 0.05 {
                     lit += 1;
+                    sides.lit.add(s);
                     let bad = light.looks_shadowed(object, probe, s) == Some(true);
                     lit_bad += usize::from(bad);
                     map[k] = 1 + u8::from(bad);
                 }
             }
+            alike += usize::from(sides.alike());
         }
     }
     let missing = ratio(shadowed_bad, shadowed);
@@ -63,6 +113,12 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
     .collect();
     let detail = if judged {
         let mut words = parts.join("; ");
+        if alike > 0 && measure > thresholds.shadows {
+            words.push_str(&format!(
+                "; on {alike} object{}, yours looks the same where ours is lit and where it is shadowed: no shadow falls there, or no light reaches it",
+                if alike == 1 { "" } else { "s" }
+            ));
+        }
         if let Some(falloff) = e.light.as_ref().and_then(|l| l.falloff.words()) {
             words.push_str(&format!(" (your image read with {falloff})"));
         }
