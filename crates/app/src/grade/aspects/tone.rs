@@ -20,9 +20,9 @@
 //! is kept only when it leaves less than nine tenths of what clamping
 //! leaves ([`KEEP_CLAMPING`]): on a scene with little light to tell,
 //! every curve fits about as well, and the image is then read as written.
-//! The curves the chosen one does not beat by that same share are kept
-//! with it ([`Fitted::plausible`]): the image cannot tell them apart, so
-//! no verdict may rest on which of them is the student's.
+//! The curves the best fit does not beat by that same share are kept
+//! with the chosen one ([`Fitted::plausible`]): the image cannot tell
+//! them apart, so no verdict may rest on which of them is the student's.
 
 use super::fit::{predict, robust_fit};
 
@@ -278,7 +278,8 @@ fn unexplained(objects: &[Group], curve: Curve) -> Option<f64> {
 /// leaves; either only when it leaves less than [`EXPLAINED`]. The powers
 /// are tried alone in fine steps; with a shoulder, in steps of 0.2 first
 /// and then in fine steps around the best. With it, every curve tried
-/// that it does not beat by that same share ([`Fitted::plausible`]).
+/// that the best fit does not beat by that same share
+/// ([`Fitted::plausible`]).
 fn decide(objects: &[Group]) -> Fitted {
     let mut tried: Vec<(Curve, f64)> = Vec::new();
     let mut scored = |curves: &mut dyn Iterator<Item = Curve>| -> Option<(Curve, f64)> {
@@ -348,10 +349,11 @@ fn decide(objects: &[Group]) -> Fitted {
 pub(super) struct Fitted {
     pub curve: Curve,
     pub unexplained: Option<f64>,
-    /// The chosen curve first, then every other curve tried that it does
-    /// not beat by the share a freedom must earn ([`KEEP_CLAMPING`]): the
-    /// readings the image cannot tell from it. The chosen curve alone
-    /// when none explains the image ([`EXPLAINED`]).
+    /// The chosen curve first, then every other curve tried that the
+    /// best fit does not beat by the share a freedom must earn
+    /// ([`KEEP_CLAMPING`]): the readings the image cannot tell from it.
+    /// The chosen curve alone when none explains the image
+    /// ([`EXPLAINED`]).
     pub plausible: Vec<Curve>,
 }
 
