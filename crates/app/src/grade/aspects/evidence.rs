@@ -46,14 +46,11 @@ pub(super) struct Evidence<'a> {
     /// The objects that neither reflect nor are textured: where shadows
     /// and shading are judged.
     pub plain: Vec<u32>,
-    /// The student's fitted tone curve ([`super::tone`]).
-    pub curve: Curve,
-    /// Every curve the image cannot tell from [`Self::curve`], it first
-    /// ([`tone::Fitted::plausible`]).
-    pub plausible: Vec<Curve>,
-    /// The least share of the image's spread the tone fit leaves
-    /// unexplained: how well these probes explain the image.
-    pub unexplained: Option<f64>,
+    /// The student's fitted tone curve ([`super::tone`]), the curves the
+    /// image cannot tell from it, and the least share of the image's
+    /// spread a curve leaves unexplained: how well these probes explain
+    /// the image.
+    pub tone: tone::Fitted,
     /// The scene's fit of the student's light on plain objects, with
     /// its falloff with distance ([`super::falloff`]); `None` when no
     /// plain object tells it.
@@ -105,9 +102,7 @@ impl<'a> Evidence<'a> {
             n: (size * size) as usize,
             objects,
             plain: Vec::new(),
-            curve: Curve::CLAMPING,
-            plausible: vec![Curve::CLAMPING],
-            unexplained: None,
+            tone: tone::Fitted::NONE,
             light: None,
             linear: Vec::new(),
         };
@@ -157,11 +152,8 @@ impl<'a> Evidence<'a> {
     /// the student's image back to linear light by it.
     fn read_tone(&mut self, falloff: Falloff) {
         let [plain, mirrors] = self.tone_rows(falloff);
-        let tone = tone::fit(&plain, &mirrors, &|| self.textured_tone_rows());
-        self.curve = tone.curve;
-        self.unexplained = tone.unexplained;
-        self.plausible = tone.plausible;
-        let curve = tone.curve;
+        self.tone = tone::fit(&plain, &mirrors, &|| self.textured_tone_rows());
+        let curve = self.tone.curve;
         self.linear = self
             .student
             .rgb
@@ -300,19 +292,17 @@ impl<'a> Evidence<'a> {
     /// The chromaticity of pixel `k` in linear light, when the pixel as
     /// written is bright enough to have one ([`chroma`]).
     pub fn chroma(&self, whose: Whose, k: usize) -> Option<[f64; 3]> {
-        match whose {
-            Whose::Ours => {
-                let written = self.px(self.reference, k);
-                chroma(&written)?;
-                chroma_of_light(written.map(|v| f64::from(v) / 255.0))
-            }
-            Whose::Theirs => self.chroma_under(self.curve, k),
-        }
+        let written = match whose {
+            Whose::Ours => self.px(self.reference, k),
+            Whose::Theirs => self.student_px(k),
+        };
+        chroma(&written)?;
+        chroma_of_light(self.colour(whose, k))
     }
 
     /// The chromaticity of the student's pixel `k` in linear light under
-    /// `curve` (one of [`Self::plausible`]), when the pixel as written is
-    /// bright enough to have one.
+    /// `curve` (one of [`tone::Fitted::plausible`]), when the pixel as
+    /// written is bright enough to have one.
     pub fn chroma_under(&self, curve: Curve, k: usize) -> Option<[f64; 3]> {
         let written = self.student_px(k);
         chroma(&written)?;

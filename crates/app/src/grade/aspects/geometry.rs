@@ -86,7 +86,7 @@ pub(super) fn pixel_reading(centres: &Evidence, corners: &Evidence) -> Option<Re
     };
     // How well each reading's light explains the image, where it tells
     // twice as well; else which pixels each covers.
-    let light = match (centres.unexplained, corners.unexplained) {
+    let light = match (centres.tone.unexplained, corners.tone.unexplained) {
         (Some(a), Some(b)) if a.min(b) < 0.5 * a.max(b) => Some(pick(b < a)),
         _ => None,
     };

@@ -287,7 +287,7 @@ pub fn judge(
     let readings: Vec<String> = reading
         .map(|r| r.words().to_string())
         .into_iter()
-        .chain(evidence.curve.words())
+        .chain(evidence.tone.curve.words())
         .chain(
             (evidence.light.as_ref())
                 .and_then(|l| l.falloff.words())

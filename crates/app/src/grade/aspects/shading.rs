@@ -4,19 +4,18 @@
 //! choose, the hue is not). On each lit plain object, its median
 //! chromaticity against ours; on each textured object whose texture shows
 //! (its contrast passes [`super::textures`], so a texture left out is
-//! textures' failure alone), its mean chromaticity against what ours
-//! would show under the student's own texture mapping, fitted among those
-//! the assignment allows ([`super::mapping`]), as the mapping is theirs
-//! to choose and changes which texels a visible half shows. Both
-//! away from highlights and clamped channels, and in linear light
-//! ([`super::tone`]): through the student's curve, or through any curve
-//! their image cannot tell from it ([`Evidence::plausible`]) that brings
-//! the colour nearer ours, as a saturated colour read through a curve
-//! the image does not tell says nothing of the student. On plain
-//! objects, only the points the student's image shows lit, as the
-//! scene's light fit reads it: which points a light reaches is shadows'
-//! to judge. A light's colour ignored shows here, on plain and textured
-//! objects alike.
+//! textures' failure alone), its mean chromaticity against what ours would
+//! show under the student's own texture mapping, fitted among those the
+//! assignment allows ([`super::mapping`]), as the mapping is theirs to
+//! choose and changes which texels a visible half shows. Both away from
+//! highlights and clamped channels, and in linear light ([`super::tone`]):
+//! through the student's curve, or through any curve their image cannot
+//! tell from it ([`super::tone::Fitted::plausible`]) that brings the colour
+//! nearer ours, as a saturated colour read through a curve the image does
+//! not tell says nothing of the student. On plain objects, only the points
+//! the student's image shows lit, as the scene's light fit reads it: which
+//! points a light reaches is shadows' to judge. A light's colour ignored
+//! shows here, on plain and textured objects alike.
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::mapping;
@@ -86,13 +85,13 @@ fn mean(colours: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
 }
 
 /// The least of `distance` under the curves the student's image cannot
-/// tell apart ([`Evidence::plausible`]): a colour is read through their
+/// tell apart ([`super::tone::Fitted::plausible`]): a colour is read through their
 /// curve, and where the image leaves the curve open, the hue is judged
 /// under the reading that explains it best.
 fn nearest(e: &Evidence, distance: &dyn Fn(Curve) -> f64) -> f64 {
-    e.plausible
-        .iter()
-        .map(|&curve| distance(curve))
+    e.tone
+        .plausible()
+        .map(distance)
         .fold(f64::INFINITY, f64::min)
 }
 

@@ -21,7 +21,7 @@
 //! leaves ([`KEEP_CLAMPING`]): on a scene with little light to tell,
 //! every curve fits about as well, and the image is then read as written.
 //! The curves the best fit does not beat by that same share are kept
-//! with the chosen one ([`Fitted::plausible`]): the image cannot tell
+//! with the chosen one ([`Fitted::alike`]): the image cannot tell
 //! them apart, so no verdict may rest on which of them is the student's.
 
 use super::fit::{predict, robust_fit};
@@ -271,7 +271,7 @@ fn unexplained(objects: &[Group], curve: Curve) -> Option<f64> {
 /// are tried alone in fine steps; with a shoulder, in steps of 0.2 first
 /// and then in fine steps around the best. With it, every curve tried
 /// that the best fit does not beat by that same share
-/// ([`Fitted::plausible`]).
+/// ([`Fitted::alike`]).
 fn decide(objects: &[Group]) -> Fitted {
     let mut tried: Vec<(Curve, f64)> = Vec::new();
     let mut scored = |curves: &mut dyn Iterator<Item = Curve>| -> Option<(Curve, f64)> {
@@ -287,11 +287,7 @@ fn decide(objects: &[Group]) -> Fitted {
         shoulder: Shoulder::None,
     };
     let Some((best_power, power_left)) = scored(&mut powers().map(power)) else {
-        return Fitted {
-            curve: Curve::CLAMPING,
-            unexplained: None,
-            plausible: vec![Curve::CLAMPING],
-        };
+        return Fitted::NONE;
     };
     let coarse = scored(&mut shoulders().flat_map(|shoulder| {
         powers()
@@ -320,19 +316,19 @@ fn decide(objects: &[Group]) -> Fitted {
             curve = with_shoulder;
         }
     }
-    let mut plausible = vec![curve];
-    if least < EXPLAINED {
-        plausible.extend(
-            tried
-                .iter()
-                .filter(|&&(c, left)| c != curve && least >= KEEP_CLAMPING * left)
-                .map(|&(c, _)| c),
-        );
-    }
+    let alike = if least < EXPLAINED {
+        tried
+            .iter()
+            .filter(|&&(c, left)| c != curve && least >= KEEP_CLAMPING * left)
+            .map(|&(c, _)| c)
+            .collect()
+    } else {
+        Vec::new()
+    };
     Fitted {
         curve,
         unexplained: Some(least),
-        plausible,
+        alike,
     }
 }
 
@@ -341,12 +337,25 @@ fn decide(objects: &[Group]) -> Fitted {
 pub(super) struct Fitted {
     pub curve: Curve,
     pub unexplained: Option<f64>,
-    /// The chosen curve first, then every other curve tried that the
-    /// best fit does not beat by the share a freedom must earn
-    /// ([`KEEP_CLAMPING`]): the readings the image cannot tell from it.
-    /// The chosen curve alone when none explains the image
-    /// ([`EXPLAINED`]).
-    pub plausible: Vec<Curve>,
+    /// Every other curve tried that the best fit does not beat by the
+    /// share a freedom must earn ([`KEEP_CLAMPING`]): the readings the
+    /// image cannot tell from the chosen one. None when no curve explains
+    /// the image ([`EXPLAINED`]).
+    alike: Vec<Curve>,
+}
+
+impl Fitted {
+    /// Nothing fitted: the image read as written.
+    pub const NONE: Fitted = Fitted {
+        curve: Curve::CLAMPING,
+        unexplained: None,
+        alike: Vec::new(),
+    };
+
+    /// The chosen curve, then every curve the image cannot tell from it.
+    pub fn plausible(&self) -> impl Iterator<Item = Curve> + '_ {
+        std::iter::once(self.curve).chain(self.alike.iter().copied())
+    }
 }
 
 /// The root mean square of `values`; 0 for none.
@@ -473,26 +482,25 @@ mod tests {
         // among the curves the image cannot tell apart.
         let reinhard = |x: f64| 2.0 * x / (1.0 + 2.0 * x);
         let narrow = fit(&[written_over(&reinhard, 0.3, 0.6)], &[], &Vec::new);
-        let reinhards = narrow
-            .plausible
+        let plausible: Vec<Curve> = narrow.plausible().collect();
+        let reinhards = plausible
             .iter()
             .filter(|c| matches!(c.shoulder, Shoulder::Reinhard(_)))
             .count();
-        let powers = narrow
-            .plausible
+        let powers = plausible
             .iter()
             .filter(|c| c.shoulder == Shoulder::None)
             .count();
-        assert!(reinhards > 0 && powers > 0, "{:?}", narrow.plausible);
-        assert_eq!(narrow.plausible[0], narrow.curve);
+        assert!(reinhards > 0 && powers > 0, "{plausible:?}");
+        assert!(!narrow.alike.contains(&narrow.curve));
         // Over a wide light, clamping is not among them.
         let wide = fit(&[written(&reinhard)], &[], &Vec::new);
+        let wide_plausible: Vec<Curve> = wide.plausible().collect();
         assert!(
-            !wide.plausible.contains(&Curve::CLAMPING),
-            "{:?}",
-            wide.plausible
+            !wide_plausible.contains(&Curve::CLAMPING),
+            "{wide_plausible:?}"
         );
-        assert!(wide.plausible.len() < narrow.plausible.len());
+        assert!(wide_plausible.len() < plausible.len());
     }
 
     #[test]
