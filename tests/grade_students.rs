@@ -14,12 +14,15 @@
 //! reflection) is fitted now, and it joined the tuning. `unseen/` (Go,
 //! Java) was written from the assignment alone and graded once, when
 //! those fits were settled: what it found (Reinhard's curve read as a
-//! power) is fitted now, but for one bug in [`UNCAUGHT`]
-//! (docs/grading.md, "How the thresholds were chosen"). To
+//! power) is fitted now, but for one bug in [`UNCAUGHT`]. `blind/`
+//! (Rust, JavaScript) was written from the assignment alone and graded
+//! once, when shadows' failures were left to shadows by reflection and
+//! shading: every correct reading passed, two bugs went uncaught
+//! ([`UNCAUGHT`]) (docs/grading.md, "How the thresholds were chosen"). To
 //! keep `make test` short, each class is graded on twelve scenes
 //! (`SCENES`), which between them exercise every bug, one scene at a
-//! time. The tracers need `cc`, `javac`/`java`, `python3`, `node`, `g++`
-//! and `go`. Last, the instructor's
+//! time. The tracers need `cc`, `javac`/`java`, `python3`, `node`, `g++`,
+//! `go` and `rustc`. Last, the instructor's
 //! reference (`--reference-tracer`, `--references`) and our renderer with
 //! a course's constants (`--reference-options`) replace ours.
 
@@ -46,8 +49,12 @@ const SCENES: [&str; 12] = [
     "hard/inside_sphere.txt",
 ];
 
-/// The correct readings of each class.
-const CORRECT: [&str; 32] = [
+/// The correct readings of each class. The blind class's
+/// `js_texture_transposed`, written as a bug, reads every texture with
+/// `u` and `v` swapped: the assignment says nothing of how a texture lies
+/// on an object, and `textures` accepts any mapping by design
+/// (docs/grading.md, "Readings the assignment leaves open").
+const CORRECT: [&str; 41] = [
     "correct_centres",
     "correct_centres_py",
     "correct_corners",
@@ -80,6 +87,15 @@ const CORRECT: [&str; 32] = [
     "go_phong_objcolour",
     "java_ss3x3",
     "java_bilinear",
+    "correct_rust",
+    "correct_js",
+    "rust_linear_falloff",
+    "rust_ppm16",
+    "rust_plane_tex_mirrored",
+    "js_ordered_dither",
+    "js_ambient_from_lights",
+    "js_rotated_grid_2x2",
+    "js_texture_transposed",
 ];
 
 /// Correct readings that lose points, by class, student, aspect and
@@ -99,8 +115,20 @@ const KNOWN_MISSES: [(&str, &str, &str, &str); 0] = [];
 /// (big_shadow.txt, colours.txt); `shading` judges colours, not how
 /// bright an object is. It still loses `textures` on
 /// hard/inside_sphere.txt, where the camera is inside a sphere of radius
-/// 3 (docs/grading.md, "What is left").
-const UNCAUGHT: [(&str, &str, &str); 1] = [("unseen", "go_bug_sphere_normal", "shading")];
+/// 3 (docs/grading.md, "What is left"). The blind class's
+/// `rust_shadow_eps_huge` (shadow rays blind to hits nearer than 0.5)
+/// shows only where an occluder lies that close to a shadowed point,
+/// which no scene of the default suite has (hard/light_on_surface.txt,
+/// a robustness scene, shows it). Its `rust_unnormalized_light_vector`
+/// (`N·(light − point)`, the light's direction not normalised) makes
+/// lit points as bright as their distance to the light, four to eight
+/// times too bright: clamped, they lose their textures' contrast
+/// (`textures`), and the few pixels it leaves unclamped keep their hue.
+const UNCAUGHT: [(&str, &str, &str); 3] = [
+    ("unseen", "go_bug_sphere_normal", "shading"),
+    ("blind", "rust_shadow_eps_huge", "shadows"),
+    ("blind", "rust_unnormalized_light_vector", "shading"),
+];
 
 /// The bugs whose effect lies in their own aspect alone: on none of
 /// [`SCENES`] may they fail another. (Shadow rays that hit their own
@@ -110,8 +138,11 @@ const UNCAUGHT: [(&str, &str, &str); 1] = [("unseen", "go_bug_sphere_normal", "s
 /// of view, where every object lies; a light behind a surface
 /// subtracting light, the colours and what looks shadowed; a diffuse term
 /// aimed the wrong way or a light dropped, the shadows' fit; planes
-/// without edges, what lies behind them.)
-const CONFINED: [&str; 12] = [
+/// without edges, what lies behind them. Where the student's shadows fail
+/// on a scene, what a mirror shows of lit points and plain objects'
+/// colours are left to them, so shadow rays that reach past the light or
+/// end at the light's squared distance cost shadows alone.)
+const CONFINED: [&str; 18] = [
     "cpp_bug_backface",
     "unnormalised_reflection",
     "light_colour_ignored",
@@ -124,11 +155,42 @@ const CONFINED: [&str; 12] = [
     "cpp_bug_bgr",
     "py_bug_refl_nooffset",
     "py_bug_refl_raw",
+    "unbounded_shadow",
+    "py_bug_shadow_d2",
+    "js_mirrors_skip_planes",
+    "js_no_ambient_unlit",
+    "rust_planes_cast_no_shadow",
+    "rust_view_vector_from_eye",
 ];
 
 /// Each bug's aspect and the scenes where it must fail, in every class
 /// that has it.
-const BUGS: [(&str, &str, &[&str]); 21] = [
+const BUGS: [(&str, &str, &[&str]); 26] = [
+    // The blind class's. Its author filed `js_no_ambient_unlit` (no
+    // ambient light where no light arrives) under shadows; which points
+    // a light reaches is right, and the ambient term is the illumination
+    // model's: shading.
+    (
+        "js_light_channels_shifted",
+        "shading",
+        &["sample.txt", "field/texture.scene"],
+    ),
+    (
+        "js_mirrors_skip_planes",
+        "reflection",
+        &["facing_mirrors.txt", "mirror.txt"],
+    ),
+    (
+        "js_no_ambient_unlit",
+        "shading",
+        &["big_shadow.txt", "colours.txt"],
+    ),
+    ("rust_planes_cast_no_shadow", "shadows", &["mirror.txt"]),
+    (
+        "rust_view_vector_from_eye",
+        "reflection",
+        &["facing_mirrors.txt"],
+    ),
     ("cpp_bug_bgr", "shading", &["sample.txt", "colours.txt"]),
     ("cpp_bug_fov", "geometry", &["sample.txt", "colours.txt"]),
     (
@@ -201,14 +263,33 @@ const BUGS: [(&str, &str, &[&str]); 21] = [
 /// Words a report must hold, by class, student, scene and aspect: where
 /// the fraction alone would mislead. A plane drawn unlit from behind reads
 /// as shadows that look lit, as the fit gives each object its own
-/// intercept.
-const REPORT_WORDS: [(&str, &str, &str, &str, &str); 1] = [(
-    "fresh",
-    "cpp_bug_backface",
-    "big_shadow.txt",
-    "shadows",
-    "no light reaches it",
-)];
+/// intercept. Where a student's shadows fail, what a mirror shows of
+/// points a light could reach and plain objects' colours are left to
+/// shadows, and the report says so: the shadow ray sent away from the
+/// light and tune's far root take every light from most lit points.
+const REPORT_WORDS: [(&str, &str, &str, &str, &str); 3] = [
+    (
+        "fresh",
+        "cpp_bug_backface",
+        "big_shadow.txt",
+        "shadows",
+        "no light reaches it",
+    ),
+    (
+        "unseen",
+        "java_bug_shadow_dir",
+        "colours.txt",
+        "shading",
+        "lit pixels of plain objects are left to shadows",
+    ),
+    (
+        "tune",
+        "wrong_root",
+        "reflection.txt",
+        "reflection",
+        "mirror pixels that show points a light could reach are left to shadows",
+    ),
+];
 
 /// The wrong root differs by class: tune (C) takes the far root, so
 /// spheres shadow themselves; judge (Python) takes only the near one, so
@@ -220,12 +301,13 @@ const WRONG_ROOT: [(&str, &str, &[&str]); 2] = [
 
 /// Each class: its folder under tests/students, the programs its tracers
 /// need, and how many students it has (all of them must be graded).
-const CLASSES: [(&str, &[&str], usize); 5] = [
+const CLASSES: [(&str, &[&str], usize); 6] = [
     ("tune", &["cc"], 24),
     ("judge", &["javac", "python3"], 17),
     ("held_out", &["node"], 6),
     ("fresh", &["g++", "python3"], 18),
     ("unseen", &["go", "javac"], 12),
+    ("blind", &["rustc", "node"], 16),
 ];
 
 /// A class graded: each student's summary.json by name, and the folder
@@ -482,6 +564,11 @@ fn the_held_out_class_gets_the_verdicts_it_should() {
 #[test]
 fn the_fresh_class_gets_the_verdicts_it_should() {
     check_class("fresh");
+}
+
+#[test]
+fn the_blind_class_gets_the_verdicts_it_should() {
+    check_class("blind");
 }
 
 #[test]

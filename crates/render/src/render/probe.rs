@@ -63,6 +63,12 @@ pub struct Probe {
     /// The luminance of our radiance along the mirror direction, each
     /// channel clamped to 1 (only on a reflective object).
     pub reflected_radiance: f64,
+    /// What the lights could bring to the points the mirror shows, were
+    /// nothing in their way: the luminance along the mirror direction
+    /// without shadows less that of ambient light alone. A tracer whose
+    /// shadow rays are wrong changes what the mirror shows by up to this
+    /// much (only on a reflective object).
+    pub reflected_direct: f64,
     /// Whether [`Probe::reflected_radiance`] is the same, within
     /// [`SETTLED`], under every reading the assignment allows: reflection
     /// added or blended, and any depth that recurses at all (two
@@ -267,14 +273,43 @@ pub fn swapped_planes(scene: &ir::Scene) -> Option<ir::Scene> {
     any.then_some(other)
 }
 
+/// The tracer a frame is probed with, under its reading, and for
+/// [`Probe::reflected_direct`] the same scene without shadows and with
+/// ambient light alone.
+struct Probing<'a> {
+    tracer: Tracer<'a, f64>,
+    shadowless: Tracer<'a, f64>,
+    unlit: Tracer<'a, f64>,
+    model: Model,
+}
+
+impl<'a> Probing<'a> {
+    fn new(scene: &'a ir::Scene, max_depth: u32, model: Model) -> Self {
+        let tracer = |model| {
+            Tracer::<f64>::with_accel(scene, max_depth, false, Accel::Auto).with_model(model)
+        };
+        Probing {
+            tracer: tracer(model),
+            shadowless: tracer(model).without_shadows(),
+            unlit: tracer(Model {
+                diffuse: 0.0,
+                specular: 0.0,
+                ..model
+            }),
+            model,
+        }
+    }
+}
+
 /// What camera ray `ray` meets: a caller of the tracer's parts, apart
 /// from the integrator, so the render path is unchanged.
-fn probe(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>) -> Probe {
-    probe_to(tracer, model, ray, true)
+fn probe(probing: &Probing, ray: Ray<f64>) -> Probe {
+    probe_to(probing, ray, true)
 }
 
 /// [`probe`], following the mirror direction when `reflect`.
-fn probe_to(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>, reflect: bool) -> Probe {
+fn probe_to(probing: &Probing, ray: Ray<f64>, reflect: bool) -> Probe {
+    let Probing { tracer, model, .. } = probing;
     let luminance = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
     let Some(hit) = tracer.world.closest(&ray, f64::INFINITY) else {
         return Probe::default();
@@ -346,7 +381,7 @@ fn probe_to(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>, reflect: bool) -
             dir: mirror,
             from: hit.slot,
         };
-        let seen = probe_to(tracer, model, reflected, false);
+        let seen = probe_to(probing, reflected, false);
         probe.reflected = seen.object;
         probe.shown = match seen.object {
             None => Some([0.0, 0.0]),
@@ -357,6 +392,9 @@ fn probe_to(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>, reflect: bool) -
         };
         let c = tracer.radiance(reflected, &mut counters).min(DVec3::ONE);
         probe.reflected_radiance = luminance(c);
+        let [shadowless, unlit] = [&probing.shadowless, &probing.unlit]
+            .map(|t| luminance(t.radiance(reflected, &mut counters).min(DVec3::ONE)));
+        probe.reflected_direct = shadowless - unlit;
     }
     probe
 }
@@ -364,14 +402,14 @@ fn probe_to(tracer: &Tracer<f64>, model: &Model, ray: Ray<f64>, reflect: bool) -
 /// [`buffers`] of one reading.
 fn probe_all(scene: &ir::Scene, max_depth: u32, model: Model) -> Buffers {
     let size = scene.resolution;
-    let tracer = Tracer::<f64>::with_accel(scene, max_depth, false, Accel::Auto).with_model(model);
+    let probing = Probing::new(scene, max_depth, model);
     let grid = |n: u32, offset: f64| -> Vec<Probe> {
         (0..n * n)
             .into_par_iter()
             .map(|k| {
                 let (x, y) = (k % n, k / n);
                 let ray = camera_ray::<f64>(size, f64::from(x) + offset, f64::from(y) + offset);
-                probe(&tracer, &model, ray)
+                probe(&probing, ray)
             })
             .collect()
     };
@@ -449,12 +487,50 @@ mod tests {
             (shown[0] - 0.2126).abs() < 1e-9 && shown[1] == 0.0,
             "{shown:?}"
         );
+        // The sphere's underside it shows faces away from the light:
+        // no shadow ray decides what the floor shows.
+        assert!(floor.reflected_direct.abs() < 1e-9, "{floor:?}");
         // The light above: one share, blocked, three units away less the
         // floor's half unit.
         assert_eq!(floor.lights.len(), 1);
         let share = floor.lights[0];
         assert!(!share.reaches && share.lit > 0.0, "{share:?}");
         assert!((share.distance - 3.5).abs() < 0.5, "{share:?}");
+    }
+
+    #[test]
+    fn what_the_lights_could_bring_to_what_a_mirror_shows_is_probed() {
+        // A mirror wall facing the camera shows, straight back, the face
+        // of a red sphere behind the camera, which a light to the side
+        // lights, or would light but for a small ball in its way.
+        let text = |blocker: &str| {
+            format!(
+                "camera 9\nplane\ndimension 20 20\ncenter 0 0 -8\nnormal 0 0 1\nheadup 0 1 0\n\
+                 color 0 0 0\nreflectivity .8\nsphere\ndimension 1.5\ncenter 0 0 3\ncolor 1 0 0\n\
+                 {blocker}light\nlocation 3 0 0\ncolor 1 1 1\n"
+            )
+        };
+        let ambient = Model::default().ambient * 0.2126;
+        for blocked in [false, true] {
+            let ball = "sphere\ndimension .3\ncenter 1.5 0 .75\ncolor 1 1 1\n";
+            let b = buffers(
+                &scene(&text(if blocked { ball } else { "" })),
+                4,
+                Model::default(),
+            );
+            let p = b.centre(4, 4);
+            assert_eq!((p.object, p.reflected), (Some(0), Some(1)));
+            // Lit, the mirror shows the light's share over the ambient;
+            // shadowed, the ambient alone. Either way a tracer's shadow
+            // rays decide that share.
+            let shown = if blocked {
+                ambient
+            } else {
+                ambient + p.reflected_direct
+            };
+            assert!((p.reflected_radiance - shown).abs() < 1e-9, "{p:?}");
+            assert!(p.reflected_direct > 0.05, "{p:?}");
+        }
     }
 
     #[test]

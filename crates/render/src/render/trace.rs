@@ -96,6 +96,9 @@ pub struct Tracer<'a, R: Real> {
     max_depth: u32,
     skip: bool,
     model: Model,
+    /// Whether shadow rays are cast; without them every light in front
+    /// of a surface reaches it.
+    shadows: bool,
 }
 
 impl<'a, R: Real> Tracer<'a, R> {
@@ -122,6 +125,7 @@ impl<'a, R: Real> Tracer<'a, R> {
             max_depth,
             skip,
             model: Model::default(),
+            shadows: true,
         }
     }
 
@@ -129,6 +133,15 @@ impl<'a, R: Real> Tracer<'a, R> {
     /// default one.
     pub fn with_model(self, model: Model) -> Self {
         Tracer { model, ..self }
+    }
+
+    /// This tracer casting no shadow ray: what a scene would look like
+    /// were nothing in any light's way.
+    pub fn without_shadows(self) -> Self {
+        Tracer {
+            shadows: false,
+            ..self
+        }
     }
 
     /// The colour seen along a camera ray, before clamping.
@@ -345,7 +358,7 @@ impl<'a, R: Real> Tracer<'a, R> {
             counters.shadow_rays_skipped += u64::from(step.skipped);
             if step.cast {
                 counters.shadow_rays += 1;
-                if !self.world.occluded(&step.ray, step.reach) {
+                if !self.shadows || !self.world.occluded(&step.ray, step.reach) {
                     local += step.lit;
                 }
             }

@@ -119,7 +119,12 @@ fn covered(p: [u8; 3], bg: [u8; 3]) -> bool {
 }
 
 /// Judge geometry, marking `map`.
-pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
+pub(super) fn judge(
+    e: &Evidence,
+    thresholds: &AspectThresholds,
+    _earlier: &[AspectResult],
+    map: &mut [u8],
+) -> AspectResult {
     let bg = background(e);
     let (mut judged, mut differ) = (0usize, 0usize);
     for (k, state) in map.iter_mut().enumerate() {

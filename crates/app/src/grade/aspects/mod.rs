@@ -26,7 +26,12 @@
 //!   among those the assignment allows ([`mapping`]);
 //! - an image upside down, mirrored or transposed is turned back and
 //!   judged so, its geometry failing and naming the transform, even on a
-//!   scene whose coverage the transform keeps ([`recognise`]).
+//!   scene whose coverage the transform keeps ([`recognise`]);
+//! - a bug costs its own aspect: the aspects are judged in
+//!   [`REGISTRY`]'s order, each given the verdicts before it, and where
+//!   the student's shadows fail on the scene, reflection and shading
+//!   leave to them what shadow rays decide (what a mirror shows of lit
+//!   points, the hue of plain objects under coloured lights).
 //!
 //! Each aspect is a file of its own, with its measure, the map of where it
 //! differs and its words in the report, over one [`evidence::Evidence`];
@@ -195,9 +200,11 @@ impl AspectResult {
 /// The points of each aspect on a scene.
 pub type AspectPoints = Vec<(Aspect, f64)>;
 
-/// An aspect's judge: its verdict over the evidence, marking the map of
-/// where it differs (0 not judged, 1 agrees, 2 differs).
-type Judge = fn(&Evidence, &AspectThresholds, &mut [u8]) -> AspectResult;
+/// An aspect's judge: its verdict over the evidence, given the verdicts
+/// of the aspects before it in [`REGISTRY`], marking the map of where it
+/// differs (0 not judged, 1 agrees, 2 differs). An aspect reads an
+/// earlier verdict only to leave to it what it already charges.
+type Judge = fn(&Evidence, &AspectThresholds, &[AspectResult], &mut [u8]) -> AspectResult;
 
 /// Every aspect's judge, in [`Aspect::ALL`]'s order.
 const REGISTRY: [(Aspect, Judge); 5] = [
@@ -208,17 +215,24 @@ const REGISTRY: [(Aspect, Judge); 5] = [
     (Aspect::Shading, shading::judge),
 ];
 
+/// Whether `aspect` was judged and failed among the verdicts `earlier`.
+fn failed(earlier: &[AspectResult], aspect: Aspect) -> bool {
+    earlier
+        .iter()
+        .any(|r| r.aspect == aspect && r.judged && !r.pass)
+}
+
 /// Every aspect's verdict on `evidence`, and its maps.
 fn judge_all(
     evidence: &Evidence,
     thresholds: &AspectThresholds,
 ) -> (Vec<AspectResult>, Vec<Vec<u8>>) {
     let mut maps = vec![vec![0u8; evidence.n]; Aspect::ALL.len()];
-    let results = REGISTRY
-        .iter()
-        .zip(&mut maps)
-        .map(|((_, judge), map)| judge(evidence, thresholds, map))
-        .collect();
+    let mut results = Vec::with_capacity(REGISTRY.len());
+    for ((_, judge), map) in REGISTRY.iter().zip(&mut maps) {
+        let result = judge(evidence, thresholds, &results, map);
+        results.push(result);
+    }
     (results, maps)
 }
 
@@ -245,7 +259,7 @@ fn recognise(
         // before the readings are fitted.
         let coverage = Evidence::unfitted(buffers, reference, &turned);
         let mut map = vec![0u8; coverage.n];
-        let geometry = geometry::judge(&coverage, thresholds, &mut map);
+        let geometry = geometry::judge(&coverage, thresholds, &[], &mut map);
         if as_is[0].judged && !(geometry.judged && geometry.pass) {
             return None;
         }

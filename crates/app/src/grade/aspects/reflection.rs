@@ -12,11 +12,19 @@
 //! a highlight may brighten it. Where they agree, as in a mirror showing a
 //! black mirror that shows a coloured object, recursion is judged.
 //!
+//! What a mirror shows of a lit point is that point's light, which the
+//! student's shadow rays decide. Where the student's shadows fail on the
+//! scene ([`super::shadows`], judged before), a mirror is judged only on
+//! pixels whose shown points no light could reach were nothing in the
+//! way ([`Probe::reflected_direct`]): a shadow bug costs shadows, not
+//! reflection as well.
+//!
 //! [`Probe::reflection_settled`]: raytracer_render::render::probe::Probe::reflection_settled
+//! [`Probe::reflected_direct`]: raytracer_render::render::probe::Probe::reflected_direct
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::fit::{predict, robust_fit, spread};
-use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
+use super::{failed, fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 
 /// The powers of what a mirror shows tried: the assignment's own variant
 /// of the reflection's term is `(reflected colour)ⁿ · reflectivity`.
@@ -77,8 +85,20 @@ struct Shape {
     left: f64,
 }
 
-/// Judge reflection, marking `map`.
-pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
+/// The light the lights could bring to a mirror pixel's shown points
+/// before what it shows depends on the student's shadows: what a mirror
+/// must show to show something at all.
+const SHOWS: f64 = 0.03;
+
+/// Judge reflection, marking `map`, leaving what the student's failed
+/// shadows decide to `earlier`'s shadows verdict.
+pub(super) fn judge(
+    e: &Evidence,
+    thresholds: &AspectThresholds,
+    earlier: &[AspectResult],
+    map: &mut [u8],
+) -> AspectResult {
+    let shadows_differ = failed(earlier, Aspect::Shadows);
     let mut counts = Counts {
         weakest_gain: f64::INFINITY,
         ..Counts::default()
@@ -88,7 +108,7 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         if first.reflectivity == 0.0 || first.uv.is_some() {
             continue;
         }
-        let ks: Vec<usize> = e
+        let mut ks: Vec<usize> = e
             .pixels_of(object, &|p| {
                 p.visible ^ (u64::from(p.reflected.map_or(u32::MAX, |r| r)) << 32)
             })
@@ -104,6 +124,11 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
                 !clipped(&e.student_px(k)) && p.highlight < 0.95 && !indirect
             })
             .collect();
+        if shadows_differ {
+            let before = ks.len();
+            ks.retain(|&k| e.buffers.centres[k].reflected_direct <= SHOWS);
+            counts.left_to_shadows += before - ks.len();
+        }
         let Some(shape) = fit_shape(e, &ks) else {
             continue;
         };
@@ -126,7 +151,7 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
             let r = s - predict(&shape.beta, x);
             // A highlight only brightens: not a reflection's error.
             let highlight = r > 0.0 && e.buffers.centres[k].highlight > HIGHLIGHT_CONE;
-            let shows = e.buffers.centres[k].reflected_radiance > 0.03;
+            let shows = e.buffers.centres[k].reflected_radiance > SHOWS;
             let bad = (r.abs() > 0.06 && !highlight) || (missing && shows);
             if shows {
                 counts.showing += 1;
@@ -177,6 +202,9 @@ struct Counts {
     weakest_gain: f64,
     /// The largest power of what a mirror shows read into a mirror.
     power: f64,
+    /// The mirror pixels showing points a light could reach, left out
+    /// as the student's shadows fail on the scene.
+    left_to_shadows: usize,
 }
 
 /// The verdict's words for `counts`, the gain a mirror must reach being
@@ -190,7 +218,13 @@ fn detail(counts: &Counts, least_gain: f64) -> String {
         mirrors,
         weakest_gain,
         power,
+        left_to_shadows,
     } = *counts;
+    let left_out = (left_to_shadows > 0).then(|| {
+        format!(
+            "{left_to_shadows} mirror pixels that show points a light could reach are left to shadows, as yours differ from ours here"
+        )
+    });
     if showing >= 20 {
         let mut parts: Vec<String> = [
             fraction_words(
@@ -223,7 +257,10 @@ fn detail(counts: &Counts, least_gain: f64) -> String {
                 "your mirrors read as adding what they show to the power {power}"
             ));
         }
+        parts.extend(left_out);
         parts.join("; ")
+    } else if let Some(left_out) = left_out {
+        format!("{left_out}: only {showing} others show something (20 needed)")
     } else if mirrors == 0 {
         "no mirror without a texture to judge".to_string()
     } else {

@@ -14,14 +14,19 @@
 //! nearer ours, as a saturated colour read through a curve the image does
 //! not tell says nothing of the student. On plain objects, only the points
 //! the student's image shows lit, as the scene's light fit reads it: which
-//! points a light reaches is shadows' to judge. A light's colour ignored
-//! shows here, on plain and textured objects alike.
+//! points a light reaches is shadows' to judge. Where the student's
+//! shadows fail on the scene ([`super::shadows`], judged before), plain
+//! objects are left to them: under lights of different colours a point's
+//! hue is which of them its shadow rays let through, and the light fit
+//! that tells a shadowed point from a lit one reads a light that the bug
+//! has dimmed. A light's colour ignored shows here, on plain and textured
+//! objects alike.
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::mapping;
 use super::textures::{textured, LEAST_PIXELS};
 use super::tone::Curve;
-use super::{verdict, Aspect, AspectResult, AspectThresholds};
+use super::{failed, verdict, Aspect, AspectResult, AspectThresholds};
 
 /// The L1 distance between two chromaticities.
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -29,9 +34,11 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 /// The worst distance of a lit plain object's median chromaticity from
-/// ours, and the pixels judged, marking `map`.
-fn plain(e: &Evidence, bound: f64, map: &mut [u8]) -> (f64, usize) {
-    let (mut worst, mut shaded) = (0.0f64, 0usize);
+/// ours and the pixels judged, marking `map`; when `shadows_differ`, no
+/// object is judged, and the pixels that would have been are left to
+/// shadows (the third number).
+fn plain(e: &Evidence, bound: f64, shadows_differ: bool, map: &mut [u8]) -> (f64, usize, usize) {
+    let (mut worst, mut shaded, mut left) = (0.0f64, 0usize, 0usize);
     for &object in &e.plain {
         let ks: Vec<usize> = e
             .pixels_of(object, &|p| p.visible)
@@ -54,6 +61,10 @@ fn plain(e: &Evidence, bound: f64, map: &mut [u8]) -> (f64, usize) {
         if ks.len() < 20 {
             continue;
         }
+        if shadows_differ {
+            left += ks.len();
+            continue;
+        }
         let median = |chroma: &dyn Fn(usize) -> Option<[f64; 3]>| {
             [0, 1, 2].map(|c| {
                 let mut v: Vec<f64> = ks.iter().filter_map(|&k| chroma(k)).map(|v| v[c]).collect();
@@ -71,7 +82,7 @@ fn plain(e: &Evidence, bound: f64, map: &mut [u8]) -> (f64, usize) {
             map[k] = 1 + u8::from(d > bound);
         }
     }
-    (worst, shaded)
+    (worst, shaded, left)
 }
 
 /// The mean of `colours`, each channel.
@@ -163,8 +174,14 @@ fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) 
 /// Judge shading, marking `map`. The measure is the worst distance over
 /// its bound (plain objects' [`AspectThresholds::shading`], textured
 /// ones' [`AspectThresholds::texture_colour`]), so 1 is at the bound.
-pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
-    let (plain_worst, plain_pixels) = plain(e, thresholds.shading, map);
+pub(super) fn judge(
+    e: &Evidence,
+    thresholds: &AspectThresholds,
+    earlier: &[AspectResult],
+    map: &mut [u8],
+) -> AspectResult {
+    let shadows_differ = failed(earlier, Aspect::Shadows);
+    let (plain_worst, plain_pixels, left) = plain(e, thresholds.shading, shadows_differ, map);
     let (textured_worst, textured_pixels) = textured_colour(e, thresholds, map);
     let measure =
         (plain_worst / thresholds.shading).max(textured_worst / thresholds.texture_colour);
@@ -182,16 +199,22 @@ pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8])
         ));
     }
     let judged = !parts.is_empty();
+    let left_out = (left > 0).then(|| {
+        format!("the colours of {left} lit pixels of plain objects are left to shadows, as yours differ from ours here")
+    });
+    let detail = match (judged, left_out) {
+        (true, left_out) => parts.into_iter().chain(left_out).collect::<Vec<_>>().join("; "),
+        (false, Some(left_out)) => {
+            format!("{left_out}; no textured object whose texture shows with 30 stable pixels")
+        }
+        (false, None) => "no lit plain object with 20 stable pixels away from highlights, and no textured object whose texture shows with 30".to_string(),
+    };
     verdict(
         Aspect::Shading,
         judged,
         measure,
         1.0,
         plain_pixels + textured_pixels,
-        if judged {
-            parts.join("; ")
-        } else {
-            "no lit plain object with 20 stable pixels away from highlights, and no textured object whose texture shows with 30".to_string()
-        },
+        detail,
     )
 }

@@ -56,7 +56,12 @@ impl Sides {
 }
 
 /// Judge shadows, marking `map`.
-pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
+pub(super) fn judge(
+    e: &Evidence,
+    thresholds: &AspectThresholds,
+    _earlier: &[AspectResult],
+    map: &mut [u8],
+) -> AspectResult {
     let (mut shadowed, mut shadowed_bad, mut lit, mut lit_bad) = (0usize, 0usize, 0usize, 0usize);
     let mut alike = 0usize;
     if let Some(light) = &e.light {

@@ -79,7 +79,12 @@ pub(super) fn textured(e: &Evidence) -> Vec<Textured> {
 }
 
 /// Judge textures, marking `map`.
-pub(super) fn judge(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) -> AspectResult {
+pub(super) fn judge(
+    e: &Evidence,
+    thresholds: &AspectThresholds,
+    _earlier: &[AspectResult],
+    map: &mut [u8],
+) -> AspectResult {
     let (mut worst_ratio, mut pixels) = (f64::INFINITY, 0usize);
     let objects = textured(e);
     for object in &objects {
