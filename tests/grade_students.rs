@@ -139,9 +139,10 @@ const UNCAUGHT: [(&str, &str, &str); 3] = [
 /// subtracting light, the colours and what looks shadowed; a diffuse term
 /// aimed the wrong way or a light dropped, the shadows' fit; planes
 /// without edges, what lies behind them. Where the student's shadows fail
-/// on a scene, what a mirror shows of lit points and plain objects'
-/// colours are left to them, so shadow rays that reach past the light or
-/// end at the light's squared distance cost shadows alone.)
+/// on a scene, what a mirror shows of points a light could reach and
+/// plain objects' colours are left to them, so shadow rays that reach
+/// past the light or end at the light's squared distance cost shadows
+/// alone.)
 const CONFINED: [&str; 18] = [
     "cpp_bug_backface",
     "unnormalised_reflection",

@@ -30,8 +30,9 @@
 //! - a bug costs its own aspect: the aspects are judged in
 //!   [`REGISTRY`]'s order, each given the verdicts before it, and where
 //!   the student's shadows fail on the scene, reflection and shading
-//!   leave to them what shadow rays decide (what a mirror shows of lit
-//!   points, the hue of plain objects under coloured lights).
+//!   leave to them what shadow rays decide (what a mirror shows of
+//!   points a light could reach, the hue of plain objects under coloured
+//!   lights).
 //!
 //! Each aspect is a file of its own, with its measure, the map of where it
 //! differs and its words in the report, over one [`evidence::Evidence`];
