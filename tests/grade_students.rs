@@ -495,7 +495,11 @@ fn check_class(class: &str) {
 
 /// Every image pair `grade` judged, judged again by `compare --scene`:
 /// the same verdict (exit 0 for a match, 1 otherwise) and the same
-/// aspects failed, or a line saying where they differ.
+/// aspects failed, or a line saying where they differ. Students whose
+/// image of a scene is the same, byte for byte, as another's (a reading
+/// that changes nothing there, a bug that does not show) share one run
+/// of `compare`, as its verdict is a function of the two images and the
+/// scene; each student's `grade` verdict is still held against it.
 fn compare_disagreements(
     class: &str,
     summaries: &BTreeMap<String, Value>,
@@ -503,6 +507,7 @@ fn compare_disagreements(
     suite: &Path,
 ) -> Vec<String> {
     let mut problems = Vec::new();
+    let mut compared = Compared::new();
     for (name, summary) in summaries {
         for entry in summary["scenes"].as_array().unwrap() {
             let scene = entry["scene"].as_str().unwrap();
@@ -513,30 +518,29 @@ fn compare_disagreements(
                 continue;
             };
             let folder = reports.join(name);
-            let out = run(&[
-                "compare",
-                "--format",
-                "json",
-                "--scene",
-                suite.join(scene).to_str().unwrap(),
-                folder.join(ours).to_str().unwrap(),
-                folder.join(theirs).to_str().unwrap(),
-            ]);
-            let value: Value = serde_json::from_slice(&out.stdout).unwrap_or(Value::Null);
-            let failed_by = |aspects: &Value| -> Vec<String> {
-                aspects
-                    .as_array()
-                    .map(|a| {
-                        a.iter()
-                            .filter(|a| a["pass"] == false)
-                            .map(|a| a["aspect"].as_str().unwrap().to_string())
-                            .collect()
-                    })
-                    .unwrap_or_default()
-            };
+            let (ours, theirs) = (folder.join(ours), folder.join(theirs));
+            let key = (
+                scene.to_string(),
+                std::fs::read(&ours).unwrap(),
+                std::fs::read(&theirs).unwrap(),
+            );
+            let (compared, code) = compared
+                .entry(key)
+                .or_insert_with(|| {
+                    let out = run(&[
+                        "compare",
+                        "--format",
+                        "json",
+                        "--scene",
+                        suite.join(scene).to_str().unwrap(),
+                        ours.to_str().unwrap(),
+                        theirs.to_str().unwrap(),
+                    ]);
+                    let value: Value = serde_json::from_slice(&out.stdout).unwrap_or(Value::Null);
+                    (failed_by(&value["aspects"]), out.status.code())
+                })
+                .clone();
             let graded = failed_by(&entry["aspects"]);
-            let compared = failed_by(&value["aspects"]);
-            let code = out.status.code();
             if compared != graded || code != Some(i32::from(!graded.is_empty())) {
                 problems.push(format!(
                     "{class}/{name} on {scene}: grade fails {graded:?}, compare --scene fails {compared:?} (exit {code:?})"
@@ -545,6 +549,23 @@ fn compare_disagreements(
         }
     }
     problems
+}
+
+/// `compare --scene`'s failed aspects and exit code, by scene and the
+/// bytes of the two images.
+type Compared = BTreeMap<(String, Vec<u8>, Vec<u8>), (Vec<String>, Option<i32>)>;
+
+/// The aspects `aspects` (summary.json's or `compare`'s list) fails.
+fn failed_by(aspects: &Value) -> Vec<String> {
+    aspects
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .filter(|a| a["pass"] == false)
+                .map(|a| a["aspect"].as_str().unwrap().to_string())
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 #[test]
