@@ -215,9 +215,10 @@ impl Buffers {
 /// Probe `scene` at every pixel centre and corner, reflecting up to
 /// `max_depth` times under `model` for [`Probe::reflected_radiance`].
 pub fn buffers(scene: &ir::Scene, max_depth: u32, model: Model) -> Buffers {
-    let mut main = probe_all(scene, max_depth, model);
+    let mut main = probe_all(scene, max_depth, model, true);
     settle(&mut main, scene, max_depth, model);
-    main.swapped = swapped_planes(scene).map(|other| Box::new(probe_all(&other, max_depth, model)));
+    main.swapped =
+        swapped_planes(scene).map(|other| Box::new(probe_all(&other, max_depth, model, false)));
     main
 }
 
@@ -238,8 +239,8 @@ fn settle(main: &mut Buffers, scene: &ir::Scene, max_depth: u32, model: Model) {
         // The probe's radiance starts after the first reflection: depth 1
         // there is the second reflection as well.
         [
-            probe_all(scene, max_depth.min(1), model),
-            probe_all(scene, max_depth, other),
+            probe_all(scene, max_depth.min(1), model, false),
+            probe_all(scene, max_depth, other, false),
         ]
     });
     let settle = |probes: &mut [Probe], pick: &dyn Fn(&Buffers) -> &[Probe]| {
@@ -273,28 +274,35 @@ pub fn swapped_planes(scene: &ir::Scene) -> Option<ir::Scene> {
     any.then_some(other)
 }
 
-/// The tracer a frame is probed with, under its reading, and for
-/// [`Probe::reflected_direct`] the same scene without shadows and with
-/// ambient light alone.
+/// The tracer a frame is probed with, under its reading, and, when the
+/// pass records [`Probe::reflected_direct`], the same scene without
+/// shadows and with ambient light alone.
 struct Probing<'a> {
     tracer: Tracer<'a, f64>,
-    shadowless: Tracer<'a, f64>,
-    unlit: Tracer<'a, f64>,
+    /// The tracer without shadows, then the one by ambient light alone.
+    direct: Option<[Tracer<'a, f64>; 2]>,
     model: Model,
 }
 
 impl<'a> Probing<'a> {
-    fn new(scene: &'a ir::Scene, max_depth: u32, model: Model) -> Self {
+    /// The tracers of a pass; those of [`Probe::reflected_direct`] only
+    /// when `direct` (the main pass: the others read what a mirror shows
+    /// alone, or which object a pixel sees).
+    fn new(scene: &'a ir::Scene, max_depth: u32, model: Model, direct: bool) -> Self {
         let tracer = |model| {
             Tracer::<f64>::with_accel(scene, max_depth, false, Accel::Auto).with_model(model)
         };
         Probing {
             tracer: tracer(model),
-            shadowless: tracer(model).without_shadows(),
-            unlit: tracer(Model {
-                diffuse: 0.0,
-                specular: 0.0,
-                ..model
+            direct: direct.then(|| {
+                [
+                    tracer(model).without_shadows(),
+                    tracer(Model {
+                        diffuse: 0.0,
+                        specular: 0.0,
+                        ..model
+                    }),
+                ]
             }),
             model,
         }
@@ -392,17 +400,21 @@ fn probe_to(probing: &Probing, ray: Ray<f64>, reflect: bool) -> Probe {
         };
         let c = tracer.radiance(reflected, &mut counters).min(DVec3::ONE);
         probe.reflected_radiance = luminance(c);
-        let [shadowless, unlit] = [&probing.shadowless, &probing.unlit]
-            .map(|t| luminance(t.radiance(reflected, &mut counters).min(DVec3::ONE)));
-        probe.reflected_direct = shadowless - unlit;
+        if let Some(direct) = &probing.direct {
+            let [shadowless, unlit] = direct
+                .each_ref()
+                .map(|t| luminance(t.radiance(reflected, &mut counters).min(DVec3::ONE)));
+            probe.reflected_direct = shadowless - unlit;
+        }
     }
     probe
 }
 
-/// [`buffers`] of one reading.
-fn probe_all(scene: &ir::Scene, max_depth: u32, model: Model) -> Buffers {
+/// [`buffers`] of one reading, recording [`Probe::reflected_direct`]
+/// when `direct`.
+fn probe_all(scene: &ir::Scene, max_depth: u32, model: Model, direct: bool) -> Buffers {
     let size = scene.resolution;
-    let probing = Probing::new(scene, max_depth, model);
+    let probing = Probing::new(scene, max_depth, model, direct);
     let grid = |n: u32, offset: f64| -> Vec<Probe> {
         (0..n * n)
             .into_par_iter()
