@@ -14,14 +14,20 @@
 //! reflection) is fitted now, and it joined the tuning. `unseen/` (Go,
 //! Java) was written from the assignment alone and graded once, when
 //! those fits were settled: what it found (Reinhard's curve read as a
-//! power) is fitted now, but for one bug in [`UNCAUGHT`]. `blind/`
-//! (Rust, JavaScript) was written from the assignment alone and graded
-//! once, when shadows' failures were left to shadows by reflection and
-//! shading: every correct reading passed, two bugs went uncaught
-//! ([`UNCAUGHT`]) (docs/grading.md, "How the thresholds were chosen"). To
-//! keep `make test` short, each class is graded on twelve scenes
-//! (`SCENES`), which between them exercise every bug, one scene at a
-//! time. The tracers need `cc`, `javac`/`java`, `python3`, `node`, `g++`,
+//! power) is fitted now; its unnormalised sphere normal is caught now
+//! by each object's gain against the scene's. `blind/` (Rust,
+//! JavaScript) was written from the assignment alone and graded once,
+//! when shadows' failures were left to shadows by reflection and shading:
+//! every correct reading passed, two bugs went uncaught, one of which
+//! (the light's direction not normalised) the objects' gains catch now.
+//! `sealed/` (C, Python) was written from the assignment alone and graded
+//! once, when the gains were settled: its mirrors showing a coloured
+//! background, and a tracer dropping every light where one is blocked,
+//! are judged now; one bug stays in [`UNCAUGHT`] (docs/grading.md, "How
+//! the thresholds were chosen"). To keep `make test` short, each class is
+//! graded on twelve scenes (`SCENES`, and the sealed class on one more),
+//! which between them exercise every bug, one scene at a time. The
+//! tracers need `cc`, `javac`/`java`, `python3`, `node`, `g++`,
 //! `go` and `rustc`. Last, the instructor's
 //! reference (`--reference-tracer`, `--references`) and our renderer with
 //! a course's constants (`--reference-options`) replace ours.
@@ -54,7 +60,7 @@ const SCENES: [&str; 12] = [
 /// `u` and `v` swapped: the assignment says nothing of how a texture lies
 /// on an object, and `textures` accepts any mapping by design
 /// (docs/grading.md, "Readings the assignment leaves open").
-const CORRECT: [&str; 41] = [
+const CORRECT: [&str; 47] = [
     "correct_centres",
     "correct_centres_py",
     "correct_corners",
@@ -96,6 +102,12 @@ const CORRECT: [&str; 41] = [
     "js_ambient_from_lights",
     "js_rotated_grid_2x2",
     "js_texture_transposed",
+    "correct_c",
+    "c_read_p3_output",
+    "c_read_reflection_color_pow2",
+    "py_read_plane_texture_tiled",
+    "py_read_sphere_seam_front",
+    "py_read_background_blue",
 ];
 
 /// Correct readings that lose points, by class, student, aspect and
@@ -108,26 +120,17 @@ const KNOWN_MISSES: [(&str, &str, &str, &str); 0] = [];
 
 /// Bugs their own aspect does not catch on [`SCENES`], by class, student
 /// and aspect, with why: the test holds that they still pass that aspect
-/// on every scene, so the list stays true. `go_bug_sphere_normal` (a
-/// sphere's normal not divided by its radius) dims or brightens each
-/// sphere by its radius, which a light falling off with distance reads
-/// as well where the smaller spheres lie further from the light
-/// (big_shadow.txt, colours.txt); `shading` judges colours, not how
-/// bright an object is. It still loses `textures` on
-/// hard/inside_sphere.txt, where the camera is inside a sphere of radius
-/// 3 (docs/grading.md, "What is left"). The blind class's
+/// on every scene, so the list stays true. The blind class's
 /// `rust_shadow_eps_huge` (shadow rays blind to hits nearer than 0.5)
 /// shows only where an occluder lies that close to a shadowed point,
 /// which no scene of the default suite has (hard/light_on_surface.txt,
-/// a robustness scene, shows it). Its `rust_unnormalized_light_vector`
-/// (`N·(light − point)`, the light's direction not normalised) makes
-/// lit points as bright as their distance to the light, four to eight
-/// times too bright: clamped, they lose their textures' contrast
-/// (`textures`), and the few pixels it leaves unclamped keep their hue.
-const UNCAUGHT: [(&str, &str, &str); 3] = [
-    ("unseen", "go_bug_sphere_normal", "shading"),
+/// a robustness scene, shows it). The sealed class's
+/// `c_bug_maxval_ignored` (a texture's samples divided by 255 whatever
+/// its maxval) shows only on a texture whose maxval is not 255, which no
+/// scene of the suite has (docs/grading.md, "What is left").
+const UNCAUGHT: [(&str, &str, &str); 2] = [
     ("blind", "rust_shadow_eps_huge", "shadows"),
-    ("blind", "rust_unnormalized_light_vector", "shading"),
+    ("sealed", "c_bug_maxval_ignored", "textures"),
 ];
 
 /// The bugs whose effect lies in their own aspect alone: on none of
@@ -143,7 +146,7 @@ const UNCAUGHT: [(&str, &str, &str); 3] = [
 /// plain objects' colours are left to them, so shadow rays that reach
 /// past the light or end at the light's squared distance cost shadows
 /// alone.)
-const CONFINED: [&str; 18] = [
+const CONFINED: [&str; 21] = [
     "cpp_bug_backface",
     "unnormalised_reflection",
     "light_colour_ignored",
@@ -162,11 +165,56 @@ const CONFINED: [&str; 18] = [
     "js_no_ambient_unlit",
     "rust_planes_cast_no_shadow",
     "rust_view_vector_from_eye",
+    "c_bug_one_shadow_kills_all",
+    "py_bug_headup_unnormalised",
+    "py_bug_plane_reflectivity_ignored",
 ];
 
 /// Each bug's aspect and the scenes where it must fail, in every class
 /// that has it.
-const BUGS: [(&str, &str, &[&str]); 26] = [
+const BUGS: [(&str, &str, &[&str]); 35] = [
+    // The sealed class's. Its author filed `c_bug_last_light_only`
+    // (each light replacing the one before) under lights: a light's
+    // colour and share are the illumination model's, shading.
+    ("c_bug_one_shadow_kills_all", "shadows", &["shadows.txt"]),
+    (
+        "py_bug_headup_unnormalised",
+        "geometry",
+        &["field/texture.scene"],
+    ),
+    (
+        "py_bug_plane_reflectivity_ignored",
+        "reflection",
+        &["facing_mirrors.txt", "mirror.txt", "reflection.txt"],
+    ),
+    (
+        "py_bug_diffuse_no_object_colour",
+        "shading",
+        &["big_shadow.txt", "reflection.txt"],
+    ),
+    (
+        "py_bug_shadow_inverted",
+        "shadows",
+        &["big_shadow.txt", "colours.txt"],
+    ),
+    (
+        "c_bug_radius_not_squared",
+        "geometry",
+        &["colours.txt", "reflection.txt"],
+    ),
+    ("c_bug_last_light_only", "shading", &["sample.txt"]),
+    // Each sphere as bright as its radius, each point as its distance
+    // to the light: an object's own gain against the scene's.
+    (
+        "go_bug_sphere_normal",
+        "shading",
+        &["big_shadow.txt", "mirror.txt"],
+    ),
+    (
+        "rust_unnormalized_light_vector",
+        "shading",
+        &["big_shadow.txt"],
+    ),
     // The blind class's. Its author filed `js_no_ambient_unlit` (no
     // ambient light where no light arrives) under shadows; which points
     // a light reaches is right, and the ambient term is the illumination
@@ -301,15 +349,25 @@ const WRONG_ROOT: [(&str, &str, &[&str]); 2] = [
 ];
 
 /// Each class: its folder under tests/students, the programs its tracers
-/// need, and how many students it has (all of them must be graded).
-const CLASSES: [(&str, &[&str], usize); 6] = [
-    ("tune", &["cc"], 24),
-    ("judge", &["javac", "python3"], 17),
-    ("held_out", &["node"], 6),
-    ("fresh", &["g++", "python3"], 18),
-    ("unseen", &["go", "javac"], 12),
-    ("blind", &["rustc", "node"], 16),
+/// need, how many students it has (all of them must be graded), and the
+/// scenes it is graded on besides [`SCENES`]: the sealed class's bug that
+/// drops every light where one is blocked shows only under two lights
+/// that shadow each other's points.
+const CLASSES: [(&str, &[&str], usize, &[&str]); 7] = [
+    ("tune", &["cc"], 24, &[]),
+    ("judge", &["javac", "python3"], 17, &[]),
+    ("held_out", &["node"], 6, &[]),
+    ("fresh", &["g++", "python3"], 18, &[]),
+    ("unseen", &["go", "javac"], 12, &[]),
+    ("blind", &["rustc", "node"], 16, &[]),
+    ("sealed", &["cc", "python3"], 15, &["shadows.txt"]),
 ];
+
+/// The scenes `class` is graded on: [`SCENES`] and its own.
+fn scenes_of(class: &str) -> Vec<&'static str> {
+    let (.., extra) = CLASSES.iter().find(|c| c.0 == class).unwrap();
+    SCENES.iter().chain(extra.iter()).copied().collect()
+}
 
 /// A class graded: each student's summary.json by name, and the folder
 /// holding the suite (`suite/`) and the reports (`reports/`).
@@ -318,8 +376,10 @@ struct Graded {
     dir: tempfile::TempDir,
 }
 
-/// Grade `class` (a folder under tests/students) on [`SCENES`].
+/// Grade `class` (a folder under tests/students) on its scenes
+/// ([`scenes_of`]).
 fn grade(class: &str) -> Graded {
+    let scenes = scenes_of(class);
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let suite = d.join("suite");
@@ -331,10 +391,10 @@ fn grade(class: &str) -> Graded {
         .as_array()
         .unwrap()
         .iter()
-        .filter(|e| SCENES.contains(&e["scene"].as_str().unwrap()))
+        .filter(|e| scenes.contains(&e["scene"].as_str().unwrap()))
         .cloned()
         .collect();
-    assert_eq!(kept.len(), SCENES.len());
+    assert_eq!(kept.len(), scenes.len());
     std::fs::write(
         suite.join("suite.json"),
         serde_json::json!({ "scenes": kept }).to_string(),
@@ -413,7 +473,8 @@ fn detail(summary: &Value, scene: &str, aspect: &str) -> String {
 }
 
 fn check_class(class: &str) {
-    let (_, tools, students) = CLASSES.iter().find(|(c, _, _)| *c == class).unwrap();
+    let (_, tools, students, _) = CLASSES.iter().find(|c| c.0 == class).unwrap();
+    let graded = scenes_of(class);
     for tool in *tools {
         if !support::tool_available(tool, "grade_students", "the test tracers' languages") {
             return;
@@ -426,7 +487,7 @@ fn check_class(class: &str) {
         if !CORRECT.contains(&name.as_str()) {
             continue;
         }
-        for scene in SCENES {
+        for &scene in &graded {
             for aspect in failed(summary, scene) {
                 let known = KNOWN_MISSES.contains(&(class, name.as_str(), aspect.as_str(), scene));
                 if !known {
@@ -443,7 +504,7 @@ fn check_class(class: &str) {
         }
     }
     for &(_, name, aspect) in UNCAUGHT.iter().filter(|u| u.0 == class) {
-        for scene in SCENES {
+        for &scene in &graded {
             if failed(&summaries[name], scene).iter().any(|a| a == aspect) {
                 problems.push(format!(
                     "{class}/{name} now fails {aspect} on {scene}: take it out of UNCAUGHT"
@@ -467,7 +528,7 @@ fn check_class(class: &str) {
             }
         }
         if CONFINED.contains(&name) {
-            for scene in SCENES {
+            for &scene in &graded {
                 let others: Vec<String> = failed(summary, scene)
                     .into_iter()
                     .filter(|a| a != aspect)
@@ -596,6 +657,11 @@ fn the_blind_class_gets_the_verdicts_it_should() {
 #[test]
 fn the_unseen_class_gets_the_verdicts_it_should() {
     check_class("unseen");
+}
+
+#[test]
+fn the_sealed_class_gets_the_verdicts_it_should() {
+    check_class("sealed");
 }
 
 /// The course's own solution as the reference (`--reference-tracer`), run

@@ -127,25 +127,54 @@ impl<'a> Evidence<'a> {
     /// ([`super::falloff`]): stable, fully lit (no light of ours
     /// blocked), away from highlight lobes and clamping.
     pub fn light_groups(&self) -> Vec<Group<'a>> {
+        self.fully_lit(0.8)
+            .into_iter()
+            .map(|(object, ks)| {
+                let rows = ks
+                    .into_iter()
+                    .map(|k| (&self.buffers.centres[k], self.luminance(Whose::Theirs, k)))
+                    .collect();
+                (object, rows)
+            })
+            .collect()
+    }
+
+    /// The stable pixels of each plain object (at least ten) that no
+    /// light of ours is blocked from, whose mirror direction is below
+    /// `highlight` from every light's, and where no channel of theirs
+    /// is clamped.
+    pub fn fully_lit(&self, highlight: f64) -> Vec<(u32, Vec<usize>)> {
         let e = self;
         e.plain
             .iter()
             .map(|&object| {
-                let rows = e
+                let ks = e
                     .pixels_of(object, &|p| p.visible)
                     .into_iter()
                     .filter(|&k| {
                         let p = &e.buffers.centres[k];
                         p.unshadowed - p.lit < 1e-9
-                            && p.highlight < 0.8
+                            && p.highlight < highlight
                             && !clipped(&e.student_px(k))
                     })
-                    .map(|k| (&e.buffers.centres[k], e.luminance(Whose::Theirs, k)))
                     .collect();
-                (object, rows)
+                (object, ks)
             })
-            .filter(|(_, rows): &Group| rows.len() >= 10)
+            .filter(|(_, ks): &(u32, Vec<usize>)| ks.len() >= 10)
             .collect()
+    }
+
+    /// The luminance of `whose` image where no light of ours reaches an
+    /// object (facing away from every light, or shadowed from all): the
+    /// median over those of its pixels `ks`, when ten or more tell it.
+    pub fn unlit_level(&self, whose: Whose, ks: &[usize]) -> Option<f64> {
+        let mut levels: Vec<f64> = ks
+            .iter()
+            .filter(|&&k| self.buffers.centres[k].lit <= 0.0)
+            .map(|&k| self.luminance(whose, k))
+            .collect();
+        levels.sort_by(f64::total_cmp);
+        (levels.len() >= 10).then(|| levels[levels.len() / 2])
     }
 
     /// Fit the tone curve with each light dimmed by `falloff`, and turn
@@ -307,6 +336,15 @@ impl<'a> Evidence<'a> {
         let written = self.student_px(k);
         chroma(&written)?;
         chroma_of_light(written.map(|v| curve.linear(f64::from(v) / 255.0)))
+    }
+
+    /// The luminance of the student's pixel `k` in linear light under
+    /// `curve` (one of [`tone::Fitted::plausible`]).
+    pub fn luminance_under(&self, curve: Curve, k: usize) -> f64 {
+        luminance_of(
+            self.student_px(k)
+                .map(|v| curve.linear(f64::from(v) / 255.0)),
+        )
     }
 
     /// Pixel `k` of `picture`.

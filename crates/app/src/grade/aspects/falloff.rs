@@ -19,7 +19,7 @@
 //! out of the fit: an object whose lit side a tracer darkens cannot get
 //! a gain, or a falloff, of its own.
 
-use super::fit::outlier_bound;
+use super::fit::{outlier_bound, predict, robust_fit};
 use raytracer_render::render::probe::Probe;
 
 /// The share of none's unexplained spread a falloff must leave less
@@ -114,9 +114,19 @@ pub(super) struct LightFit {
     pub gain: f64,
     /// Each fitted object's id and intercept.
     pub intercepts: Vec<(u32, f64)>,
+    /// The other falloffs tried (none among them) that the chosen one
+    /// does not beat by the share a falloff must earn ([`KEEP_NONE`]):
+    /// those the image cannot tell from it.
+    alike: Vec<Falloff>,
 }
 
 impl LightFit {
+    /// The chosen falloff, then every falloff the image cannot tell
+    /// from it.
+    pub fn plausible(&self) -> impl Iterator<Item = Falloff> + '_ {
+        std::iter::once(self.falloff).chain(self.alike.iter().copied())
+    }
+
     /// The intercept of `object`, when it was fitted.
     pub fn intercept(&self, object: u32) -> Option<f64> {
         self.intercepts
@@ -190,8 +200,82 @@ fn fit_under(groups: &[Group], falloff: Falloff) -> Option<(LightFit, f64)> {
         falloff,
         gain,
         intercepts: groups.iter().map(|(o, _)| *o).zip(intercepts).collect(),
+        alike: Vec::new(),
     };
     (total > 0.0).then(|| (light, (residual / total).sqrt()))
+}
+
+/// One object's own gain, over the scene's ([`object_gains`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ObjectGain {
+    pub object: u32,
+    /// The object's gain over the scene's.
+    pub ratio: f64,
+    /// The standard error of `ratio`, from the scatter of the object's
+    /// pixels about its own line (their rounding, mostly).
+    pub error: f64,
+}
+
+/// Each object's own gain (`y = a + g·x` fitted on its pixels alone,
+/// robustly) over the scene's one gain, both under `falloff`. Every
+/// reading the assignment leaves open keeps it at 1: a tracer has one
+/// diffuse constant and one falloff, and our light already holds each
+/// object's colour and each point's angle to the light. A normal or a
+/// light vector left unnormalised does not: it scales each object's
+/// light by its radius or its distance. An object whose own gain is not
+/// above 0 by [`SIGNIFICANT`] errors shows no light at all, which is
+/// shadows' to judge: it is left out, of the scene's gain too. Empty
+/// when the scene's gain is below [`LightFit::least_gain`]'s floor (a
+/// nearly unlit scene).
+pub(super) fn object_gains(groups: &[Group], falloff: Falloff) -> Vec<ObjectGain> {
+    let own: Vec<(usize, f64, f64)> = groups
+        .iter()
+        .enumerate()
+        .filter_map(|(i, (_, rows))| {
+            let (gain, error) = own_gain(rows, falloff)?;
+            (gain > SIGNIFICANT * error).then_some((i, gain, error))
+        })
+        .collect();
+    let lit: Vec<Group> = own.iter().map(|&(i, ..)| groups[i].clone()).collect();
+    let Some((scene, _)) = fit_under(&lit, falloff) else {
+        return Vec::new();
+    };
+    if scene.gain < scene.least_gain() {
+        return Vec::new();
+    }
+    own.iter()
+        .map(|&(i, gain, error)| ObjectGain {
+            object: groups[i].0,
+            ratio: gain / scene.gain,
+            error: error / scene.gain,
+        })
+        .collect()
+}
+
+/// The standard errors by which a gain must differ from another (or
+/// from 0) to differ at all: an object whose light hardly varies over it
+/// tells its gain only loosely.
+pub(super) const SIGNIFICANT: f64 = 3.0;
+
+/// The gain of `rows` fitted alone, robustly, under `falloff`, with its
+/// standard error: from the scatter of the rows about their line, and
+/// never less than rounding to 8 bits leaves (a flat object's rows all
+/// round alike).
+fn own_gain(rows: &[(&Probe, f64)], falloff: Falloff) -> Option<(f64, f64)> {
+    let xs: Vec<([f64; 1], f64)> = rows.iter().map(|(p, y)| ([falloff.lit(p)], *y)).collect();
+    let beta = robust_fit(&xs)?;
+    let n = xs.len() as f64;
+    let mean = xs.iter().map(|r| r.0[0]).sum::<f64>() / n;
+    let spread: f64 = xs.iter().map(|r| (r.0[0] - mean).powi(2)).sum();
+    let mut residuals: Vec<f64> = xs
+        .iter()
+        .map(|r| (r.1 - predict(&beta, &r.0)).abs())
+        .collect();
+    residuals.sort_by(f64::total_cmp);
+    // The median absolute residual as a standard deviation, at least
+    // the uniform rounding error of one 8-bit step.
+    let scatter = (1.4826 * residuals[residuals.len() / 2]).max(1.0 / 255.0 / 12f64.sqrt());
+    (spread > 0.0).then(|| (beta[1], scatter / spread.sqrt()))
 }
 
 /// Least squares of `y = a_o + gain·x` on the kept rows: the gain from
@@ -259,11 +343,85 @@ pub(super) fn fit(groups: &[Group]) -> Option<LightFit> {
     if lit <= 0.0 || weighed <= 0.0 {
         return Some(none);
     }
-    let best = Falloff::candidates(weighed / lit)
+    let tried: Vec<(LightFit, f64)> = Falloff::candidates(weighed / lit)
         .filter_map(|f| fit_under(groups, f))
-        .min_by(|a, b| a.1.total_cmp(&b.1));
-    match best {
-        Some((light, u)) if u < KEEP_NONE * unexplained => Some(light),
-        _ => Some(none),
+        .collect();
+    let best = tried.iter().min_by(|a, b| a.1.total_cmp(&b.1));
+    let (mut chosen, least) = match best {
+        Some((light, u)) if *u < KEEP_NONE * unexplained => (light.clone(), *u),
+        _ => (none, unexplained),
+    };
+    chosen.alike = std::iter::once((Falloff::NONE, unexplained))
+        .chain(tried.iter().map(|(light, u)| (light.falloff, *u)))
+        .filter(|&(f, u)| f != chosen.falloff && KEEP_NONE * u <= least)
+        .map(|(f, _)| f)
+        .collect();
+    Some(chosen)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{object_gains, Falloff, Group};
+    use raytracer_render::render::probe::{LightShare, Probe};
+
+    /// Probes of one light's share running from 0.1 to 0.9.
+    fn probes() -> Vec<Probe> {
+        (0..100)
+            .map(|i| {
+                let lit = 0.1 + 0.8 * f64::from(i) / 99.0;
+                Probe {
+                    object: Some(0),
+                    lit,
+                    unshadowed: lit,
+                    lights: vec![LightShare {
+                        light: 0,
+                        lit,
+                        distance: 1.0,
+                        reaches: true,
+                    }],
+                    ..Probe::default()
+                }
+            })
+            .collect()
+    }
+
+    /// Object `object`'s rows, written as `ambient + gain·lit` rounded
+    /// to 8 bits.
+    fn object(probes: &[Probe], object: u32, ambient: f64, gain: f64) -> Group<'_> {
+        let rows = probes
+            .iter()
+            .map(|p| (p, ((ambient + gain * p.lit) * 255.0).round() / 255.0))
+            .collect();
+        (object, rows)
+    }
+
+    #[test]
+    fn an_object_with_a_gain_of_its_own_strays_and_one_lit_nowhere_is_left_out() {
+        let probes = probes();
+        let ratio = |groups: &[Group], object: u32| {
+            object_gains(groups, Falloff::NONE)
+                .iter()
+                .find(|g| g.object == object)
+                .map(|g| g.ratio)
+        };
+        let alike = [object(&probes, 0, 0.05, 0.6), object(&probes, 1, 0.1, 0.6)];
+        for o in [0, 1] {
+            let r = ratio(&alike, o).unwrap();
+            assert!((r - 1.0).abs() < 0.01, "object {o}: {r}");
+        }
+        let unlit = object(&probes, 3, 0.1, 0.0);
+        let doubled = [
+            alike[0].clone(),
+            alike[1].clone(),
+            object(&probes, 2, 0.02, 1.2),
+            unlit,
+        ];
+        let (a, b) = (ratio(&doubled, 0).unwrap(), ratio(&doubled, 2).unwrap());
+        assert!((b / a - 2.0).abs() < 0.02, "{a} and {b}");
+        assert_eq!(
+            ratio(&doubled, 3),
+            None,
+            "an object lit nowhere is shadows'"
+        );
     }
 }

@@ -44,14 +44,17 @@ pub(super) fn predict(beta: &[f64], x: &[f64]) -> f64 {
 
 /// Ordinary least squares with an intercept; `None` when singular.
 fn least_squares<const K: usize>(rows: &[&([f64; K], f64)]) -> Option<Vec<f64>> {
+    const { assert!(K < 8, "at most seven columns") };
     let n = K + 1;
     if rows.len() < n + 2 {
         return None;
     }
     let mut m = vec![vec![0.0; n + 1]; n];
     for (x, y) in rows {
-        let mut v = vec![1.0];
-        v.extend_from_slice(x);
+        // The row with its intercept's 1, on the stack: this runs for
+        // every pixel of every fit.
+        let mut v = [1.0; 8];
+        v[1..n].copy_from_slice(x);
         for i in 0..n {
             for j in 0..n {
                 m[i][j] += v[i] * v[j];

@@ -29,9 +29,21 @@ fn expect(probe: &Probe) -> Option<bool> {
     }
 }
 
-/// The student's background colour: the per-channel median of the pixels
-/// that surely see nothing.
+/// Whether the student's background is black, as far as the image tells
+/// (`false` when no pixel surely sees nothing).
+pub(super) fn black_background(e: &Evidence) -> bool {
+    seen_background(e).is_some_and(|bg| bg.iter().all(|&c| c <= BACKGROUND_TOLERANCE))
+}
+
+/// The student's background colour, black when no pixel surely sees
+/// nothing.
 fn background(e: &Evidence) -> [u8; 3] {
+    seen_background(e).unwrap_or([0; 3])
+}
+
+/// The student's background colour: the per-channel median of the pixels
+/// that surely see nothing; `None` when there are none.
+fn seen_background(e: &Evidence) -> Option<[u8; 3]> {
     let pixels: Vec<[u8; 3]> = (0..e.n)
         .filter(|&k| {
             let (x, y) = e.xy(k);
@@ -39,13 +51,12 @@ fn background(e: &Evidence) -> [u8; 3] {
         })
         .map(|k| e.student_px(k))
         .collect();
-    if pixels.is_empty() {
-        return [0; 3];
-    }
-    [0, 1, 2].map(|c| {
-        let mut v: Vec<u8> = pixels.iter().map(|p| p[c]).collect();
-        v.sort_unstable();
-        v[v.len() / 2]
+    (!pixels.is_empty()).then(|| {
+        [0, 1, 2].map(|c| {
+            let mut v: Vec<u8> = pixels.iter().map(|p| p[c]).collect();
+            v.sort_unstable();
+            v[v.len() / 2]
+        })
     })
 }
 

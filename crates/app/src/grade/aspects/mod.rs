@@ -244,7 +244,10 @@ fn judge_all(
 /// coverage, as a symmetric scene's does), every aspect judged as the
 /// image is must be judged and pass turned back, each that failed by a
 /// clear margin ([`AspectResult::clear_pass`]): a lucky symmetry may
-/// bring a buggy image to the bound, not well within it.
+/// bring a buggy image to the bound, not well within it. And no aspect
+/// may fail turned back, even one not judged as the image is (shading
+/// leaves plain objects to failed shadows): the image turned back must
+/// fit ours in every aspect, as the report then says.
 fn recognise(
     buffers: &Buffers,
     reference: &Picture,
@@ -268,8 +271,8 @@ fn recognise(
         let verdicts = judge_all(&evidence, thresholds);
         let explained = || {
             as_is.iter().zip(&verdicts.0).all(|(before, after)| {
-                !before.judged
-                    || (after.judged && after.pass && (before.pass || after.clear_pass()))
+                after.pass
+                    && (!before.judged || (after.judged && (before.pass || after.clear_pass())))
             })
         };
         (geometry_failed || explained()).then_some((t, verdicts))

@@ -24,6 +24,7 @@
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::fit::{predict, robust_fit, spread};
+use super::geometry::black_background;
 use super::{failed, fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 
 /// The powers of what a mirror shows tried: the assignment's own variant
@@ -36,17 +37,28 @@ const POWERS: [f64; 4] = [1.0, 1.5, 2.0, 3.0];
 const KEEP_PLAIN: f64 = 0.9;
 
 /// The student's brightness over mirror pixels `ks` fitted as
-/// `a + b·lit + c·(what ours sees in the mirror)ⁿ`, with the power `n`
-/// of [`POWERS`] that explains it, kept only where it earns its place
-/// ([`KEEP_PLAIN`]); `None` when nothing fits.
+/// `a + b·lit + c·(what ours sees in the mirror)ⁿ + d·(it meets
+/// nothing)`, with the power `n` of [`POWERS`] that explains it, kept
+/// only where it earns its place ([`KEEP_PLAIN`]); `None` when nothing
+/// fits. The last term is the student's background as their mirror shows
+/// it, as the background's colour is theirs to choose
+/// ([`super::geometry`]); fitted only when their background is not
+/// black, else a mirror that shows something where ours shows nothing
+/// differs.
 fn fit_shape(e: &Evidence, ks: &[usize]) -> Option<Shape> {
+    let coloured_background = !black_background(e);
     let fit = |n: f64| {
-        let rows: Vec<([f64; 2], f64)> = ks
+        let rows: Vec<([f64; 3], f64)> = ks
             .iter()
             .map(|&k| {
                 let p = &e.buffers.centres[k];
+                let meets_nothing = coloured_background && p.reflected.is_none();
                 (
-                    [p.lit, p.reflected_radiance.max(0.0).powf(n)],
+                    [
+                        p.lit,
+                        p.reflected_radiance.max(0.0).powf(n),
+                        f64::from(u8::from(meets_nothing)),
+                    ],
                     e.luminance(Whose::Theirs, k),
                 )
             })
@@ -76,11 +88,12 @@ fn fit_shape(e: &Evidence, ks: &[usize]) -> Option<Shape> {
 }
 
 /// A mirror's fit ([`fit_shape`]): the power of what it shows, each
-/// pixel's row (`lit`, what ours sees there to that power; the student's
-/// luminance), the fit, and its root-mean-square residual.
+/// pixel's row (`lit`, what ours sees there to that power, whether it
+/// meets nothing where the student's background is coloured; the
+/// student's luminance), the fit, and its root-mean-square residual.
 struct Shape {
     power: f64,
-    rows: Vec<([f64; 2], f64)>,
+    rows: Vec<([f64; 3], f64)>,
     beta: Vec<f64>,
     left: f64,
 }

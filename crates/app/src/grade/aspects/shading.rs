@@ -21,12 +21,29 @@
 //! that tells a shadowed point from a lit one reads a light that the bug
 //! has dimmed. A light's colour ignored shows here, on plain and textured
 //! objects alike.
+//!
+//! Brightness is the tracer's to choose for the scene, not for each
+//! object: a tracer has one diffuse constant, and our light already holds
+//! each object's colour and each point's angle to the light. So each lit
+//! plain object's own gain is held against the scene's
+//! ([`super::falloff::object_gains`]), under the student's curve and
+//! falloff. A normal or a light vector left unnormalised scales each
+//! object's light by its radius or its distance, and shows here.
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
+use super::falloff::{object_gains, Group, SIGNIFICANT};
 use super::mapping;
 use super::textures::{textured, LEAST_PIXELS};
 use super::tone::Curve;
 use super::{failed, verdict, Aspect, AspectResult, AspectThresholds};
+
+/// The most a plain object's own gain may differ from the scene's, as a
+/// factor either way ([`object_gains`]). The falloff is read from a grid
+/// whose `k` doubles at each step, so the one read can be off by half a
+/// step, √2; for two objects at half and at twice the scene's mean
+/// distance from the light, that moves the ratio of their gains by up
+/// to 1.23 (quadratic falloff; 1.12 linear).
+const GAIN_FACTOR: f64 = 1.25;
 
 /// The L1 distance between two chromaticities.
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -83,6 +100,121 @@ fn plain(e: &Evidence, bound: f64, shadows_differ: bool, map: &mut [u8]) -> (f64
         }
     }
     (worst, shaded, left)
+}
+
+/// The lit plain object whose gain strays furthest from the scene's one
+/// gain ([`object_gains`]), as its gain over the scene's (1 when none
+/// strays), and the pixels judged, marking `map`. Each object is read
+/// under the student's curve and falloff that bring its gain nearest
+/// the scene's, among those their image cannot tell apart
+/// ([`super::tone::Fitted::plausible`],
+/// [`super::falloff::LightFit::plausible`]): a
+/// curve bends a line over a dark object differently than over a bright
+/// one, and a falloff read a little off dims a near object and a far one
+/// differently. On the pixels that tell the light fit and that the
+/// student shows lit, within the cone out of which no highlight lobe
+/// lies ([`HIGHLIGHT_CONE`]), as a highlight steepens an object's line.
+/// Not judged where the student's shadows fail ([`plain`]).
+fn gains(e: &Evidence, shadows_differ: bool, map: &mut [u8]) -> (f64, usize) {
+    let Some(light) = e.light.as_ref().filter(|_| !shadows_differ) else {
+        return (1.0, 0);
+    };
+    // Only the points the student's image shows lit, on the objects it
+    // shows lit: which points a light reaches is shadows' to judge.
+    let objects: Vec<(u32, Vec<usize>)> = e
+        .fully_lit(HIGHLIGHT_CONE)
+        .into_iter()
+        .filter(|(object, ks)| !mostly_unlit(e, *object, ks))
+        .map(|(object, ks)| {
+            let lit = ks
+                .into_iter()
+                .filter(|&k| {
+                    let p = &e.buffers.centres[k];
+                    light.looks_shadowed(object, p, e.luminance(Whose::Theirs, k)) != Some(true)
+                })
+                .collect();
+            (object, lit)
+        })
+        .filter(|(_, ks): &(u32, Vec<usize>)| ks.len() >= 20)
+        .collect();
+    // Each object's gain over the scene's under each plausible curve
+    // and falloff, 1 where it does not differ by more than its error
+    // allows. A curve's luminances serve every falloff.
+    let mut ratios: Vec<Vec<(u32, f64)>> = Vec::new();
+    for curve in e.tone.plausible() {
+        let groups: Vec<Group> = objects
+            .iter()
+            .map(|(object, ks)| {
+                let rows = ks
+                    .iter()
+                    .map(|&k| (&e.buffers.centres[k], e.luminance_under(curve, k)))
+                    .collect();
+                (*object, rows)
+            })
+            .collect();
+        for falloff in light.plausible() {
+            let gains = object_gains(&groups, falloff).into_iter().map(|g| {
+                let differs = (g.ratio - 1.0).abs() > SIGNIFICANT * g.error;
+                (g.object, if differs { g.ratio } else { 1.0 })
+            });
+            ratios.push(gains.collect());
+        }
+    }
+    let (mut worst, mut judged) = (1.0f64, 0usize);
+    for (object, ks) in &objects {
+        let Some(ratio) = ratios
+            .iter()
+            .filter_map(|curve| curve.iter().find(|(o, _)| o == object).map(|g| g.1))
+            .min_by(|a, b| straying(*a).total_cmp(&straying(*b)))
+        else {
+            continue;
+        };
+        if straying(ratio) > straying(worst) {
+            worst = ratio;
+        }
+        judged += ks.len();
+        for &k in ks {
+            map[k] = map[k].max(1 + u8::from(straying(ratio) > GAIN_FACTOR.ln()));
+        }
+    }
+    (worst, judged)
+}
+
+/// Whether the student's image shows `object` unlit on half or more of
+/// the points `ks` where ours shows light: at its unlit level (the
+/// median of its points no light of ours reaches), within 4 of 255,
+/// where ours is 8 of 255 above its own. Such an object's line is its
+/// shadows', and no robust fit reads a gain from a line whose points
+/// are half outliers.
+fn mostly_unlit(e: &Evidence, object: u32, ks: &[usize]) -> bool {
+    let seen: Vec<usize> = e
+        .pixels_of(object, &|p| p.visible)
+        .into_iter()
+        .filter(|&k| !clipped(&e.student_px(k)))
+        .collect();
+    let (Some(ours), Some(theirs)) = (
+        e.unlit_level(Whose::Ours, &seen),
+        e.unlit_level(Whose::Theirs, &seen),
+    ) else {
+        return false;
+    };
+    let shown: Vec<usize> = ks
+        .iter()
+        .copied()
+        .filter(|&k| e.luminance(Whose::Ours, k) - ours > 8.0 / 255.0)
+        .collect();
+    let dark = shown
+        .iter()
+        .filter(|&&k| e.luminance(Whose::Theirs, k) - theirs < 4.0 / 255.0)
+        .count();
+    !shown.is_empty() && 2 * dark >= shown.len()
+}
+
+/// How far a gain ratio strays from 1, either way: `|ln ratio|`. A
+/// ratio of 0 or below (an object darker where more light reaches it)
+/// strays as far as a thousandfold.
+fn straying(ratio: f64) -> f64 {
+    ratio.max(1e-3).ln().abs()
 }
 
 /// The mean of `colours`, each channel.
@@ -183,8 +315,10 @@ pub(super) fn judge(
     let shadows_differ = failed(earlier, Aspect::Shadows);
     let (plain_worst, plain_pixels, left) = plain(e, thresholds.shading, shadows_differ, map);
     let (textured_worst, textured_pixels) = textured_colour(e, thresholds, map);
-    let measure =
-        (plain_worst / thresholds.shading).max(textured_worst / thresholds.texture_colour);
+    let (gains_worst, gains_pixels) = gains(e, shadows_differ, map);
+    let measure = (plain_worst / thresholds.shading)
+        .max(textured_worst / thresholds.texture_colour)
+        .max(straying(gains_worst) / GAIN_FACTOR.ln());
     let mut parts = Vec::new();
     if plain_pixels > 0 {
         parts.push(format!(
@@ -196,6 +330,11 @@ pub(super) fn judge(
         parts.push(format!(
             "the mean colour of textured objects is {textured_worst:.3} from ours (at most {:.2})",
             thresholds.texture_colour
+        ));
+    }
+    if gains_pixels > 0 {
+        parts.push(format!(
+            "a lit plain object takes {gains_worst:.2} times the scene's light (alike on every object, at most {GAIN_FACTOR} times either way)"
         ));
     }
     let judged = !parts.is_empty();

@@ -6,7 +6,12 @@
 //! scene, and `lit` each light's share dimmed by the student's falloff
 //! with distance. A pixel ours shadows that is as bright as the fit says
 //! it would be unshadowed looks lit, and a fully lit pixel darker by half
-//! its light looks shadowed. With its own intercept, an object the
+//! its light looks shadowed. A shadowed pixel that another light still
+//! reaches looks shadowed from that one too when it is as dark as the
+//! object where no light reaches it (a tracer that drops every light
+//! where one is blocked): held against the object's own unlit level,
+//! not the fit's light, as a bug in the lights' colours changes how
+//! bright each light looks but leaves it visible. With its own intercept, an object the
 //! student draws the same lit and shadowed reads as shadows that look
 //! lit, whether no shadow falls on it or no light reaches it at all (a
 //! plane lit on its front alone, seen from behind), so a failing report
@@ -63,6 +68,7 @@ pub(super) fn judge(
     map: &mut [u8],
 ) -> AspectResult {
     let (mut shadowed, mut shadowed_bad, mut lit, mut lit_bad) = (0usize, 0usize, 0usize, 0usize);
+    let (mut partly, mut partly_bad) = (0usize, 0usize);
     let mut alike = 0usize;
     if let Some(light) = &e.light {
         let b = light.least_gain();
@@ -70,10 +76,14 @@ pub(super) fn judge(
             let Some(a) = light.intercept(object) else {
                 continue;
             };
-            let ks = e
+            let ks: Vec<usize> = e
                 .pixels_of(object, &|p| p.visible)
                 .into_iter()
-                .filter(|&k| !clipped(&e.student_px(k)));
+                .filter(|&k| !clipped(&e.student_px(k)))
+                .collect();
+            // Where no light of ours reaches the object, or, not seen,
+            // the fit's intercept.
+            let unlit_level = e.unlit_level(Whose::Theirs, &ks).unwrap_or(a);
             let mut sides = Sides::default();
             for k in ks {
                 let probe = &e.buffers.centres[k];
@@ -86,9 +96,18 @@ pub(super) fn judge(
                     let taken = light.falloff.unshadowed(probe) - lit_here;
                     sides.shadowed.add(s);
                     sides.taken.add(b * taken);
-                    let bad = r > 0.5 * b * taken && r > 4.0 / 255.0;
-                    shadowed_bad += usize::from(bad);
-                    map[k] = 1 + u8::from(bad);
+                    let looks_lit = r > 0.5 * b * taken && r > 4.0 / 255.0;
+                    shadowed_bad += usize::from(looks_lit);
+                    // Where another light still reaches the point, it
+                    // must not look shadowed from that one too: as dark
+                    // as the object where no light reaches it.
+                    let looks_unlit = probe.lit > 0.05 && b * lit_here > 8.0 / 255.0 && {
+                        partly += 1;
+                        let unlit = s - unlit_level < 4.0 / 255.0;
+                        partly_bad += usize::from(unlit);
+                        unlit
+                    };
+                    map[k] = 1 + u8::from(looks_lit || looks_unlit);
                 } else if blocked < 1e-9 && probe.lit > 0.05 {
                     lit += 1;
                     sides.lit.add(s);
@@ -102,8 +121,10 @@ pub(super) fn judge(
     }
     let missing = ratio(shadowed_bad, shadowed);
     let spurious = ratio(lit_bad, lit);
-    let measure =
-        if shadowed >= 20 { missing } else { 0.0 }.max(if lit >= 20 { spurious } else { 0.0 });
+    let darkened = ratio(partly_bad, partly);
+    let measure = if shadowed >= 20 { missing } else { 0.0 }
+        .max(if lit >= 20 { spurious } else { 0.0 })
+        .max(if partly >= 20 { darkened } else { 0.0 });
     let judged = shadowed >= 20 || lit >= 20;
     let parts: Vec<String> = [
         (shadowed >= 20)
@@ -111,6 +132,15 @@ pub(super) fn judge(
             .flatten(),
         (lit >= 20)
             .then(|| fraction_words(lit_bad, lit, "fully lit pixels look shadowed"))
+            .flatten(),
+        (partly >= 20)
+            .then(|| {
+                fraction_words(
+                    partly_bad,
+                    partly,
+                    "shadowed pixels another light reaches look shadowed from it too",
+                )
+            })
             .flatten(),
     ]
     .into_iter()
