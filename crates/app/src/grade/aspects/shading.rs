@@ -164,7 +164,7 @@ fn gains(e: &Evidence, shadows_differ: bool, map: &mut [u8]) -> (f64, usize) {
     for (object, ks) in &objects {
         let Some(ratio) = ratios
             .iter()
-            .filter_map(|curve| curve.iter().find(|(o, _)| o == object).map(|g| g.1))
+            .filter_map(|reading| reading.iter().find(|(o, _)| o == object).map(|g| g.1))
             .min_by(|a, b| straying(*a).total_cmp(&straying(*b)))
         else {
             continue;
