@@ -11,11 +11,11 @@
 //! object where no light reaches it (a tracer that drops every light
 //! where one is blocked): held against the object's own unlit level,
 //! not the fit's light, as a bug in the lights' colours changes how
-//! bright each light looks but leaves it visible. With its own intercept, an object the
-//! student draws the same lit and shadowed reads as shadows that look
-//! lit, whether no shadow falls on it or no light reaches it at all (a
-//! plane lit on its front alone, seen from behind), so a failing report
-//! names both.
+//! bright each light looks but leaves it visible. With its own
+//! intercept, an object the student draws the same lit and shadowed
+//! reads as shadows that look lit, whether no shadow falls on it or no
+//! light reaches it at all (a plane lit on its front alone, seen from
+//! behind), so a failing report names both.
 
 use super::evidence::{clipped, Evidence, Whose};
 use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
@@ -101,12 +101,12 @@ pub(super) fn judge(
                     // Where another light still reaches the point, it
                     // must not look shadowed from that one too: as dark
                     // as the object where no light reaches it.
-                    let looks_unlit = probe.lit > 0.05 && b * lit_here > 8.0 / 255.0 && {
+                    let mut looks_unlit = false;
+                    if probe.lit > 0.05 && b * lit_here > 8.0 / 255.0 {
                         partly += 1;
-                        let unlit = s - unlit_level < 4.0 / 255.0;
-                        partly_bad += usize::from(unlit);
-                        unlit
-                    };
+                        looks_unlit = s - unlit_level < 4.0 / 255.0;
+                        partly_bad += usize::from(looks_unlit);
+                    }
                     map[k] = 1 + u8::from(looks_lit || looks_unlit);
                 } else if blocked < 1e-9 && probe.lit > 0.05 {
                     lit += 1;
