@@ -283,3 +283,61 @@ fn with_a_scene_compare_is_grades_judge_and_without_it_says_it_judges_pixels() {
     let text = String::from_utf8(human.stdout).unwrap();
     assert!(text.starts_with("verdict: differs: geometry"), "{text}");
 }
+
+/// The assignment names no background, so a sky that changes with the
+/// ray's direction is one (white at the horizon to blue overhead, as
+/// many students' first tracer draws it): `compare --scene` passes our
+/// image with its empty pixels turned to that sky, and fails geometry on
+/// it with the ball left out, the sky drawn where the ball was.
+#[test]
+fn a_sky_graded_by_the_rays_direction_is_a_background_and_a_missing_ball_still_differs() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = d.join("ball.txt");
+    std::fs::write(
+        &scene,
+        "camera 64\nsphere\ndimension .8\ncenter .4 .1 -5\ncolor .9 .6 .3\n\
+         plane\ndimension 3 3\ncenter -.5 -1 -6\nnormal 0 1 0\nheadup 0 0 -1\ncolor .8 .8 .8\n\
+         light\nlocation 3 4 -3\ncolor 1 1 1\n",
+    )
+    .unwrap();
+    let ours = d.join("ours.png");
+    let out = run(&["render", scene.to_str().unwrap(), ours.to_str().unwrap()]);
+    assert!(out.status.success(), "{out:?}");
+    let image = image::open(&ours).unwrap().to_rgb8();
+    let sky = |x: u32, y: u32| {
+        let (u, v) = (
+            (f64::from(x) + 0.5) / 64.0 - 0.5,
+            0.5 - (f64::from(y) + 0.5) / 64.0,
+        );
+        let t = 0.5 * (v / (u * u + v * v + 1.0).sqrt() + 1.0);
+        let c = [1.0 - 0.5 * t, 1.0 - 0.3 * t, 1.0].map(|c: f64| (c * 255.0).round() as u8);
+        image::Rgb(c)
+    };
+    let under_sky = |ball: bool| {
+        RgbImage::from_fn(64, 64, |x, y| {
+            let p = *image.get_pixel(x, y);
+            let orange = p.0[0] > p.0[2] + 20;
+            if p.0 == [0, 0, 0] || (!ball && orange) {
+                sky(x, y)
+            } else {
+                p
+            }
+        })
+    };
+    let with_ball = png(d, "sky.png", &under_sky(true));
+    let without = png(d, "no_ball.png", &under_sky(false));
+    let (ours, scene) = (ours.to_str().unwrap(), scene.to_str().unwrap());
+
+    let (code, value) = json(&["--scene", scene, ours, &with_ball]);
+    assert_eq!(code, 0, "{value}");
+    let (code, value) = json(&["--scene", scene, ours, &without]);
+    assert_eq!(code, 1, "{value}");
+    let geometry = value["aspects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|a| a["aspect"] == "geometry")
+        .unwrap();
+    assert_eq!(geometry["pass"], false, "{value}");
+}

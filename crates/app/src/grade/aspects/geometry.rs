@@ -1,12 +1,13 @@
 //! Geometry: the camera and the intersections, judged by which pixels
 //! show an object. Background where ours sees nothing, an object where
-//! ours sees a lit one; the student's background colour is theirs to
-//! choose (the median of the pixels that are surely background). Only
-//! pixels stable for the object they see are judged, so rays through
-//! pixel centres or corners both pass; which of the two the image fits
-//! is told as the image's pixel reading.
+//! ours sees a lit one; the student's background is theirs to choose: a
+//! colour, or a sky that changes with the ray's direction
+//! ([`Background`]). Only pixels stable for the object they see are
+//! judged, so rays through pixel centres or corners both pass; which of
+//! the two the image fits is told as the image's pixel reading.
 
 use super::evidence::Evidence;
+use super::fit::{predict, robust_fit};
 use super::{ratio, verdict, Aspect, AspectResult, AspectThresholds};
 use raytracer_render::render::probe::Probe;
 
@@ -32,32 +33,81 @@ fn expect(probe: &Probe) -> Option<bool> {
 /// Whether the student's background is black, as far as the image tells
 /// (`false` when no pixel surely sees nothing).
 pub(super) fn black_background(e: &Evidence) -> bool {
-    seen_background(e).is_some_and(|bg| bg.iter().all(|&c| c <= BACKGROUND_TOLERANCE))
+    let background = Background::of(e);
+    background.seen
+        && background
+            .fitted
+            .iter()
+            .all(|&k| (0..3).all(|c| background.at(e, k)[c] <= f64::from(BACKGROUND_TOLERANCE)))
 }
 
-/// The student's background colour, black when no pixel surely sees
+/// The student's background: per channel, a quadratic in the pixel's
+/// place on the image, fitted robustly on the pixels that surely see
+/// nothing (the fit keeps out an object drawn where ours sees none). The
+/// assignment names no background: a colour fits it (the quadratic is
+/// then flat), and so does a sky graded by the ray's direction, smooth
+/// over a camera's field of view. Black where no pixel surely sees
 /// nothing.
-fn background(e: &Evidence) -> [u8; 3] {
-    seen_background(e).unwrap_or([0; 3])
+struct Background {
+    /// Per channel, the fit's intercept and the gains of [`place`]'s
+    /// terms (a channel runs from 0 to 1).
+    channels: [Vec<f64>; 3],
+    /// The pixels it was fitted on.
+    fitted: Vec<usize>,
+    /// Whether any pixel surely sees nothing.
+    seen: bool,
 }
 
-/// The student's background colour: the per-channel median of the pixels
-/// that surely see nothing; `None` when there are none.
-fn seen_background(e: &Evidence) -> Option<[u8; 3]> {
-    let pixels: Vec<[u8; 3]> = (0..e.n)
-        .filter(|&k| {
-            let (x, y) = e.xy(k);
-            e.buffers.centre(x, y).object.is_none() && e.buffers.stable(x, y, |p| p.object)
-        })
-        .map(|k| e.student_px(k))
-        .collect();
-    (!pixels.is_empty()).then(|| {
-        [0, 1, 2].map(|c| {
-            let mut v: Vec<u8> = pixels.iter().map(|p| p[c]).collect();
-            v.sort_unstable();
-            v[v.len() / 2]
-        })
-    })
+/// Pixel `k`'s terms in [`Background`]'s quadratic: its place on the
+/// image plane (from −½ to ½ across), their squares and product.
+fn place(e: &Evidence, k: usize) -> [f64; 5] {
+    let (x, y) = e.xy(k);
+    let size = f64::from(e.size);
+    let u = (f64::from(x) + 0.5) / size - 0.5;
+    let v = (f64::from(y) + 0.5) / size - 0.5;
+    [u, v, u * u, u * v, v * v]
+}
+
+impl Background {
+    fn of(e: &Evidence) -> Self {
+        let fitted: Vec<usize> = (0..e.n)
+            .filter(|&k| {
+                let (x, y) = e.xy(k);
+                e.buffers.centre(x, y).object.is_none() && e.buffers.stable(x, y, |p| p.object)
+            })
+            .collect();
+        let channels = [0, 1, 2].map(|c| {
+            let rows: Vec<([f64; 5], f64)> = fitted
+                .iter()
+                .map(|&k| (place(e, k), f64::from(e.student_px(k)[c]) / 255.0))
+                .collect();
+            robust_fit(&rows).unwrap_or_else(|| {
+                // Too few pixels for the quadratic: their median.
+                let mut values: Vec<f64> = rows.iter().map(|r| r.1).collect();
+                values.sort_unstable_by(f64::total_cmp);
+                let median = values.get(values.len() / 2).copied().unwrap_or(0.0);
+                vec![median, 0.0, 0.0, 0.0, 0.0, 0.0]
+            })
+        });
+        Background {
+            channels,
+            seen: !fitted.is_empty(),
+            fitted,
+        }
+    }
+
+    /// The background's colour at pixel `k`, in 8-bit steps.
+    fn at(&self, e: &Evidence, k: usize) -> [f64; 3] {
+        let terms = place(e, k);
+        [0, 1, 2].map(|c| 255.0 * predict(&self.channels[c], &terms))
+    }
+
+    /// Whether pixel `k` of the student's image is not the background.
+    fn covered(&self, e: &Evidence, k: usize) -> bool {
+        let p = e.student_px(k);
+        let bg = self.at(e, k);
+        (0..3).any(|c| (f64::from(p[c]) - bg[c]).abs() > f64::from(BACKGROUND_TOLERANCE))
+    }
 }
 
 /// Whether ours surely shows an object at pixel `k`'s centre and corner,
@@ -78,10 +128,10 @@ fn expected(e: &Evidence, k: usize) -> (Option<bool>, Option<bool>) {
 /// covers or surely leaves empty.
 pub(super) fn pixel_reading(centres: &Evidence, corners: &Evidence) -> Option<Reading> {
     let e = centres;
-    let bg = background(e);
+    let background = Background::of(e);
     let (mut centre_miss, mut corner_miss, mut total) = (0usize, 0usize, 0usize);
     for k in 0..e.n {
-        let seen = covered(e.student_px(k), bg);
+        let seen = background.covered(e, k);
         if let (Some(a), Some(b)) = expected(e, k) {
             total += 1;
             centre_miss += usize::from(a != seen);
@@ -124,11 +174,6 @@ impl Reading {
     }
 }
 
-/// Whether pixel colour `p` is not the background `bg`.
-fn covered(p: [u8; 3], bg: [u8; 3]) -> bool {
-    (0..3).any(|c| p[c].abs_diff(bg[c]) > BACKGROUND_TOLERANCE)
-}
-
 /// Judge geometry, marking `map`.
 pub(super) fn judge(
     e: &Evidence,
@@ -136,7 +181,7 @@ pub(super) fn judge(
     _earlier: &[AspectResult],
     map: &mut [u8],
 ) -> AspectResult {
-    let bg = background(e);
+    let background = Background::of(e);
     let (mut judged, mut differ) = (0usize, 0usize);
     for (k, state) in map.iter_mut().enumerate() {
         let (x, y) = e.xy(k);
@@ -145,7 +190,7 @@ pub(super) fn judge(
         }
         if let (Some(want), _) = expected(e, k) {
             judged += 1;
-            let bad = want != covered(e.student_px(k), bg);
+            let bad = want != background.covered(e, k);
             differ += usize::from(bad);
             *state = 1 + u8::from(bad);
         }
