@@ -122,10 +122,13 @@ fn replace_text(browser: &mut Browser, text: &str) {
 }
 
 /// Wait until the page has rendered its current text; the render's time
-/// in milliseconds, as the page measured it.
+/// in milliseconds, as the page measured it. The newest text must have
+/// been checked too: until its check returns, the status still shows the
+/// last text's render as done (its render starts when the check does).
 fn rendered(browser: &mut Browser) -> f64 {
     let ms = browser.wait_for(
-        "document.getElementById('status').dataset.state === 'rendered'",
+        "(() => { const s = document.getElementById('status').dataset;
+                  return s.state === 'rendered' && s.checkedSeq === s.seq; })()",
         "Number(document.getElementById('status').dataset.renderMs)",
     );
     ms.as_f64().expect("a number")

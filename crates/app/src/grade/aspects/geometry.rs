@@ -34,7 +34,7 @@ fn expect(probe: &Probe) -> Option<bool> {
 /// (`false` when no pixel surely sees nothing).
 pub(super) fn black_background(e: &Evidence) -> bool {
     let background = Background::of(e);
-    background.seen
+    !background.fitted.is_empty()
         && background
             .fitted
             .iter()
@@ -52,10 +52,8 @@ struct Background {
     /// Per channel, the fit's intercept and the gains of [`place`]'s
     /// terms (a channel runs from 0 to 1).
     channels: [Vec<f64>; 3],
-    /// The pixels it was fitted on.
+    /// The pixels it was fitted on: those that surely see nothing.
     fitted: Vec<usize>,
-    /// Whether any pixel surely sees nothing.
-    seen: bool,
 }
 
 /// Pixel `k`'s terms in [`Background`]'s quadratic: its place on the
@@ -89,11 +87,7 @@ impl Background {
                 vec![median, 0.0, 0.0, 0.0, 0.0, 0.0]
             })
         });
-        Background {
-            channels,
-            seen: !fitted.is_empty(),
-            fitted,
-        }
+        Background { channels, fitted }
     }
 
     /// The background's colour at pixel `k`, in 8-bit steps.
