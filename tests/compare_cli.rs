@@ -2,7 +2,7 @@
 //! encodings, one shifted, one darker, another size, a truncated file and
 //! a file that is no image; the verdicts, metrics, heat map and exit codes.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use image::{ImageFormat, RgbImage};
 use serde_json::Value;
@@ -219,6 +219,18 @@ fn compare_reads_every_image_render_writes_and_no_larger() {
     assert!(stderr.contains("up to 16384 × 16384 pixels"), "{stderr}");
 }
 
+/// Scene `text` written to `dir` as ball.txt, and our render of it
+/// (ours.png): the scene's path, the image's, and the image.
+fn ours_of(dir: &Path, text: &str) -> (PathBuf, PathBuf, RgbImage) {
+    let scene = dir.join("ball.txt");
+    std::fs::write(&scene, text).unwrap();
+    let ours = dir.join("ours.png");
+    let out = run(&["render", scene.to_str().unwrap(), ours.to_str().unwrap()]);
+    assert!(out.status.success(), "{out:?}");
+    let image = image::open(&ours).unwrap().to_rgb8();
+    (scene, ours, image)
+}
+
 /// `compare --scene` gives grade's verdict, aspect by aspect; without a
 /// scene, compare judges pixels and says so. A right image on a
 /// background of its own (6, 6, 6) is no coverage difference either way,
@@ -227,18 +239,12 @@ fn compare_reads_every_image_render_writes_and_no_larger() {
 fn with_a_scene_compare_is_grades_judge_and_without_it_says_it_judges_pixels() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let scene = d.join("ball.txt");
-    std::fs::write(
-        &scene,
+    let (scene, ours, image) = ours_of(
+        d,
         "camera 48\nsphere\ndimension 1\ncenter 0 .3 -5\ncolor .9 .6 .3\n\
          plane\ndimension 8 8\ncenter 0 -1 -6\nnormal 0 1 0\nheadup 0 0 -1\ncolor .8 .8 .8\n\
          light\nlocation 3 4 -3\ncolor 1 1 1\n",
-    )
-    .unwrap();
-    let ours = d.join("ours.png");
-    let out = run(&["render", scene.to_str().unwrap(), ours.to_str().unwrap()]);
-    assert!(out.status.success(), "{out:?}");
-    let image = image::open(&ours).unwrap().to_rgb8();
+    );
     let grey = RgbImage::from_fn(48, 48, |x, y| {
         let p = *image.get_pixel(x, y);
         if p.0 == [0, 0, 0] {
@@ -293,18 +299,12 @@ fn with_a_scene_compare_is_grades_judge_and_without_it_says_it_judges_pixels() {
 fn a_sky_graded_by_the_rays_direction_is_a_background_and_a_missing_ball_still_differs() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let scene = d.join("ball.txt");
-    std::fs::write(
-        &scene,
+    let (scene, ours, image) = ours_of(
+        d,
         "camera 64\nsphere\ndimension .8\ncenter .4 .1 -5\ncolor .9 .6 .3\n\
          plane\ndimension 3 3\ncenter -.5 -1 -6\nnormal 0 1 0\nheadup 0 0 -1\ncolor .8 .8 .8\n\
          light\nlocation 3 4 -3\ncolor 1 1 1\n",
-    )
-    .unwrap();
-    let ours = d.join("ours.png");
-    let out = run(&["render", scene.to_str().unwrap(), ours.to_str().unwrap()]);
-    assert!(out.status.success(), "{out:?}");
-    let image = image::open(&ours).unwrap().to_rgb8();
+    );
     let sky = |x: u32, y: u32| {
         let (u, v) = (
             (f64::from(x) + 0.5) / 64.0 - 0.5,
