@@ -42,11 +42,10 @@ const KEEP_PLAIN: f64 = 0.9;
 /// only where it earns its place ([`KEEP_PLAIN`]); `None` when nothing
 /// fits. The last term is the student's background as their mirror shows
 /// it, as the background's colour is theirs to choose
-/// ([`super::geometry`]); fitted only when their background is not
-/// black, else a mirror that shows something where ours shows nothing
-/// differs.
-fn fit_shape(e: &Evidence, ks: &[usize]) -> Option<Shape> {
-    let coloured_background = !black_background(e);
+/// ([`super::geometry`]); fitted only when their background is
+/// `coloured` (not black), else a mirror that shows something where ours
+/// shows nothing differs.
+fn fit_shape(e: &Evidence, ks: &[usize], coloured_background: bool) -> Option<Shape> {
     let fit = |n: f64| {
         let rows: Vec<([f64; 3], f64)> = ks
             .iter()
@@ -116,11 +115,15 @@ pub(super) fn judge(
         weakest_gain: f64::INFINITY,
         ..Counts::default()
     };
+    // Whether the student's background is coloured: told once, for the
+    // first mirror, as it is the image's, not the mirror's.
+    let mut coloured_background = None;
     for &object in &e.objects {
         let first = e.first_probe(object);
         if first.reflectivity == 0.0 || first.uv.is_some() {
             continue;
         }
+        let coloured_background = *coloured_background.get_or_insert_with(|| !black_background(e));
         let mut ks: Vec<usize> = e
             .pixels_of(object, &|p| {
                 p.visible ^ (u64::from(p.reflected.map_or(u32::MAX, |r| r)) << 32)
@@ -142,7 +145,7 @@ pub(super) fn judge(
             ks.retain(|&k| e.buffers.centres[k].reflected_direct <= SHOWS);
             counts.left_to_shadows += before - ks.len();
         }
-        let Some(shape) = fit_shape(e, &ks) else {
+        let Some(shape) = fit_shape(e, &ks, coloured_background) else {
             continue;
         };
         counts.mirrors += 1;
