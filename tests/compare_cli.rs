@@ -219,6 +219,11 @@ fn compare_reads_every_image_render_writes_and_no_larger() {
     assert!(stderr.contains("up to 16384 × 16384 pixels"), "{stderr}");
 }
 
+/// A ball over a floor, lit from above and to the right, 48 × 48.
+const BALL_ON_A_FLOOR: &str = "camera 48\nsphere\ndimension 1\ncenter 0 .3 -5\ncolor .9 .6 .3\n\
+     plane\ndimension 8 8\ncenter 0 -1 -6\nnormal 0 1 0\nheadup 0 0 -1\ncolor .8 .8 .8\n\
+     light\nlocation 3 4 -3\ncolor 1 1 1\n";
+
 /// Scene `text` written to `dir` as ball.txt, and our render of it
 /// (ours.png): the scene's path, the image's, and the image.
 fn ours_of(dir: &Path, text: &str) -> (PathBuf, PathBuf, RgbImage) {
@@ -239,12 +244,7 @@ fn ours_of(dir: &Path, text: &str) -> (PathBuf, PathBuf, RgbImage) {
 fn with_a_scene_compare_is_grades_judge_and_without_it_says_it_judges_pixels() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let (scene, ours, image) = ours_of(
-        d,
-        "camera 48\nsphere\ndimension 1\ncenter 0 .3 -5\ncolor .9 .6 .3\n\
-         plane\ndimension 8 8\ncenter 0 -1 -6\nnormal 0 1 0\nheadup 0 0 -1\ncolor .8 .8 .8\n\
-         light\nlocation 3 4 -3\ncolor 1 1 1\n",
-    );
+    let (scene, ours, image) = ours_of(d, BALL_ON_A_FLOOR);
     let grey = RgbImage::from_fn(48, 48, |x, y| {
         let p = *image.get_pixel(x, y);
         if p.0 == [0, 0, 0] {
@@ -288,6 +288,65 @@ fn with_a_scene_compare_is_grades_judge_and_without_it_says_it_judges_pixels() {
     let human = run(&["compare", "--scene", scene, ours, &flipped]);
     let text = String::from_utf8(human.stdout).unwrap();
     assert!(text.starts_with("verdict: differs: geometry"), "{text}");
+}
+
+/// Several candidates in one run are each judged as alone: JSON gives an
+/// array of the reports one candidate at a time gives, in order, people
+/// get each block headed by its file, and the exit code is 1 when any
+/// differs. A heat map is one candidate's, so `--heatmap` with two is
+/// refused (exit 2) and writes nothing.
+#[test]
+fn a_whole_class_of_candidates_is_judged_in_one_run_each_as_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (scene, ours, image) = ours_of(d, BALL_ON_A_FLOOR);
+    let same = png(d, "same.png", &image);
+    let flipped = png(d, "flipped.png", &image::imageops::flip_vertical(&image));
+    let (ours, scene) = (ours.to_str().unwrap(), scene.to_str().unwrap());
+
+    let (code, value) = json(&["--scene", scene, ours, &same, &flipped]);
+    assert_eq!(code, 1, "{value}");
+    let reports = value.as_array().expect("an array of reports");
+    for (report, alone) in reports.iter().zip([&same, &flipped]) {
+        let (_, one) = json(&["--scene", scene, ours, alone]);
+        assert_eq!(report, &one);
+    }
+    assert_eq!(reports.len(), 2);
+    assert_eq!(reports[0]["candidate"]["path"], same.as_str());
+    assert!(reports[1]["aspects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|a| a["pass"] == false));
+    let (code, _) = json(&["--scene", scene, ours, &same, &same]);
+    assert_eq!(code, 0);
+
+    let human = run(&["compare", "--scene", scene, ours, &same, &flipped]);
+    let text = String::from_utf8(human.stdout).unwrap();
+    assert!(
+        text.starts_with(&format!("candidate: {same}\nverdict: match")),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "\ncandidate: {flipped}\nverdict: differs: geometry"
+        )),
+        "{text}"
+    );
+
+    let map = d.join("map.png");
+    let out = run(&[
+        "compare",
+        "--heatmap",
+        map.to_str().unwrap(),
+        ours,
+        &same,
+        &flipped,
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("found 2 candidates"), "{stderr}");
+    assert!(out.stdout.is_empty() && !map.exists());
 }
 
 /// The assignment names no background, so a sky that changes with the

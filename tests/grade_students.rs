@@ -25,11 +25,12 @@
 //! background, and a tracer dropping every light where one is blocked,
 //! are judged now; one bug stays in [`UNCAUGHT`]. `masked/` (Go,
 //! JavaScript) was written from the assignment alone and graded once,
-//! when those were settled: its sky for a background is fitted now, and
-//! its mirrors tinted by their colour stay in [`KNOWN_MISSES`]
+//! when those were settled: its sky for a background is fitted now, its
+//! bytes written unclamped are judged by the colours a light can give,
+//! and its mirrors tinted by their colour stay in [`KNOWN_MISSES`]
 //! (docs/grading.md, "How the thresholds were chosen"). To keep `make
 //! test` short, each class is graded on twelve scenes (`SCENES`, and the
-//! sealed class on one more), which between them exercise every bug, one
+//! sealed and masked classes on one more each), which between them exercise every bug, one
 //! scene at a time. The tracers need `cc`, `javac`/`java`, `python3`,
 //! `node`, `g++`, `go` and `rustc`. Last, the instructor's
 //! reference (`--reference-tracer`, `--references`) and our renderer with
@@ -156,15 +157,12 @@ const KNOWN_MISSES: [(&str, &str, &str, &str); 2] = [
 /// its maxval) shows only on a texture whose maxval is not 255, which no
 /// scene of the suite has. The masked class's ambient term added once
 /// per light gives each scene the image of a tracer whose ambient
-/// constant is that many times larger, which the assignment leaves open;
-/// its bytes written unclamped (a channel over 1 wraps round to dark)
-/// darken lit points, which costs shadows, reflection and geometry, not
-/// the colours (docs/grading.md, "What is left").
-const UNCAUGHT: [(&str, &str, &str); 4] = [
+/// constant is that many times larger, which the assignment leaves open
+/// (docs/grading.md, "What is left").
+const UNCAUGHT: [(&str, &str, &str); 3] = [
     ("blind", "rust_shadow_eps_huge", "shadows"),
     ("sealed", "c_bug_maxval_ignored", "textures"),
     ("masked", "js_bug_ambient_per_light", "shading"),
-    ("masked", "js_bug_byte_wrap", "shading"),
 ];
 
 /// The bugs whose effect lies in their own aspect alone: on none of
@@ -180,7 +178,7 @@ const UNCAUGHT: [(&str, &str, &str); 4] = [
 /// plain objects' colours are left to them, so shadow rays that reach
 /// past the light or end at the light's squared distance cost shadows
 /// alone.)
-const CONFINED: [&str; 23] = [
+const CONFINED: [&str; 24] = [
     "cpp_bug_backface",
     "unnormalised_reflection",
     "light_colour_ignored",
@@ -204,15 +202,20 @@ const CONFINED: [&str; 23] = [
     "py_bug_plane_reflectivity_ignored",
     "go_bug_shadow_first_only",
     "go_bug_p6_offset",
+    "js_light_channels_shifted",
 ];
 
 /// Each bug's aspect and the scenes where it must fail, in every class
 /// that has it.
-const BUGS: [(&str, &str, &[&str]); 40] = [
+const BUGS: [(&str, &str, &[&str]); 41] = [
     // The masked class's. A texture read a byte late turns its colours
-    // (shading's, where a texture's colour is judged); recursion that
-    // never counts its depth overflows the stack where mirrors hold a
-    // ray for ever, and the scene is not rendered.
+    // (shading's, where a texture's colour is judged); bytes written
+    // unclamped wrap a channel over 1 round to dark, a colour no light
+    // gives where the channels wrap apart (shading's, and no longer
+    // shadows' there); recursion that never counts its depth overflows
+    // the stack where mirrors hold a ray for ever, and the scene is not
+    // rendered.
+    ("js_bug_byte_wrap", "shading", &["field/2_lights_color.txt"]),
     (
         "go_bug_shadow_first_only",
         "shadows",
@@ -417,7 +420,9 @@ const WRONG_ROOT: [(&str, &str, &[&str]); 2] = [
 /// need, how many students it has (all of them must be graded), and the
 /// scenes it is graded on besides [`SCENES`]: the sealed class's bug that
 /// drops every light where one is blocked shows only under two lights
-/// that shadow each other's points.
+/// that shadow each other's points, and the masked class's bytes written
+/// unclamped show a colour no light gives only where a light's colour
+/// takes one channel past 1 and not the others.
 const CLASSES: [(&str, &[&str], usize, &[&str]); 8] = [
     ("tune", &["cc"], 24, &[]),
     ("judge", &["javac", "python3"], 17, &[]),
@@ -426,7 +431,7 @@ const CLASSES: [(&str, &[&str], usize, &[&str]); 8] = [
     ("unseen", &["go", "javac"], 12, &[]),
     ("blind", &["rustc", "node"], 16, &[]),
     ("sealed", &["cc", "python3"], 15, &["shadows.txt"]),
-    ("masked", &["go", "node"], 14, &[]),
+    ("masked", &["go", "node"], 14, &["field/2_lights_color.txt"]),
 ];
 
 /// The scenes `class` is graded on: [`SCENES`] and its own.
@@ -622,19 +627,23 @@ fn check_class(class: &str) {
 
 /// Every image pair `grade` judged, judged again by `compare --scene`:
 /// the same verdict (exit 0 for a match, 1 otherwise) and the same
-/// aspects failed, or a line saying where they differ. Students whose
-/// image of a scene is the same, byte for byte, as another's (a reading
-/// that changes nothing there, a bug that does not show) share one run
-/// of `compare`, as its verdict is a function of the two images and the
-/// scene; each student's `grade` verdict is still held against it.
+/// aspects failed, or a line saying where they differ. One `compare` per
+/// scene judges every student's image of it (as a course would compare a
+/// class's images), so the scene is probed once; students whose image of
+/// a scene is the same, byte for byte, as another's (a reading that
+/// changes nothing there, a bug that does not show) share one judgement,
+/// as its verdict is a function of the two images and the scene. Each
+/// student's `grade` verdict is still held against it, and the exit code
+/// against whether any of the scene's images failed.
 fn compare_disagreements(
     class: &str,
     summaries: &BTreeMap<String, Value>,
     reports: &Path,
     suite: &Path,
 ) -> Vec<String> {
-    let mut problems = Vec::new();
-    let mut compared = Compared::new();
+    // By scene: our image, and each distinct student image with the
+    // students whose image it is and the aspects `grade` failed them on.
+    let mut scenes: BTreeMap<String, SceneImages> = BTreeMap::new();
     for (name, summary) in summaries {
         for entry in summary["scenes"].as_array().unwrap() {
             let scene = entry["scene"].as_str().unwrap();
@@ -645,42 +654,92 @@ fn compare_disagreements(
                 continue;
             };
             let folder = reports.join(name);
-            let (ours, theirs) = (folder.join(ours), folder.join(theirs));
-            let key = (
-                scene.to_string(),
-                std::fs::read(&ours).unwrap(),
-                std::fs::read(&theirs).unwrap(),
-            );
-            let (compared, code) = compared
-                .entry(key)
-                .or_insert_with(|| {
-                    let out = run(&[
-                        "compare",
-                        "--format",
-                        "json",
-                        "--scene",
-                        suite.join(scene).to_str().unwrap(),
-                        ours.to_str().unwrap(),
-                        theirs.to_str().unwrap(),
-                    ]);
-                    let value: Value = serde_json::from_slice(&out.stdout).unwrap_or(Value::Null);
-                    (failed_by(&value["aspects"]), out.status.code())
-                })
-                .clone();
-            let graded = failed_by(&entry["aspects"]);
-            if compared != graded || code != Some(i32::from(!graded.is_empty())) {
-                problems.push(format!(
-                    "{class}/{name} on {scene}: grade fails {graded:?}, compare --scene fails {compared:?} (exit {code:?})"
-                ));
+            let graded = scenes.entry(scene.to_string()).or_default();
+            let ours = folder.join(ours);
+            let our_bytes = std::fs::read(&ours).unwrap();
+            match &graded.ours {
+                Some((_, bytes)) => assert_eq!(bytes, &our_bytes, "{class}: our {scene} differs"),
+                None => graded.ours = Some((ours, our_bytes)),
             }
+            let theirs = folder.join(theirs);
+            let bytes = std::fs::read(&theirs).unwrap();
+            graded
+                .theirs
+                .entry(bytes)
+                .or_insert_with(|| StudentImage {
+                    path: theirs,
+                    graded: Vec::new(),
+                })
+                .graded
+                .push((name.clone(), failed_by(&entry["aspects"])));
+        }
+    }
+    let mut problems = Vec::new();
+    for (scene, graded) in &scenes {
+        let (ours, _) = graded.ours.as_ref().unwrap();
+        let candidates: Vec<&Path> = graded.theirs.values().map(|i| i.path.as_path()).collect();
+        let mut args = vec![
+            "compare".to_string(),
+            "--format".into(),
+            "json".into(),
+            "--scene".into(),
+            suite.join(scene).to_str().unwrap().into(),
+            ours.to_str().unwrap().into(),
+        ];
+        args.extend(candidates.iter().map(|p| p.to_str().unwrap().to_string()));
+        let out = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
+        let value: Value = serde_json::from_slice(&out.stdout).unwrap_or(Value::Null);
+        // One candidate gives one report, several an array of them.
+        let judged: Vec<Vec<String>> = match &value {
+            Value::Array(many) => many.iter().map(|r| failed_by(&r["aspects"])).collect(),
+            one => vec![failed_by(&one["aspects"])],
+        };
+        if judged.len() != candidates.len() {
+            problems.push(format!(
+                "{class} on {scene}: compare --scene judged {} of {} images (exit {:?}): {}",
+                judged.len(),
+                candidates.len(),
+                out.status.code(),
+                String::from_utf8_lossy(&out.stderr)
+            ));
+            continue;
+        }
+        let mut any_failed = false;
+        for (image, compared) in graded.theirs.values().zip(&judged) {
+            any_failed |= !compared.is_empty();
+            for (name, failed) in &image.graded {
+                if failed != compared {
+                    problems.push(format!(
+                        "{class}/{name} on {scene}: grade fails {failed:?}, compare --scene fails {compared:?}"
+                    ));
+                }
+            }
+        }
+        if out.status.code() != Some(i32::from(any_failed)) {
+            problems.push(format!(
+                "{class} on {scene}: compare --scene exits {:?}, though {} of its images failed",
+                out.status.code(),
+                if any_failed { "some" } else { "none" }
+            ));
         }
     }
     problems
 }
 
-/// `compare --scene`'s failed aspects and exit code, by scene and the
-/// bytes of the two images.
-type Compared = BTreeMap<(String, Vec<u8>, Vec<u8>), (Vec<String>, Option<i32>)>;
+/// One scene's images as `grade` judged them: ours (its path and bytes),
+/// and each distinct student image by its bytes.
+#[derive(Default)]
+struct SceneImages {
+    ours: Option<(std::path::PathBuf, Vec<u8>)>,
+    theirs: BTreeMap<Vec<u8>, StudentImage>,
+}
+
+/// A student image of a scene: one of its files, and each student whose
+/// image it is, with the aspects `grade` failed.
+struct StudentImage {
+    path: std::path::PathBuf,
+    graded: Vec<(String, Vec<String>)>,
+}
 
 /// The aspects `aspects` (summary.json's or `compare`'s list) fails.
 fn failed_by(aspects: &Value) -> Vec<String> {

@@ -59,9 +59,10 @@ or a file that cannot be read or written.";
     pub const PREVIEW: &str = "Exit codes: 130 stopped by Ctrl-C, its normal end; 2 it \
 could not start (SCENE `-` or unreadable, an --spp that is not a square, an address that \
 cannot be bound).";
-    pub const COMPARE: &str = "Exit codes: 0 the images match (with --scene, every aspect \
-passes); 1 they differ (in coverage, appearance or size; with --scene, in an aspect); 2 an \
-image or the scene cannot be read, or the heat map cannot be written.";
+    pub const COMPARE: &str = "Exit codes: 0 every candidate matches the reference (with \
+--scene, every aspect passes); 1 one differs (in coverage, appearance or size; with --scene, in \
+an aspect); 2 an image or the scene cannot be read, or the heat map cannot be written (or is \
+asked of more than one candidate).";
     pub const GRADE: &str = "Exit codes: 0 every scene matches (with --class, every scene \
 of every student); 1 a scene does not; 2 a usage error, a student folder without a usable \
 tracer.txt or build.txt, a suite that cannot be read or has a scene with errors, a summary \
@@ -99,9 +100,9 @@ pub enum Command {
     /// diagnostics, every time it or one of its textures is saved.
     #[command(after_help = exit::PREVIEW)]
     Preview(PreviewArgs),
-    /// Compare a candidate image with a reference: ꟻLIP, RMSE and PSNR,
-    /// and the coverage of their pixels off the background; given the
-    /// scene, grade's judge, aspect by aspect.
+    /// Compare candidate images with a reference, each on its own: ꟻLIP,
+    /// RMSE and PSNR, and the coverage of their pixels off the background;
+    /// given the scene, grade's judge, aspect by aspect.
     #[command(after_help = exit::COMPARE)]
     Compare(CompareArgs),
     /// Grade a ray tracer: run it on a suite of scenes in a sandbox and
@@ -662,9 +663,12 @@ fn unit_interval(text: &str) -> Result<f64, String> {
 pub struct CompareArgs {
     /// The reference image (PPM, PNG or JPEG, recognised by content).
     pub reference: PathBuf,
-    /// The image to judge against it.
-    pub candidate: PathBuf,
-    /// Write the ꟻLIP error map, in ꟻLIP's colour map, to this PNG.
+    /// The images to judge against it, each on its own (one run judges a
+    /// whole class's images of a scene, probing the scene once).
+    #[arg(required = true, value_name = "CANDIDATE")]
+    pub candidates: Vec<PathBuf>,
+    /// Write the ꟻLIP error map, in ꟻLIP's colour map, to this PNG (one
+    /// candidate only).
     #[arg(long, value_name = "OUT.png")]
     pub heatmap: Option<PathBuf>,
     /// The scene both images are of: judge the candidate aspect by aspect

@@ -1,11 +1,13 @@
-//! `raytracer compare REFERENCE CANDIDATE`: read both images (by content),
-//! measure them with [`crate::compare`], print the findings (human or
-//! JSON), write the ꟻLIP heat map when asked, and exit 0 when they match,
-//! 1 when they differ (a different size included), 2 when either cannot be
-//! read or the heat map cannot be written. Without a scene the verdict is
-//! pixel by pixel, and says so; with `--scene`, it is `grade`'s, aspect by
-//! aspect ([`crate::grade::aspects`]) against what our renderer sees at
-//! each pixel of that scene.
+//! `raytracer compare REFERENCE CANDIDATE...`: read the images (by
+//! content), measure each candidate against the reference with
+//! [`crate::compare`], print the findings (human or JSON), write the ꟻLIP
+//! heat map when asked (of one candidate), and exit 0 when every candidate
+//! matches, 1 when one differs (a different size included), 2 when an
+//! image cannot be read or the heat map cannot be written. Without a scene
+//! the verdict is pixel by pixel, and says so; with `--scene`, it is
+//! `grade`'s, aspect by aspect ([`crate::grade::aspects`]) against what our
+//! renderer sees at each pixel of that scene, probed once for every
+//! candidate.
 
 use std::io::Write;
 
@@ -38,6 +40,14 @@ pub enum CompareError {
     #[error(transparent)]
     #[diagnostic(transparent)]
     Heatmap(#[from] output::OutputError),
+
+    /// `--heatmap` was given with more than one candidate.
+    #[error("`--heatmap` writes the heat map of one candidate, found {0} candidates")]
+    #[diagnostic(
+        code(compare::heatmap),
+        help("compare one candidate at a time to write its heat map")
+    )]
+    HeatmapOfMany(usize),
 
     /// `--scene` could not be read or checked, or names a texture outside
     /// its folder.
@@ -103,78 +113,132 @@ struct Side<'a> {
 
 /// Run `raytracer compare`.
 pub fn run(args: CompareArgs) -> Result<Outcome, BoxedDiagnostic> {
+    if args.heatmap.is_some() && args.candidates.len() > 1 {
+        return Err(CompareError::HeatmapOfMany(args.candidates.len()).into());
+    }
     let thresholds = args.thresholds.thresholds();
     let (reference, reference_format) =
         compare::read(&args.reference).map_err(CompareError::read)?;
-    let (candidate, candidate_format) =
-        compare::read(&args.candidate).map_err(CompareError::read)?;
-    let comparison = compare::compare(&reference, &candidate, &thresholds);
-    let heatmap = match (&args.heatmap, comparison.metrics.is_some()) {
-        (Some(path), true) => {
-            let picture = heatmap::colour(reference.width, reference.height, &comparison.error_map);
-            output::check_not_input(path, [args.reference.as_path(), args.candidate.as_path()])
-                .map_err(CompareError::from)?;
-            output::write_with(path, |out| compare::encode_png(&picture, out))
-                .map_err(CompareError::from)?;
-            Some(path.display().to_string())
-        }
-        _ => None,
-    };
-    let side = |path: &std::path::Path, format, picture: &compare::Picture| Side {
-        path: path.display().to_string(),
-        format: format_name(format),
-        width: picture.width,
-        height: picture.height,
-    };
-    let judged = match &args.scene {
-        Some(scene) if comparison.metrics.is_some() => {
-            Some(judge_aspects(scene, &reference, &candidate)?)
-        }
-        _ => None,
-    };
-    let (aspects, transform, reading) = match judged {
-        Some(j) => (Some(j.results), j.transform, j.reading),
-        None => (None, None, None),
-    };
-    let passed = aspects
-        .as_ref()
-        .map(|results| results.iter().all(|r| r.pass));
-    let report = Report {
-        verdict: comparison.verdict,
-        reference: side(&args.reference, reference_format, &reference),
-        candidate: side(&args.candidate, candidate_format, &candidate),
-        metrics: comparison.metrics,
-        thresholds,
-        heatmap,
-        judged_by: if args.scene.is_some() {
-            "aspects"
-        } else {
-            "pixels"
-        },
-        aspects,
-        transform,
-        reading,
-    };
-    let text = match args.format {
-        CompareFormat::Json => serde_json::to_string_pretty(&report).expect("plain data") + "\n",
-        CompareFormat::Human => human(&report, args.heatmap.is_some()),
+    let candidates = args
+        .candidates
+        .iter()
+        .map(|path| compare::read(path).map_err(CompareError::read))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut probed = None;
+    let mut reports = Vec::new();
+    for (path, (candidate, candidate_format)) in args.candidates.iter().zip(&candidates) {
+        let comparison = compare::compare(&reference, candidate, &thresholds);
+        let heatmap = match (&args.heatmap, comparison.metrics.is_some()) {
+            (Some(out), true) => {
+                let picture =
+                    heatmap::colour(reference.width, reference.height, &comparison.error_map);
+                output::check_not_input(out, [args.reference.as_path(), path.as_path()])
+                    .map_err(CompareError::from)?;
+                output::write_with(out, |file| compare::encode_png(&picture, file))
+                    .map_err(CompareError::from)?;
+                Some(out.display().to_string())
+            }
+            _ => None,
+        };
+        let judged = match &args.scene {
+            Some(scene) if comparison.metrics.is_some() => {
+                if probed.is_none() {
+                    probed = Some(probe(scene, &reference)?);
+                }
+                let (buffers, aspects) = probed.as_ref().expect("probed above");
+                Some(crate::grade::aspects::judge(
+                    buffers,
+                    &reference,
+                    candidate,
+                    &crate::grade::aspects::AspectThresholds::default(),
+                    aspects,
+                ))
+            }
+            _ => None,
+        };
+        let (aspects, transform, reading) = match judged {
+            Some(j) => (Some(j.results), j.transform, j.reading),
+            None => (None, None, None),
+        };
+        reports.push(Report {
+            verdict: comparison.verdict,
+            reference: side(&args.reference, reference_format, &reference),
+            candidate: side(path, *candidate_format, candidate),
+            metrics: comparison.metrics,
+            thresholds,
+            heatmap,
+            judged_by: if args.scene.is_some() {
+                "aspects"
+            } else {
+                "pixels"
+            },
+            aspects,
+            transform,
+            reading,
+        });
+    }
+    let text = match (args.format, reports.as_slice()) {
+        (CompareFormat::Json, [one]) => json(one),
+        (CompareFormat::Json, many) => json(&many),
+        (CompareFormat::Human, [one]) => human(one, args.heatmap.is_some()),
+        (CompareFormat::Human, many) => many
+            .iter()
+            .map(|report| {
+                format!(
+                    "candidate: {}\n{}",
+                    report.candidate.path,
+                    human(report, false)
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("\n"),
     };
     std::io::stdout()
         .write_all(text.as_bytes())
         .map_err(WriteStdoutError::from)?;
-    Ok(match (passed, comparison.verdict) {
-        (Some(true), _) | (None, Verdict::Match) => Outcome::Success,
-        _ => Outcome::Differs,
+    let matches = |report: &Report| match &report.aspects {
+        Some(results) => results.iter().all(|r| r.pass),
+        None => report.verdict == Verdict::Match,
+    };
+    Ok(if reports.iter().all(matches) {
+        Outcome::Success
+    } else {
+        Outcome::Differs
     })
 }
 
-/// Judge `candidate` against `reference` aspect by aspect on `scene`, as
-/// `grade` does with our renderer's default constants.
-fn judge_aspects(
+/// `value` as pretty JSON, one line after it.
+fn json(value: &impl Serialize) -> String {
+    serde_json::to_string_pretty(value).expect("plain data") + "\n"
+}
+
+/// One image as the report names it.
+fn side<'a>(
+    path: &std::path::Path,
+    format: raytracer_scene::texture::TextureFormat,
+    picture: &compare::Picture,
+) -> Side<'a> {
+    Side {
+        path: path.display().to_string(),
+        format: format_name(format),
+        width: picture.width,
+        height: picture.height,
+    }
+}
+
+/// What our renderer sees at each pixel of `scene`, and the aspects its
+/// suite entry judges, with `grade`'s default constants: probed once for
+/// every candidate, after checking that `reference` is the scene's size.
+fn probe(
     scene: &std::path::Path,
     reference: &compare::Picture,
-    candidate: &compare::Picture,
-) -> Result<crate::grade::aspects::Judged, CompareError> {
+) -> Result<
+    (
+        raytracer_render::render::probe::Buffers,
+        crate::grade::aspects::AspectPoints,
+    ),
+    CompareError,
+> {
     let suite = crate::grade::suite::load(&[scene.to_path_buf()])?;
     let options = suite.reference_options()?.unwrap_or_default();
     let scene = &suite.scenes[0];
@@ -191,13 +255,7 @@ fn judge_aspects(
             },
         ));
     }
-    Ok(crate::grade::aspects::judge(
-        &buffers,
-        reference,
-        candidate,
-        &crate::grade::aspects::AspectThresholds::default(),
-        &scene.aspects,
-    ))
+    Ok((buffers, scene.aspects.clone()))
 }
 
 /// A format's name in reports.

@@ -127,6 +127,11 @@ pub struct Buffers {
     /// The scene's textures, and per object of the IR the one it wears.
     pub textures: Vec<ir::Texture>,
     pub wears: Vec<Option<Wears>>,
+    /// Per object of the IR: its colour, linear RGB (unused when
+    /// textured).
+    pub colours: Vec<[f64; 3]>,
+    /// Each light's colour, in the scene's order.
+    pub light_colours: Vec<[f64; 3]>,
     /// The probes of the same scene with each plane's two `dimension`
     /// values swapped, when a plane is not square: the assignment does not
     /// say which runs along `headup`, so a pixel is stable only where
@@ -175,6 +180,8 @@ impl Buffers {
             reflective: self.reflective.clone(),
             textures: self.textures.clone(),
             wears: self.wears.clone(),
+            colours: self.colours.clone(),
+            light_colours: self.light_colours.clone(),
             swapped: None,
         }
     }
@@ -452,6 +459,12 @@ fn probe_all(scene: &ir::Scene, max_depth: u32, model: Model, direct: bool) -> B
                     })
             })
             .collect(),
+        colours: scene
+            .objects
+            .iter()
+            .map(|o| scene.materials[o.material as usize].color.to_array())
+            .collect(),
+        light_colours: scene.lights.iter().map(|l| l.color.to_array()).collect(),
         swapped: None,
     }
 }

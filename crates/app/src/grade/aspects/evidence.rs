@@ -7,6 +7,7 @@
 
 use super::falloff::{self, Falloff, Group, LightFit};
 use super::mapping;
+use super::palette;
 use super::tone::{self, luminance_of, Curve, Reads, Row};
 use crate::compare::Picture;
 use raytracer_render::render::probe::{Buffers, Probe, Wears};
@@ -55,6 +56,10 @@ pub(super) struct Evidence<'a> {
     /// its falloff with distance ([`super::falloff`]); `None` when no
     /// plain object tells it.
     pub light: Option<LightFit>,
+    /// Per pixel: whether the student's pixel, on a plain object, shows
+    /// a colour no light of the scene gives ([`super::palette`]). Such a
+    /// pixel tells no fit: its channels were wrapped or mixed up.
+    pub foreign: Vec<bool>,
     /// The student's pixels in linear light, through their curve.
     linear: Vec<[f64; 3]>,
 }
@@ -69,22 +74,69 @@ pub(super) enum Whose {
 impl<'a> Evidence<'a> {
     pub fn new(buffers: &'a Buffers, reference: &'a Picture, student: &'a Picture) -> Self {
         let mut evidence = Evidence::unfitted(buffers, reference, student);
-        // The light's falloff on the image as written, the tone curve
-        // with the light that falloff leaves, and the falloff again in
-        // linear light, until the falloff settles: a falloff read as a
-        // curve would bend every colour, and a curve read as a falloff
-        // would dim every light.
-        let mut light = falloff::fit(&evidence.light_groups());
+        evidence.read_light();
+        // The pixels whose colour no light gives are read under that
+        // reading; where there are any, the reading is fitted again
+        // without them, as enough of them would bend it.
+        evidence.foreign = evidence.foreign_pixels();
+        if evidence.foreign.contains(&true) {
+            evidence.read_light();
+            evidence.foreign = evidence.foreign_pixels();
+        }
+        evidence
+    }
+
+    /// Per pixel, whether it is a stable pixel of a plain object, with no
+    /// channel clamped, whose colour no light of the scene gives on that
+    /// object nor on any other the image shows (a pixel showing another
+    /// object is geometry's), under the curves read so far and under
+    /// clamping alone ([`palette::outside`]). Clamping alone, the
+    /// assignment's plain reading, as another bug can pull the fitted
+    /// curve to a higher power, which reads a saturated colour written
+    /// as it is as more saturated than any light gives.
+    fn foreign_pixels(&self) -> Vec<bool> {
+        let palettes: Vec<Vec<glam::DVec3>> = self
+            .objects
+            .iter()
+            .map(|&object| palette::generators(self.buffers, object))
+            .collect();
+        let every: Vec<&[glam::DVec3]> = palettes.iter().map(Vec::as_slice).collect();
+        let mut curves: Vec<Curve> = self.tone.plausible().collect();
+        if !curves.contains(&Curve::CLAMPING) {
+            curves.push(Curve::CLAMPING);
+        }
+        let mut foreign = vec![false; self.n];
+        for (&object, own) in self.objects.iter().zip(&every) {
+            if !self.plain.contains(&object) {
+                continue;
+            }
+            for k in self.pixels_of(object, &|_| 0) {
+                let written = self.student_px(k);
+                // Its own cone first, which holds nearly every pixel.
+                foreign[k] = !clipped(&written)
+                    && palette::outside(&[own], written, &curves)
+                    && palette::outside(&every, written, &curves);
+            }
+        }
+        foreign
+    }
+
+    /// Fit the student's light and tone curve: the light's falloff on the
+    /// image as written, the tone curve with the light that falloff
+    /// leaves, and the falloff again in linear light, until the falloff
+    /// settles. A falloff read as a curve would bend every colour, and a
+    /// curve read as a falloff would dim every light.
+    fn read_light(&mut self) {
+        let mut light = falloff::fit(&self.light_groups());
         for _ in 0..2 {
             let falloff = light.as_ref().map(|l| l.falloff);
-            evidence.read_tone(falloff.unwrap_or(Falloff::NONE));
-            light = falloff::fit(&evidence.light_groups());
+            self.read_tone(falloff.unwrap_or(Falloff::NONE));
+            light = falloff::fit(&self.light_groups());
             if light.as_ref().map(|l| l.falloff) == falloff {
                 break;
             }
         }
-        evidence.light = light;
-        evidence
+        self.light = light;
     }
 
     /// The evidence with no reading fitted: the image read as written,
@@ -104,6 +156,7 @@ impl<'a> Evidence<'a> {
             plain: Vec::new(),
             tone: tone::Fitted::NONE,
             light: None,
+            foreign: vec![false; (size * size) as usize],
             linear: Vec::new(),
         };
         evidence.plain = evidence
@@ -156,6 +209,7 @@ impl<'a> Evidence<'a> {
                         p.unshadowed - p.lit < 1e-9
                             && p.highlight < highlight
                             && !clipped(&e.student_px(k))
+                            && !e.foreign[k]
                     })
                     .collect();
                 (object, ks)
@@ -192,13 +246,14 @@ impl<'a> Evidence<'a> {
     }
 
     /// Whether pixel `k` tells the curve: no light of ours blocked there,
-    /// out of the cone where any highlight lobe may lie, and no channel
-    /// clamped.
+    /// out of the cone where any highlight lobe may lie, no channel
+    /// clamped, and a colour some light gives.
     fn tells_tone(&self, k: usize) -> bool {
         let p = &self.buffers.centres[k];
         p.unshadowed - p.lit < 1e-9
             && p.highlight <= HIGHLIGHT_CONE
             && !clipped(&self.student_px(k))
+            && !self.foreign[k]
     }
 
     /// The pixels of each object that tell the curve ([`Self::tells_tone`]),

@@ -27,6 +27,9 @@
 //! - an image upside down, mirrored or transposed is turned back and
 //!   judged so, its geometry failing and naming the transform, even on a
 //!   scene whose coverage the transform keeps ([`recognise`]);
+//! - a pixel of a plain object whose colour no light of the scene gives
+//!   under any reading (a channel wrapped or mixed up as it was written)
+//!   is shading's, and tells shadows nothing ([`palette`]);
 //! - a bug costs its own aspect: the aspects are judged in
 //!   [`REGISTRY`]'s order, each given the verdicts before it, and where
 //!   the student's shadows fail on the scene, reflection and shading
@@ -60,6 +63,7 @@ mod falloff;
 mod fit;
 mod geometry;
 mod mapping;
+mod palette;
 mod reflection;
 mod shading;
 mod shadows;

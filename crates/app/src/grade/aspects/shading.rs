@@ -29,6 +29,13 @@
 //! ([`super::falloff::object_gains`]), under the student's curve and
 //! falloff. A normal or a light vector left unnormalised scales each
 //! object's light by its radius or its distance, and shows here.
+//!
+//! And whatever the reading, a plain object shows only colours the
+//! scene's lights and its own colour give ([`super::palette`]): a pixel
+//! outside them had its channels wrapped or mixed up as it was written.
+//! Judged on every stable pixel of a plain object, lit or not, as which
+//! lights reach a point does not change which colours it may show; not
+//! where geometry fails, as a pixel there may show another object.
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::falloff::{object_gains, Group, SIGNIFICANT};
@@ -44,6 +51,13 @@ use super::{failed, verdict, Aspect, AspectResult, AspectThresholds};
 /// distance from the light, that moves the ratio of their gains by up
 /// to 1.23 (quadratic falloff; 1.12 linear).
 const GAIN_FACTOR: f64 = 1.25;
+
+/// The largest share of a scene's stable plain-object pixels that may
+/// show a colour no light gives ([`Evidence::foreign`]): under every
+/// reading none does, so this is the share geometry allows a tracer's
+/// edges ([`AspectThresholds::geometry`]'s default), for the few pixels
+/// a curve read off moves that far.
+const FOREIGN: f64 = 0.02;
 
 /// The L1 distance between two chromaticities.
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -100,6 +114,25 @@ fn plain(e: &Evidence, bound: f64, shadows_differ: bool, map: &mut [u8]) -> (f64
         }
     }
     (worst, shaded, left)
+}
+
+/// The share of the stable pixels of plain objects (with no channel
+/// clamped) whose colour no light of the scene gives
+/// ([`Evidence::foreign`]), the pixels judged, and how many are
+/// outside, marking `map`.
+fn foreign(e: &Evidence, map: &mut [u8]) -> (f64, usize, usize) {
+    let (mut outside, mut judged) = (0usize, 0usize);
+    for &object in &e.plain {
+        for k in e.pixels_of(object, &|_| 0) {
+            if clipped(&e.student_px(k)) {
+                continue;
+            }
+            judged += 1;
+            outside += usize::from(e.foreign[k]);
+            map[k] = map[k].max(1 + u8::from(e.foreign[k]));
+        }
+    }
+    (outside as f64 / judged.max(1) as f64, judged, outside)
 }
 
 /// The lit plain object whose gain strays furthest from the scene's one
@@ -316,10 +349,29 @@ pub(super) fn judge(
     let (plain_worst, plain_pixels, left) = plain(e, thresholds.shading, shadows_differ, map);
     let (textured_worst, textured_pixels) = textured_colour(e, thresholds, map);
     let (gains_worst, gains_pixels) = gains(e, shadows_differ, map);
+    // Where geometry fails, a pixel may show another object's colour.
+    let (foreign_share, foreign_pixels, outside) = if failed(earlier, Aspect::Geometry) {
+        (0.0, 0, 0)
+    } else {
+        foreign(e, map)
+    };
+    let foreign_judged = foreign_pixels >= 20;
     let measure = (plain_worst / thresholds.shading)
         .max(textured_worst / thresholds.texture_colour)
-        .max(straying(gains_worst) / GAIN_FACTOR.ln());
+        .max(straying(gains_worst) / GAIN_FACTOR.ln())
+        .max(if foreign_judged {
+            foreign_share / FOREIGN
+        } else {
+            0.0
+        });
     let mut parts = Vec::new();
+    if foreign_judged && outside > 0 {
+        parts.push(format!(
+            "{outside} of {foreign_pixels} pixels of plain objects show a colour no light of the scene gives ({:.1} %, at most {:.0} %): a channel wrapped or mixed up as it was written",
+            100.0 * foreign_share,
+            100.0 * FOREIGN
+        ));
+    }
     if plain_pixels > 0 {
         parts.push(format!(
             "the colour of lit plain objects is {plain_worst:.3} from ours (chromaticity, at most {:.2})",
@@ -353,7 +405,7 @@ pub(super) fn judge(
         judged,
         measure,
         1.0,
-        plain_pixels + textured_pixels,
+        plain_pixels + textured_pixels + if foreign_judged { foreign_pixels } else { 0 },
         detail,
     )
 }

@@ -15,7 +15,9 @@
 //! intercept, an object the student draws the same lit and shadowed
 //! reads as shadows that look lit, whether no shadow falls on it or no
 //! light reaches it at all (a plane lit on its front alone, seen from
-//! behind), so a failing report names both.
+//! behind), so a failing report names both. A pixel whose colour no
+//! light of the scene gives ([`super::palette`]) is shading's, not a
+//! shadow.
 
 use super::evidence::{clipped, Evidence, Whose};
 use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
@@ -80,6 +82,9 @@ pub(super) fn judge(
                 .pixels_of(object, &|p| p.visible)
                 .into_iter()
                 .filter(|&k| !clipped(&e.student_px(k)))
+                // A colour no light gives is shading's, and says nothing
+                // of which lights reach the point.
+                .filter(|&k| !e.foreign[k])
                 .collect();
             // Where no light of ours reaches the object, or, not seen,
             // the fit's intercept.

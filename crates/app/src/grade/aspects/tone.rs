@@ -92,7 +92,7 @@ impl Curve {
 
     /// The value a light `x` is written as: the inverse of
     /// [`Curve::linear`].
-    fn value(&self, x: f64) -> f64 {
+    pub fn value(&self, x: f64) -> f64 {
         let p = self.shoulder.redo(x / self.shoulder.scale());
         p.clamp(0.0, 1.0).powf(1.0 / self.gamma)
     }
