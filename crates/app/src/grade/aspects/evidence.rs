@@ -57,9 +57,11 @@ pub(super) struct Evidence<'a> {
     /// plain object tells it.
     pub light: Option<LightFit>,
     /// Per pixel: whether the student's pixel, on a plain object, shows
-    /// a colour no light of the scene gives ([`super::palette`]). Such a
-    /// pixel tells no fit: its channels were wrapped or mixed up.
-    pub foreign: Vec<bool>,
+    /// a colour no light of the scene gives ([`super::palette`]); `None`
+    /// where that is not judged (not a stable pixel of a plain object, or
+    /// a channel clamped). A foreign pixel tells no fit: its channels
+    /// were wrapped or mixed up.
+    pub foreign: Vec<Option<bool>>,
     /// The student's pixels in linear light, through their curve.
     linear: Vec<[f64; 3]>,
 }
@@ -79,43 +81,47 @@ impl<'a> Evidence<'a> {
         // reading; where there are any, the reading is fitted again
         // without them, as enough of them would bend it.
         evidence.foreign = evidence.foreign_pixels();
-        if evidence.foreign.contains(&true) {
+        if evidence.foreign.contains(&Some(true)) {
             evidence.read_light();
             evidence.foreign = evidence.foreign_pixels();
         }
         evidence
     }
 
-    /// Per pixel, whether it is a stable pixel of a plain object, with no
-    /// channel clamped, whose colour no light of the scene gives on that
+    /// Per pixel, for each stable pixel of a plain object with no channel
+    /// clamped, whether its colour no light of the scene gives on that
     /// object nor on any other the image shows (a pixel showing another
     /// object is geometry's), under the curves read so far and under
     /// clamping alone ([`palette::outside`]). Clamping alone, the
     /// assignment's plain reading, as another bug can pull the fitted
     /// curve to a higher power, which reads a saturated colour written
     /// as it is as more saturated than any light gives.
-    fn foreign_pixels(&self) -> Vec<bool> {
+    fn foreign_pixels(&self) -> Vec<Option<bool>> {
         let palettes: Vec<Vec<glam::DVec3>> = self
             .objects
             .iter()
             .map(|&object| palette::generators(self.buffers, object))
             .collect();
-        let every: Vec<&[glam::DVec3]> = palettes.iter().map(Vec::as_slice).collect();
         let mut curves: Vec<Curve> = self.tone.plausible().collect();
         if !curves.contains(&Curve::CLAMPING) {
             curves.push(Curve::CLAMPING);
         }
-        let mut foreign = vec![false; self.n];
-        for (&object, own) in self.objects.iter().zip(&every) {
+        let mut foreign = vec![None; self.n];
+        for (i, &object) in self.objects.iter().enumerate() {
             if !self.plain.contains(&object) {
                 continue;
             }
+            // Its own cone first, which holds nearly every pixel, then
+            // every other object's.
+            let cones: Vec<&[glam::DVec3]> = std::iter::once(i)
+                .chain((0..palettes.len()).filter(|&j| j != i))
+                .map(|j| palettes[j].as_slice())
+                .collect();
             for k in self.pixels_of(object, &|_| 0) {
                 let written = self.student_px(k);
-                // Its own cone first, which holds nearly every pixel.
-                foreign[k] = !clipped(&written)
-                    && palette::outside(&[own], written, &curves)
-                    && palette::outside(&every, written, &curves);
+                if !clipped(&written) {
+                    foreign[k] = Some(palette::outside(&cones, written, &curves));
+                }
             }
         }
         foreign
@@ -156,7 +162,7 @@ impl<'a> Evidence<'a> {
             plain: Vec::new(),
             tone: tone::Fitted::NONE,
             light: None,
-            foreign: vec![false; (size * size) as usize],
+            foreign: vec![None; (size * size) as usize],
             linear: Vec::new(),
         };
         evidence.plain = evidence
@@ -209,7 +215,7 @@ impl<'a> Evidence<'a> {
                         p.unshadowed - p.lit < 1e-9
                             && p.highlight < highlight
                             && !clipped(&e.student_px(k))
-                            && !e.foreign[k]
+                            && e.foreign[k] != Some(true)
                     })
                     .collect();
                 (object, ks)
@@ -253,7 +259,7 @@ impl<'a> Evidence<'a> {
         p.unshadowed - p.lit < 1e-9
             && p.highlight <= HIGHLIGHT_CONE
             && !clipped(&self.student_px(k))
-            && !self.foreign[k]
+            && self.foreign[k] != Some(true)
     }
 
     /// The pixels of each object that tell the curve ([`Self::tells_tone`]),

@@ -122,15 +122,13 @@ fn plain(e: &Evidence, bound: f64, shadows_differ: bool, map: &mut [u8]) -> (f64
 /// outside, marking `map`.
 fn foreign(e: &Evidence, map: &mut [u8]) -> (f64, usize, usize) {
     let (mut outside, mut judged) = (0usize, 0usize);
-    for &object in &e.plain {
-        for k in e.pixels_of(object, &|_| 0) {
-            if clipped(&e.student_px(k)) {
-                continue;
-            }
-            judged += 1;
-            outside += usize::from(e.foreign[k]);
-            map[k] = map[k].max(1 + u8::from(e.foreign[k]));
-        }
+    for (k, foreign) in e.foreign.iter().enumerate() {
+        let Some(foreign) = *foreign else {
+            continue;
+        };
+        judged += 1;
+        outside += usize::from(foreign);
+        map[k] = map[k].max(1 + u8::from(foreign));
     }
     (outside as f64 / judged.max(1) as f64, judged, outside)
 }

@@ -84,7 +84,7 @@ pub(super) fn judge(
                 .filter(|&k| !clipped(&e.student_px(k)))
                 // A colour no light gives is shading's, and says nothing
                 // of which lights reach the point.
-                .filter(|&k| !e.foreign[k])
+                .filter(|&k| e.foreign[k] != Some(true))
                 .collect();
             // Where no light of ours reaches the object, or, not seen,
             // the fit's intercept.
