@@ -1474,6 +1474,58 @@ fn deep_folders_a_build_leaves_are_removed() {
     }
 }
 
+/// A build runs with a `HOME` of its own, not the student's folder: what
+/// a compiler caches there (Go's build cache) is not copied into each
+/// scene's working folder, and goes with the build. The build's output in
+/// the folder reaches every scene.
+#[test]
+fn a_builds_home_is_its_own_and_goes_with_the_build() {
+    let case = Case::suite("grade-build-home-", SPHERE);
+    let d = case.path();
+    let build = "[ \"$HOME\" != \"$PWD\" ] || exit 3\n\
+                 mkdir -p \"$HOME/.cache/go-build/00\" && echo cached > \"$HOME/.cache/go-build/00/a\"\n\
+                 echo built > built.txt\n";
+    let tracer = "[ -e built.txt ] || exit 4\n\
+                  [ ! -e .cache ] && [ ! -e \"$HOME/.cache\" ] || exit 5\n\
+                  exec ./renderer render \"$1\" \"$2\"\n";
+    let student = case.student(
+        "student",
+        "bash tracer.sh {scene} {out}\n",
+        &[
+            ("build.txt", b"bash build.sh\n"),
+            ("build.sh", build.as_bytes()),
+            ("tracer.sh", tracer.as_bytes()),
+        ],
+    );
+    let tmp = Tmp::new(d);
+    for kind in kinds() {
+        for unprotected in [false, true] {
+            let run = format!("{kind:?}, unprotected {unprotected}");
+            let report = d.join(format!("report-{kind:?}-{unprotected}"));
+            let mut command = case.grade_command(
+                kind,
+                &report,
+                [OsStr::new("--student"), student.as_os_str()],
+            );
+            command.env("TMPDIR", &tmp.0);
+            if unprotected {
+                command.arg("--unprotected");
+                without_namespaces(&mut command);
+            }
+            let output = command.output().unwrap();
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            let summary: Value = serde_json::from_slice(
+                &std::fs::read(report.join("summary.json"))
+                    .unwrap_or_else(|_| panic!("{run}: no summary: {stderr}")),
+            )
+            .unwrap();
+            assert_eq!(summary["build"]["ok"], true, "{run}: {summary}");
+            assert_eq!(summary["scenes"][0]["status"], "match", "{run}: {summary}");
+            assert_eq!(tmp.left(), Vec::<String>::new(), "{run}: {stderr}");
+        }
+    }
+}
+
 /// A tracer that fills its disk space, blocks or inodes, is told so
 /// (the scene's reason names the run's disk space and says it was full),
 /// and the next run has all of its own: in a box the working folder is a

@@ -25,8 +25,9 @@ pub const NOBODY: u32 = 65_534;
 
 /// What of the grader's file system a box holds: folders bound
 /// read-write (a build's folder) and files bound read-only (a `--tracer`
-/// program named by its path), each at its own path; and the run's
-/// working folder, which a box gives as a tmpfs ([`Scratch`]).
+/// program named by its path), each at its own path; the run's
+/// working folder, which a box gives as a tmpfs ([`Scratch`]); and the
+/// folder given as `HOME`.
 #[derive(Clone, Debug, Default)]
 pub struct Share {
     pub read_write: Vec<PathBuf>,
@@ -34,6 +35,8 @@ pub struct Share {
     /// One of `read_write` that a box gives as a tmpfs of its own
     /// (`crate::scratch`); without a box it is shared as the others.
     pub scratch: Option<Scratch>,
+    /// One of `read_write` given as `HOME`; the working folder when none.
+    pub home: Option<PathBuf>,
 }
 
 /// A working folder a box gives the run as a tmpfs of [`Limits::disk`]

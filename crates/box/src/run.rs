@@ -2,7 +2,8 @@
 //!
 //! The program runs from an argument vector (no shell) in a folder of its
 //! own, with stdin closed, stdout and stderr captured ([`crate::capture`]),
-//! and only `PATH`, `HOME` (the folder) and `LANG` in its environment.
+//! and only `PATH`, `HOME` (the folder, or [`Share::home`]) and `LANG` in
+//! its environment.
 //! Where the kernel allows it ([`crate::probe`]) it runs in a box
 //! ([`crate::jail`]): PID, mount, IPC, UTS and network namespaces and a
 //! root holding only the system folders and what [`Share`] names (the
@@ -185,7 +186,7 @@ impl Setup {
         share: &Share,
         confinement: Confinement,
     ) -> Result<Setup, String> {
-        let mut command = command(argv, dir);
+        let mut command = command(argv, dir, share.home.as_deref().unwrap_or(dir));
         let limits = confinement.limits;
         let quota = quota(share, &confinement);
         if quota.as_ref().is_some_and(Quota::over) {
@@ -249,9 +250,9 @@ impl Setup {
     }
 }
 
-/// The command of `argv` in `dir`: no environment but `PATH`, `HOME` (the
-/// folder) and `LANG`, stdin closed, stdout and stderr piped.
-fn command(argv: &[OsString], dir: &Path) -> Command {
+/// The command of `argv` in `dir`: no environment but `PATH`, `HOME`
+/// (`home`) and `LANG`, stdin closed, stdout and stderr piped.
+fn command(argv: &[OsString], dir: &Path, home: &Path) -> Command {
     let mut command = Command::new(&argv[0]);
     command
         .args(&argv[1..])
@@ -261,7 +262,7 @@ fn command(argv: &[OsString], dir: &Path) -> Command {
             "PATH",
             std::env::var_os("PATH").unwrap_or_else(|| "/usr/bin:/bin".into()),
         )
-        .env("HOME", dir)
+        .env("HOME", home)
         .env(
             "LANG",
             std::env::var_os("LANG").unwrap_or_else(|| "C.UTF-8".into()),

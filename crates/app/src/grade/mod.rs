@@ -252,6 +252,7 @@ fn run_and_judge(
             folder: dir.root.clone(),
             keep: dir.keep(),
         }),
+        home: None,
     };
     let run = run(&argv, &dir.start, &share, plan.confinement);
     let mut judged = judge::judge(&run.ended, &dir.out(), against);

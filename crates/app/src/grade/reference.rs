@@ -254,6 +254,7 @@ impl Cache {
                 folder: dir.root.clone(),
                 keep: dir.keep(),
             }),
+            home: None,
         };
         let run = run(&argv, &dir.start, &share, confinement);
         if let Some((_, reason)) = judge::failure(&run.ended) {

@@ -9,9 +9,10 @@
 //!
 //! The grader only reads a student's folder, never through a link: it is
 //! copied ([`super::copy`]) into a private folder, the build runs there
-//! once under the sandbox's limits before any scene, and each scene's
-//! working folder starts as a copy of the result, so the program runs
-//! beside its own files as it does at home.
+//! once under the sandbox's limits before any scene (its `HOME` a folder
+//! of its own, dropped afterwards), and each scene's working folder
+//! starts as a copy of the result, so the program runs beside its own
+//! files as it does at home.
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -112,27 +113,43 @@ impl Student {
         if let Some(id) = confinement.user {
             folder.give(id, !confinement.boxed)?;
         }
-        let build = self.build(&path, confinement);
+        let build = match &self.build {
+            Some(build) => Some(self.build(build, &path, confinement)?),
+            None => None,
+        };
         Ok(Prepared { folder, build })
     }
 
-    /// Run the build command, if any, in `folder` under `confinement`.
-    fn build(&self, folder: &Path, confinement: Confinement) -> Option<BuildSummary> {
-        let (command, template) = self.build.as_ref()?;
+    /// Run the build command in `folder` under `confinement`, with a
+    /// `HOME` of its own, removed afterwards: what a compiler keeps there
+    /// (Go's build cache, hundreds of files) is not the student's program,
+    /// and would otherwise be copied into every scene's working folder.
+    fn build(
+        &self,
+        (command, template): &(String, Template),
+        folder: &Path,
+        confinement: Confinement,
+    ) -> std::io::Result<BuildSummary> {
+        let home = private_folder()?;
+        if let Some(id) = confinement.user {
+            home.give(id, !confinement.boxed)?;
+        }
         let argv = template.argv_as_written();
         let share = Share {
-            read_write: vec![folder.to_path_buf()],
+            read_write: vec![folder.to_path_buf(), home.path().to_path_buf()],
             read_only: Vec::new(),
             scratch: None,
+            home: Some(home.path().to_path_buf()),
         };
         let run = run(&argv, folder, &share, confinement);
+        super::remove_reporting(home, "the build's home folder");
         let (exit_code, signal) = super::judge::exit_code_and_signal(&run.ended);
         let failed = super::judge::failure(&run.ended).map(|(_, reason)| reason);
         let reason = match run.disk_full {
             true => Some(super::with_full_disk(failed, confinement.limits.disk)),
             false => failed,
         };
-        Some(BuildSummary {
+        Ok(BuildSummary {
             command: command.clone(),
             ok: reason.is_none(),
             reason,
