@@ -242,12 +242,12 @@ impl<'a> Evidence<'a> {
     fn read_tone(&mut self, falloff: Falloff) {
         let [plain, mirrors] = self.tone_rows(falloff);
         self.tone = tone::fit(&plain, &mirrors, &|| self.textured_tone_rows());
-        let curve = self.tone.curve;
+        let linear = self.tone.curve.linear_bytes();
         self.linear = self
             .student
             .rgb
             .chunks_exact(3)
-            .map(|p| [0, 1, 2].map(|c| curve.linear(f64::from(p[c]) / 255.0)))
+            .map(|p| [0, 1, 2].map(|c| linear[usize::from(p[c])]))
             .collect();
     }
 

@@ -168,11 +168,8 @@ fn fit_under(groups: &[Group], falloff: Falloff) -> Option<(LightFit, f64)> {
         .map(|(_, rows)| rows.iter().map(|(p, y)| (falloff.lit(p), *y)).collect())
         .collect();
     let mut keep: Vec<Vec<bool>> = xs.iter().map(|g| vec![true; g.len()]).collect();
-    let mut fitted = None;
-    for _ in 0..3 {
-        let Some(fit) = least_squares(&xs, &keep) else {
-            break;
-        };
+    let mut fit = least_squares(&xs, &keep)?;
+    for _ in 0..2 {
         let residual = |o: usize, (x, y): (f64, f64)| y - (fit.1[o] + fit.0 * x);
         let bound = outlier_bound(
             xs.iter()
@@ -185,9 +182,12 @@ fn fit_under(groups: &[Group], falloff: Falloff) -> Option<(LightFit, f64)> {
             .enumerate()
             .map(|(o, g)| g.iter().map(|&r| residual(o, r).abs() <= bound).collect())
             .collect();
-        fitted = Some(fit);
+        match least_squares(&xs, &keep) {
+            Some(better) => fit = better,
+            None => break,
+        }
     }
-    let (gain, intercepts) = fitted?;
+    let (gain, intercepts) = fit;
     let (mut residual, mut total) = (0.0, 0.0);
     for (o, g) in xs.iter().enumerate() {
         let mean = g.iter().map(|r| r.1).sum::<f64>() / g.len() as f64;

@@ -6,27 +6,23 @@
 /// again without the points whose residual is over three times the median
 /// one, twice: robust to a highlight or an edge.
 pub(super) fn robust_fit<const K: usize>(rows: &[([f64; K], f64)]) -> Option<Vec<f64>> {
-    let mut keep: Vec<bool> = vec![true; rows.len()];
-    let mut fit = None;
-    for _ in 0..3 {
-        let chosen: Vec<&([f64; K], f64)> = rows
-            .iter()
-            .zip(&keep)
-            .filter(|(_, k)| **k)
-            .map(|(r, _)| r)
-            .collect();
-        let Some(beta) = least_squares(&chosen) else {
-            break;
-        };
-        let residuals: Vec<f64> = rows
-            .iter()
-            .map(|r| (r.1 - predict(&beta, &r.0)).abs())
-            .collect();
+    let mut beta = least_squares(rows.iter())?;
+    let mut residuals: Vec<f64> = Vec::with_capacity(rows.len());
+    for _ in 0..2 {
+        residuals.clear();
+        residuals.extend(rows.iter().map(|r| (r.1 - predict(&beta, &r.0)).abs()));
         let bound = outlier_bound(residuals.clone());
-        keep = residuals.iter().map(|&r| r <= bound).collect();
-        fit = Some(beta);
+        let kept = rows
+            .iter()
+            .zip(&residuals)
+            .filter(|(_, &r)| r <= bound)
+            .map(|(row, _)| row);
+        match least_squares(kept) {
+            Some(better) => beta = better,
+            None => break,
+        }
     }
-    fit
+    Some(beta)
 }
 
 /// The largest absolute residual a robust fit keeps: three times the
@@ -43,16 +39,16 @@ pub(super) fn predict(beta: &[f64], x: &[f64]) -> f64 {
 }
 
 /// Ordinary least squares with an intercept; `None` when singular.
-fn least_squares<const K: usize>(rows: &[&([f64; K], f64)]) -> Option<Vec<f64>> {
+fn least_squares<'a, const K: usize>(
+    rows: impl Iterator<Item = &'a ([f64; K], f64)>,
+) -> Option<Vec<f64>> {
     const { assert!(K < 8, "at most seven columns") };
     let n = K + 1;
-    if rows.len() < n + 2 {
-        return None;
-    }
-    let mut m = vec![vec![0.0; n + 1]; n];
+    // The normal equations, augmented by their right-hand side, on the
+    // stack: this runs for every pixel of every fit.
+    let mut m = [[0.0; 9]; 8];
+    let mut count = 0;
     for (x, y) in rows {
-        // The row with its intercept's 1, on the stack: this runs for
-        // every pixel of every fit.
         let mut v = [1.0; 8];
         v[1..n].copy_from_slice(x);
         for i in 0..n {
@@ -61,10 +57,14 @@ fn least_squares<const K: usize>(rows: &[&([f64; K], f64)]) -> Option<Vec<f64>> 
             }
             m[i][n] += v[i] * y;
         }
+        count += 1;
+    }
+    if count < n + 2 {
+        return None;
     }
     // A small ridge keeps a column that never varies (no reflection
     // seen, say) from making the system singular.
-    for (i, row) in m.iter_mut().enumerate().skip(1) {
+    for (i, row) in m.iter_mut().enumerate().take(n).skip(1) {
         row[i] += 1e-6;
     }
     for col in 0..n {
@@ -73,11 +73,11 @@ fn least_squares<const K: usize>(rows: &[&([f64; K], f64)]) -> Option<Vec<f64>> 
             return None;
         }
         m.swap(col, pivot);
-        for row in 0..n {
+        let pivot_row = m[col];
+        for (row, values) in m.iter_mut().enumerate().take(n) {
             if row != col {
-                let f = m[row][col] / m[col][col];
-                let pivot_row = m[col].clone();
-                for (value, p) in m[row].iter_mut().zip(&pivot_row).skip(col) {
+                let f = values[col] / pivot_row[col];
+                for (value, p) in values.iter_mut().zip(&pivot_row).take(n + 1).skip(col) {
                     *value -= f * p;
                 }
             }

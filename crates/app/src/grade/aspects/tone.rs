@@ -90,6 +90,12 @@ impl Curve {
         self.shoulder.scale() * self.shoulder.undo(v.powf(self.gamma))
     }
 
+    /// [`Curve::linear`] of each 8-bit value `v` (of `v`/255), made once
+    /// for a pass over many pixels.
+    pub fn linear_bytes(&self) -> [f64; 256] {
+        std::array::from_fn(|v| self.linear(f64::from(v as u8) / 255.0))
+    }
+
     /// The value a light `x` is written as: the inverse of
     /// [`Curve::linear`].
     pub fn value(&self, x: f64) -> f64 {
@@ -228,6 +234,10 @@ fn tells(objects: &[Group]) -> bool {
 /// The share of the image's spread the fits of `objects` leave
 /// unexplained under `curve`; `None` when nothing varies or no fit.
 fn unexplained(objects: &[Group], curve: Curve) -> Option<f64> {
+    let linear = curve.linear_bytes();
+    // Each 8-bit value there and back, the same as the value written but
+    // for the curve's rounding: a channel read alone needs no more.
+    let written_back: [f64; 256] = std::array::from_fn(|v| curve.value(linear[v]));
     let (mut residuals, mut spreads) = (Vec::new(), Vec::new());
     for (reads, group) in objects {
         // Each value as written, from its object's mean.
@@ -242,19 +252,19 @@ fn unexplained(objects: &[Group], curve: Curve) -> Option<f64> {
         }
         let rows: Vec<([f64; 3], f64)> = group
             .iter()
-            .map(|&(p, x)| {
-                let v = p.map(|c| curve.linear(f64::from(c) / 255.0));
-                (x, reads.of(v))
-            })
+            .map(|&(p, x)| (x, reads.of(p.map(|c| linear[usize::from(c)]))))
             .collect();
         let beta = robust_fit(&rows)?;
         // Each residual taken back to the student's 8-bit scale, the
         // value the line's light is written as against the value
         // written, where every curve's rounding is the same.
-        residuals.extend(
-            rows.iter()
-                .map(|(x, y)| (curve.value(predict(&beta, x).max(0.0)) - curve.value(*y)).abs()),
-        );
+        residuals.extend(rows.iter().zip(group).map(|((x, y), (p, _))| {
+            let back = match reads {
+                Reads::Channel(c) => written_back[usize::from(p[*c])],
+                Reads::Luminance => curve.value(*y),
+            };
+            (curve.value(predict(&beta, x).max(0.0)) - back).abs()
+        }));
         spreads.extend(spread);
     }
     // The root mean square residual over the values' spread: the share
