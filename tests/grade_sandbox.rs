@@ -1449,10 +1449,23 @@ fn deep_folders_a_build_leaves_are_removed() {
         ],
     );
     let tmp = Tmp::new(d);
+    grade_each_way(&case, &student, &tmp, |run, report, stderr| {
+        assert!(
+            report.join("summary.json").is_file(),
+            "{run}: no summary: {stderr}"
+        );
+        assert_eq!(tmp.left(), Vec::<String>::new(), "{run}: {stderr}");
+    });
+}
+
+/// Grade `student` in each kind of run this machine allows, in a box and
+/// `--unprotected`, with `tmp` as `TMPDIR`; `check` is given each run's
+/// name, report folder and stderr.
+fn grade_each_way(case: &Case, student: &Path, tmp: &Tmp, check: impl Fn(&str, &Path, &str)) {
     for kind in kinds() {
         for unprotected in [false, true] {
             let run = format!("{kind:?}, unprotected {unprotected}");
-            let report = d.join(format!("report-{kind:?}-{unprotected}"));
+            let report = case.path().join(format!("report-{kind:?}-{unprotected}"));
             let mut command = case.grade_command(
                 kind,
                 &report,
@@ -1464,12 +1477,7 @@ fn deep_folders_a_build_leaves_are_removed() {
                 without_namespaces(&mut command);
             }
             let output = command.output().unwrap();
-            let stderr = String::from_utf8_lossy(&output.stderr);
-            assert!(
-                report.join("summary.json").is_file(),
-                "{run}: no summary: {stderr}"
-            );
-            assert_eq!(tmp.left(), Vec::<String>::new(), "{run}: {stderr}");
+            check(&run, &report, &String::from_utf8_lossy(&output.stderr));
         }
     }
 }
@@ -1498,32 +1506,16 @@ fn a_builds_home_is_its_own_and_goes_with_the_build() {
         ],
     );
     let tmp = Tmp::new(d);
-    for kind in kinds() {
-        for unprotected in [false, true] {
-            let run = format!("{kind:?}, unprotected {unprotected}");
-            let report = d.join(format!("report-{kind:?}-{unprotected}"));
-            let mut command = case.grade_command(
-                kind,
-                &report,
-                [OsStr::new("--student"), student.as_os_str()],
-            );
-            command.env("TMPDIR", &tmp.0);
-            if unprotected {
-                command.arg("--unprotected");
-                without_namespaces(&mut command);
-            }
-            let output = command.output().unwrap();
-            let stderr = String::from_utf8_lossy(&output.stderr);
-            let summary: Value = serde_json::from_slice(
-                &std::fs::read(report.join("summary.json"))
-                    .unwrap_or_else(|_| panic!("{run}: no summary: {stderr}")),
-            )
-            .unwrap();
-            assert_eq!(summary["build"]["ok"], true, "{run}: {summary}");
-            assert_eq!(summary["scenes"][0]["status"], "match", "{run}: {summary}");
-            assert_eq!(tmp.left(), Vec::<String>::new(), "{run}: {stderr}");
-        }
-    }
+    grade_each_way(&case, &student, &tmp, |run, report, stderr| {
+        let summary: Value = serde_json::from_slice(
+            &std::fs::read(report.join("summary.json"))
+                .unwrap_or_else(|_| panic!("{run}: no summary: {stderr}")),
+        )
+        .unwrap();
+        assert_eq!(summary["build"]["ok"], true, "{run}: {summary}");
+        assert_eq!(summary["scenes"][0]["status"], "match", "{run}: {summary}");
+        assert_eq!(tmp.left(), Vec::<String>::new(), "{run}: {stderr}");
+    });
 }
 
 /// A tracer that fills its disk space, blocks or inodes, is told so
