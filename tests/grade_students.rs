@@ -30,11 +30,12 @@
 //! and its mirrors tinted by their colour stay in [`KNOWN_MISSES`]
 //! (docs/grading.md, "How the thresholds were chosen"). To keep `make
 //! test` short, each class is graded on twelve scenes (`SCENES`, and the
-//! sealed and masked classes on one more each), which between them exercise every bug, one
-//! scene at a time. The tracers need `cc`, `javac`/`java`, `python3`,
-//! `node`, `g++`, `go` and `rustc`. Last, the instructor's
-//! reference (`--reference-tracer`, `--references`) and our renderer with
-//! a course's constants (`--reference-options`) replace ours.
+//! sealed and masked classes on one more each), which between them
+//! exercise every bug, one scene at a time. The tracers need `cc`,
+//! `javac`/`java`, `python3`, `node`, `g++`, `go` and `rustc`. Last, the
+//! instructor's reference (`--reference-tracer`, `--references`) and our
+//! renderer with a course's constants (`--reference-options`) replace
+//! ours.
 
 use std::collections::BTreeMap;
 use std::path::Path;

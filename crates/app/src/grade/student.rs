@@ -113,23 +113,23 @@ impl Student {
         if let Some(id) = confinement.user {
             folder.give(id, !confinement.boxed)?;
         }
-        let build = match &self.build {
-            Some(build) => Some(self.build(build, &path, confinement)?),
-            None => None,
-        };
+        let build = self.build(&path, confinement)?;
         Ok(Prepared { folder, build })
     }
 
-    /// Run the build command in `folder` under `confinement`, with a
-    /// `HOME` of its own, removed afterwards: what a compiler keeps there
-    /// (Go's build cache, hundreds of files) is not the student's program,
-    /// and would otherwise be copied into every scene's working folder.
+    /// Run the build command, if any, in `folder` under `confinement`,
+    /// with a `HOME` of its own, removed afterwards: what a compiler keeps
+    /// there (Go's build cache, hundreds of files) is not the student's
+    /// program, and would otherwise be copied into every scene's working
+    /// folder.
     fn build(
         &self,
-        (command, template): &(String, Template),
         folder: &Path,
         confinement: Confinement,
-    ) -> std::io::Result<BuildSummary> {
+    ) -> std::io::Result<Option<BuildSummary>> {
+        let Some((command, template)) = &self.build else {
+            return Ok(None);
+        };
         let home = private_folder()?;
         if let Some(id) = confinement.user {
             home.give(id, !confinement.boxed)?;
@@ -149,7 +149,7 @@ impl Student {
             true => Some(super::with_full_disk(failed, confinement.limits.disk)),
             false => failed,
         };
-        Ok(BuildSummary {
+        Ok(Some(BuildSummary {
             command: command.clone(),
             ok: reason.is_none(),
             reason,
@@ -158,7 +158,7 @@ impl Student {
             signal,
             stdout: run.stdout.text(),
             stderr: run.stderr.text(),
-        })
+        }))
     }
 }
 
