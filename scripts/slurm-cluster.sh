@@ -9,9 +9,10 @@
 # `hostname`, with 2 CPUs, in one partition), a MUNGE key for it alone, and
 # starts munged (as user munge, on a socket in DIR, so that it cannot clash
 # with a system munged), slurmctld and slurmd (as root, on two free ports of
-# the loopback address), then waits until the node is idle. Nothing is
-# written outside DIR: the conf, keys, sockets, pid files, logs, the
-# controller's state and the node's spool are all in it. Point the Slurm
+# the loopback address, outside the range the kernel gives connections),
+# then waits until the node is idle. Nothing is written outside DIR: the
+# conf, keys, sockets, pid files, logs, the controller's state and the
+# node's spool are all in it. Point the Slurm
 # commands at the cluster with `SLURM_CONF=DIR/slurm.conf` (the jobs inherit
 # it too). When `start` fails, it prints the daemons' logs and stops what
 # it started.
@@ -99,13 +100,24 @@ logs() {
     done
 }
 
-# A TCP port nothing listens on, between 20000 and 59999, other than $1.
+# A TCP port between 20000 and 65535 that no socket uses, in any state,
+# other than $1, and outside the kernel's range for the local ends of
+# connections (ip_local_port_range, 32768-60999 by default): a port in
+# that range can be taken between this check and the daemon's bind by any
+# connection made on the machine, and then the daemon cannot listen on it
+# ("Address already in use"). Only when that range covers every port from
+# 20000 up is a port inside it taken.
 free_port() {
-    local port used
-    used=$(ss -Hltn 2>/dev/null | awk '{ sub(/.*:/, "", $4); print $4 }')
+    local low=32768 high=60999 port used outside=0
+    read -r low high </proc/sys/net/ipv4/ip_local_port_range || true
+    ((low > 20000 || high < 65535)) && outside=1
+    used=$(ss -Htan 2>/dev/null | awk '{ sub(/.*:/, "", $4); print $4 }')
     while :; do
-        port=$((20000 + (RANDOM * 32768 + RANDOM) % 40000))
+        port=$((20000 + (RANDOM * 32768 + RANDOM) % 45536))
         [ "$port" != "${1:-}" ] || continue
+        if ((outside)) && ((port >= low && port <= high)); then
+            continue
+        fi
         grep -qx "$port" <<<"$used" || break
     done
     echo "$port"
