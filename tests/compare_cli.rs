@@ -351,11 +351,27 @@ fn a_whole_class_of_candidates_is_judged_in_one_run_each_as_alone() {
 
 /// The assignment names no background, so a sky that changes with the
 /// ray's direction is one (white at the horizon to blue overhead, as
-/// many students' first tracer draws it): `compare --scene` passes our
-/// image with its empty pixels turned to that sky, and fails geometry on
-/// it with the ball left out, the sky drawn where the ball was.
+/// many students' first tracer draws it), and so is a gradient by the
+/// angle from the view's axis (a smooth step from bluish grey ahead to
+/// dark blue in the corners): `compare --scene` passes our image with its
+/// empty pixels turned to either, and fails geometry on it with the ball
+/// left out, the background drawn where the ball was.
 #[test]
-fn a_sky_graded_by_the_rays_direction_is_a_background_and_a_missing_ball_still_differs() {
+fn a_background_graded_by_the_rays_direction_is_one_and_a_missing_ball_still_differs() {
+    // Each background by the ray's direction `(u, v, −1)` through a pixel.
+    type Background = fn(f64, f64) -> [f64; 3];
+    fn sky(u: f64, v: f64) -> [f64; 3] {
+        let t = 0.5 * (v / (u * u + v * v + 1.0).sqrt() + 1.0);
+        [1.0 - 0.5 * t, 1.0 - 0.3 * t, 1.0]
+    }
+    fn radial(u: f64, v: f64) -> [f64; 3] {
+        let corner = 1.0 / 1.5f64.sqrt();
+        let f = ((1.0 - 1.0 / (u * u + v * v + 1.0).sqrt()) / (1.0 - corner)).clamp(0.0, 1.0);
+        let f = f * f * (3.0 - 2.0 * f);
+        let (ahead, aside) = ([0.25, 0.3, 0.4], [0.05, 0.05, 0.1]);
+        [0, 1, 2].map(|c| ahead[c] * (1.0 - f) + aside[c] * f)
+    }
+    let backgrounds: [(&str, Background); 2] = [("sky", sky), ("radial", radial)];
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let (scene, ours, image) = ours_of(
@@ -364,39 +380,39 @@ fn a_sky_graded_by_the_rays_direction_is_a_background_and_a_missing_ball_still_d
          plane\ndimension 3 3\ncenter -.5 -1 -6\nnormal 0 1 0\nheadup 0 0 -1\ncolor .8 .8 .8\n\
          light\nlocation 3 4 -3\ncolor 1 1 1\n",
     );
-    let sky = |x: u32, y: u32| {
-        let (u, v) = (
-            (f64::from(x) + 0.5) / 64.0 - 0.5,
-            0.5 - (f64::from(y) + 0.5) / 64.0,
-        );
-        let t = 0.5 * (v / (u * u + v * v + 1.0).sqrt() + 1.0);
-        let c = [1.0 - 0.5 * t, 1.0 - 0.3 * t, 1.0].map(|c: f64| (c * 255.0).round() as u8);
-        image::Rgb(c)
-    };
-    let under_sky = |ball: bool| {
-        RgbImage::from_fn(64, 64, |x, y| {
-            let p = *image.get_pixel(x, y);
-            let orange = p.0[0] > p.0[2] + 20;
-            if p.0 == [0, 0, 0] || (!ball && orange) {
-                sky(x, y)
-            } else {
-                p
-            }
-        })
-    };
-    let with_ball = png(d, "sky.png", &under_sky(true));
-    let without = png(d, "no_ball.png", &under_sky(false));
     let (ours, scene) = (ours.to_str().unwrap(), scene.to_str().unwrap());
+    for (name, background) in backgrounds {
+        let at = |x: u32, y: u32| {
+            let (u, v) = (
+                (f64::from(x) + 0.5) / 64.0 - 0.5,
+                0.5 - (f64::from(y) + 0.5) / 64.0,
+            );
+            image::Rgb(background(u, v).map(|c| (c * 255.0).round() as u8))
+        };
+        let under = |ball: bool| {
+            RgbImage::from_fn(64, 64, |x, y| {
+                let p = *image.get_pixel(x, y);
+                let orange = p.0[0] > p.0[2] + 20;
+                if p.0 == [0, 0, 0] || (!ball && orange) {
+                    at(x, y)
+                } else {
+                    p
+                }
+            })
+        };
+        let with_ball = png(d, &format!("{name}.png"), &under(true));
+        let without = png(d, &format!("{name}_no_ball.png"), &under(false));
 
-    let (code, value) = json(&["--scene", scene, ours, &with_ball]);
-    assert_eq!(code, 0, "{value}");
-    let (code, value) = json(&["--scene", scene, ours, &without]);
-    assert_eq!(code, 1, "{value}");
-    let geometry = value["aspects"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|a| a["aspect"] == "geometry")
-        .unwrap();
-    assert_eq!(geometry["pass"], false, "{value}");
+        let (code, value) = json(&["--scene", scene, ours, &with_ball]);
+        assert_eq!(code, 0, "{name}: {value}");
+        let (code, value) = json(&["--scene", scene, ours, &without]);
+        assert_eq!(code, 1, "{name}: {value}");
+        let geometry = value["aspects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|a| a["aspect"] == "geometry")
+            .unwrap();
+        assert_eq!(geometry["pass"], false, "{name}: {value}");
+    }
 }

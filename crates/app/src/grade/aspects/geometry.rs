@@ -42,11 +42,13 @@ pub(super) fn black_background(e: &Evidence) -> bool {
 }
 
 /// The student's background: per channel, a quadratic in the pixel's
-/// place on the image, fitted robustly on the pixels that surely see
-/// nothing (the fit keeps out an object drawn where ours sees none). The
-/// assignment names no background: a colour fits it (the quadratic is
+/// place on the image with a cubic in its squared distance from the
+/// image's centre ([`place`]), fitted robustly on the pixels that surely
+/// see nothing (the fit keeps out an object drawn where ours sees none).
+/// The assignment names no background: a colour fits it (the terms are
 /// then flat), and so does a sky graded by the ray's direction, smooth
-/// over a camera's field of view. Black where no pixel surely sees
+/// over a camera's field of view, or a background that changes with the
+/// angle from the view's axis alone. Black where no pixel surely sees
 /// nothing.
 struct Background {
     /// Per channel, the fit's intercept and the gains of [`place`]'s
@@ -56,14 +58,20 @@ struct Background {
     fitted: Vec<usize>,
 }
 
-/// Pixel `k`'s terms in [`Background`]'s quadratic: its place on the
-/// image plane (from −½ to ½ across), their squares and product.
-fn place(e: &Evidence, k: usize) -> [f64; 5] {
+/// Pixel `k`'s terms in [`Background`]'s fit: its place on the image
+/// plane (from −½ to ½ across), their squares and product, and the
+/// square and cube of its squared distance `s` from the centre. A
+/// direction's angle from the view's axis is a function of `s` alone,
+/// and a smooth step of it over the view (a radial gradient that
+/// flattens at the centre and the corners) takes powers of `s` up to the
+/// third to follow within a background pixel's tolerance.
+fn place(e: &Evidence, k: usize) -> [f64; 7] {
     let (x, y) = e.xy(k);
     let size = f64::from(e.size);
     let u = (f64::from(x) + 0.5) / size - 0.5;
     let v = (f64::from(y) + 0.5) / size - 0.5;
-    [u, v, u * u, u * v, v * v]
+    let s = u * u + v * v;
+    [u, v, u * u, u * v, v * v, s * s, s * s * s]
 }
 
 impl Background {
@@ -75,16 +83,18 @@ impl Background {
             })
             .collect();
         let channels = [0, 1, 2].map(|c| {
-            let rows: Vec<([f64; 5], f64)> = fitted
+            let rows: Vec<([f64; 7], f64)> = fitted
                 .iter()
                 .map(|&k| (place(e, k), f64::from(e.student_px(k)[c]) / 255.0))
                 .collect();
             robust_fit(&rows).unwrap_or_else(|| {
-                // Too few pixels for the quadratic: their median.
+                // Too few pixels for the fit: their median.
                 let mut values: Vec<f64> = rows.iter().map(|r| r.1).collect();
                 values.sort_unstable_by(f64::total_cmp);
                 let median = values.get(values.len() / 2).copied().unwrap_or(0.0);
-                vec![median, 0.0, 0.0, 0.0, 0.0, 0.0]
+                let mut flat = vec![0.0; 8];
+                flat[0] = median;
+                flat
             })
         });
         Background { channels, fitted }
