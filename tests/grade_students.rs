@@ -476,6 +476,19 @@ const REPORT_WORDS: [(&str, &str, &str, &str, &str); 3] = [
     ),
 ];
 
+/// Words a report must not hold, by class, student, scene and aspect:
+/// where they would mislead. The first object in the file's order taken
+/// for the nearest fails geometry by a hair on facing_mirrors.txt, whose
+/// coverage a transpose keeps, and the image transposed passes it: no
+/// transform is named where the scene does not tell it.
+const REPORT_SILENT: [(&str, &str, &str, &str, &str); 1] = [(
+    "veiled",
+    "cpp_bug_first_hit_not_nearest",
+    "facing_mirrors.txt",
+    "geometry",
+    "likely",
+)];
+
 /// The wrong root differs by class: tune (C) takes the far root, so
 /// spheres shadow themselves; judge (Python) takes only the near one, so
 /// the camera inside a sphere sees nothing. held_out has none.
@@ -682,11 +695,15 @@ fn check_class(class: &str) {
             }
         }
     }
-    for &(_, name, scene, aspect, words) in REPORT_WORDS.iter().filter(|w| w.0 == class) {
+    let words = (REPORT_WORDS.iter().map(|w| (w, true)))
+        .chain(REPORT_SILENT.iter().map(|w| (w, false)))
+        .filter(|(w, _)| w.0 == class);
+    for (&(_, name, scene, aspect, words), held) in words {
         let detail = detail(&summaries[name], scene, aspect);
-        if !detail.contains(words) {
+        if detail.contains(words) != held {
+            let says = if held { "does not say" } else { "says" };
             problems.push(format!(
-                "{class}/{name}'s {aspect} on {scene} does not say {words:?}: {detail}"
+                "{class}/{name}'s {aspect} on {scene} {says} {words:?}: {detail}"
             ));
         }
     }

@@ -244,7 +244,11 @@ fn judge_all(
 /// The whole-image transform that turns a student's image back into one
 /// ours explains, with the verdicts and maps of the image turned back;
 /// `None` when none does. When geometry fails as the image is, turned
-/// back it must pass; when it passes (the transform keeps the scene's
+/// back it must pass, and the scene must tell the transform: our own
+/// image so turned must fail geometry, else the scene's coverage is
+/// symmetric under it (facing_mirrors.txt's under a transpose), and a
+/// bug that fails geometry by a hair there is no transform. When it
+/// passes (the transform keeps the scene's
 /// coverage, as a symmetric scene's does), every aspect judged as the
 /// image is must be judged and pass turned back, each that failed by a
 /// clear margin ([`AspectResult::clear_pass`]): a lucky symmetry may
@@ -271,6 +275,9 @@ fn recognise(
         if as_is[0].judged && !(geometry.judged && geometry.pass) {
             return None;
         }
+        if geometry_failed && !tells(buffers, reference, t, thresholds) {
+            return None;
+        }
         let evidence = Evidence::new(buffers, reference, &turned);
         let verdicts = judge_all(&evidence, thresholds);
         let explained = || {
@@ -281,6 +288,21 @@ fn recognise(
         };
         (geometry_failed || explained()).then_some((t, verdicts))
     })
+}
+
+/// Whether the scene tells transform `t` by coverage: our own image
+/// turned by it fails geometry.
+fn tells(
+    buffers: &Buffers,
+    reference: &Picture,
+    t: transform::Transform,
+    thresholds: &AspectThresholds,
+) -> bool {
+    let turned = t.undo(reference);
+    let coverage = Evidence::unfitted(buffers, reference, &turned);
+    let mut map = vec![0u8; coverage.n];
+    let geometry = geometry::judge(&coverage, thresholds, &[], &mut map);
+    geometry.judged && !geometry.pass
 }
 
 /// Every aspect's verdict and map.
