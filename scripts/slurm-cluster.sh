@@ -12,10 +12,9 @@
 # the loopback address, outside the range the kernel gives connections),
 # then waits until the node is idle. Nothing is written outside DIR: the
 # conf, keys, sockets, pid files, logs, the controller's state and the
-# node's spool are all in it. Point the Slurm
-# commands at the cluster with `SLURM_CONF=DIR/slurm.conf` (the jobs inherit
-# it too). When `start` fails, it prints the daemons' logs and stops what
-# it started.
+# node's spool are all in it. Point the Slurm commands at the cluster with
+# `SLURM_CONF=DIR/slurm.conf` (the jobs inherit it too). When `start`
+# fails, it prints the daemons' logs and stops what it started.
 #
 # `stop` cancels every job of the cluster, waits for them to end, and stops
 # each daemon by the pid in its pid file (TERM, then KILL after 10 s). It

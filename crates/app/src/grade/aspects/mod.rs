@@ -246,16 +246,16 @@ fn judge_all(
 /// `None` when none does. When geometry fails as the image is, turned
 /// back it must pass, and the scene must tell the transform: our own
 /// image so turned must fail geometry, else the scene's coverage is
-/// symmetric under it (facing_mirrors.txt's under a transpose), and a
-/// bug that fails geometry by a hair there is no transform. When it
-/// passes (the transform keeps the scene's
-/// coverage, as a symmetric scene's does), every aspect judged as the
-/// image is must be judged and pass turned back, each that failed by a
-/// clear margin ([`AspectResult::clear_pass`]): a lucky symmetry may
-/// bring a buggy image to the bound, not well within it. And no aspect
-/// may fail turned back, even one not judged as the image is (shading
-/// leaves plain objects to failed shadows): the image turned back must
-/// fit ours in every aspect, as the report then says.
+/// symmetric under it (facing_mirrors.txt's under a transpose), and a bug
+/// that fails geometry by a hair there is no transform. When it passes
+/// (the transform keeps the scene's coverage, as a symmetric scene's
+/// does), every aspect judged as the image is must be judged and pass
+/// turned back, each that failed by a clear margin
+/// ([`AspectResult::clear_pass`]): a lucky symmetry may bring a buggy
+/// image to the bound, not well within it. And no aspect may fail turned
+/// back, even one not judged as the image is (shading leaves plain
+/// objects to failed shadows): the image turned back must fit ours in
+/// every aspect, as the report then says.
 fn recognise(
     buffers: &Buffers,
     reference: &Picture,
