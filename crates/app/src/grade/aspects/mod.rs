@@ -269,14 +269,17 @@ fn recognise(
         // Geometry judged as the image is must be judged and pass turned
         // back, either way; it reads coverage alone, so it is judged
         // before the readings are fitted.
-        let coverage = Evidence::unfitted(buffers, reference, &turned);
-        let mut map = vec![0u8; coverage.n];
-        let geometry = geometry::judge(&coverage, thresholds, &[], &mut map);
+        let geometry = coverage(buffers, reference, &turned, thresholds);
         if as_is[0].judged && !(geometry.judged && geometry.pass) {
             return None;
         }
-        if geometry_failed && !tells(buffers, reference, t, thresholds) {
-            return None;
+        // The scene tells the transform when our own image so turned
+        // fails geometry.
+        if geometry_failed {
+            let ours = coverage(buffers, reference, &t.undo(reference), thresholds);
+            if !ours.judged || ours.pass {
+                return None;
+            }
         }
         let evidence = Evidence::new(buffers, reference, &turned);
         let verdicts = judge_all(&evidence, thresholds);
@@ -290,19 +293,17 @@ fn recognise(
     })
 }
 
-/// Whether the scene tells transform `t` by coverage: our own image
-/// turned by it fails geometry.
-fn tells(
+/// Geometry's verdict on `picture`, which reads coverage alone: judged
+/// before any reading is fitted.
+fn coverage(
     buffers: &Buffers,
     reference: &Picture,
-    t: transform::Transform,
+    picture: &Picture,
     thresholds: &AspectThresholds,
-) -> bool {
-    let turned = t.undo(reference);
-    let coverage = Evidence::unfitted(buffers, reference, &turned);
-    let mut map = vec![0u8; coverage.n];
-    let geometry = geometry::judge(&coverage, thresholds, &[], &mut map);
-    geometry.judged && !geometry.pass
+) -> AspectResult {
+    let evidence = Evidence::unfitted(buffers, reference, picture);
+    let mut map = vec![0u8; evidence.n];
+    geometry::judge(&evidence, thresholds, &[], &mut map)
 }
 
 /// Every aspect's verdict and map.
