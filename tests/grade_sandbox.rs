@@ -1373,7 +1373,8 @@ fn a_set_user_id_file_a_run_makes_is_out_of_other_accounts_reach() {
 }
 
 /// A tracer's script that leaves `levels` nested folders (`d/d/d/…`) and
-/// a `chmod 000` folder holding a file in its working folder.
+/// a `chmod 000` folder holding a file in its working folder, printing
+/// how deep it is every 1,000 levels.
 fn nested_folders(levels: usize) -> String {
     format!(
         "python3 - <<'END'\n\
@@ -1381,7 +1382,8 @@ fn nested_folders(levels: usize) -> String {
          os.mkdir('closed')\n\
          open('closed/file', 'w').close()\n\
          top = os.open('.', os.O_RDONLY)\n\
-         for _ in range({levels}):\n    os.mkdir('d')\n    os.chdir('d')\n\
+         for level in range(1, {levels} + 1):\n    os.mkdir('d')\n    os.chdir('d')\n    \
+         if level % 1000 == 0: print(level, flush=True)\n\
          os.fchdir(top)\n\
          os.chmod('closed', 0)\n\
          END\n"
@@ -1435,6 +1437,10 @@ fn deep_and_closed_folders_a_run_leaves_are_removed() {
 /// A student's build that leaves 25,000 nested folders and a `chmod 000`
 /// one in its prepared folder: the student is graded (each scene's copy
 /// refuses a folder that deep) and the prepared folder goes with the run.
+/// Without a box, Landlock checks each new folder against every folder
+/// above it, so the nesting takes about 40 s: the build then ends at a
+/// timeout of 5 s with as many folders as it made, at least 2,000 (a path
+/// past `PATH_MAX`), and the folder must still go.
 #[test]
 fn deep_folders_a_build_leaves_are_removed() {
     let case = Case::suite("grade-deep-build-", SPHERE);
@@ -1449,19 +1455,33 @@ fn deep_folders_a_build_leaves_are_removed() {
         ],
     );
     let tmp = Tmp::new(d);
-    grade_each_way(&case, &student, &tmp, |run, report, stderr| {
-        assert!(
-            report.join("summary.json").is_file(),
-            "{run}: no summary: {stderr}"
-        );
+    let check = |run: &str, report: &Path, stderr: &str| {
+        let summary: Value = serde_json::from_slice(
+            &std::fs::read(report.join("summary.json"))
+                .unwrap_or_else(|_| panic!("{run}: no summary: {stderr}")),
+        )
+        .unwrap();
+        let printed = summary["build"]["stdout"].as_str().unwrap_or_default();
+        let deepest = printed
+            .lines()
+            .filter_map(|l| l.parse::<usize>().ok())
+            .max();
+        assert!(deepest >= Some(2_000), "{run}: {summary}");
         assert_eq!(tmp.left(), Vec::<String>::new(), "{run}: {stderr}");
-    });
+    };
+    grade_each_way(&case, &student, &tmp, &["--timeout", "5"], check);
 }
 
 /// Grade `student` in each kind of run this machine allows, in a box and
-/// `--unprotected`, with `tmp` as `TMPDIR`; `check` is given each run's
-/// name, report folder and stderr.
-fn grade_each_way(case: &Case, student: &Path, tmp: &Tmp, check: impl Fn(&str, &Path, &str)) {
+/// `--unprotected` (with `unprotected_options` besides), with `tmp` as
+/// `TMPDIR`; `check` is given each run's name, report folder and stderr.
+fn grade_each_way(
+    case: &Case,
+    student: &Path,
+    tmp: &Tmp,
+    unprotected_options: &[&str],
+    check: impl Fn(&str, &Path, &str),
+) {
     for kind in kinds() {
         for unprotected in [false, true] {
             let run = format!("{kind:?}, unprotected {unprotected}");
@@ -1473,7 +1493,7 @@ fn grade_each_way(case: &Case, student: &Path, tmp: &Tmp, check: impl Fn(&str, &
             );
             command.env("TMPDIR", &tmp.0);
             if unprotected {
-                command.arg("--unprotected");
+                command.arg("--unprotected").args(unprotected_options);
                 without_namespaces(&mut command);
             }
             let output = command.output().unwrap();
@@ -1506,7 +1526,7 @@ fn a_builds_home_is_its_own_and_goes_with_the_build() {
         ],
     );
     let tmp = Tmp::new(d);
-    grade_each_way(&case, &student, &tmp, |run, report, stderr| {
+    grade_each_way(&case, &student, &tmp, &[], |run, report, stderr| {
         let summary: Value = serde_json::from_slice(
             &std::fs::read(report.join("summary.json"))
                 .unwrap_or_else(|_| panic!("{run}: no summary: {stderr}")),
