@@ -391,21 +391,20 @@ impl<'a> Evidence<'a> {
     }
 
     /// The chromaticity of the student's pixel `k` in linear light under
-    /// `curve` (one of [`tone::Fitted::plausible`]), when the pixel as
-    /// written is bright enough to have one.
-    pub fn chroma_under(&self, curve: Curve, k: usize) -> Option<[f64; 3]> {
+    /// a curve (one of [`tone::Fitted::plausible`], read through its
+    /// [`Curve::linear_bytes`], `linear`), when the pixel as written is
+    /// bright enough to have one.
+    pub fn chroma_under(&self, linear: &[f64; 256], k: usize) -> Option<[f64; 3]> {
         let written = self.student_px(k);
         chroma(&written)?;
-        chroma_of_light(written.map(|v| curve.linear(f64::from(v) / 255.0)))
+        chroma_of_light(written.map(|v| linear[usize::from(v)]))
     }
 
-    /// The luminance of the student's pixel `k` in linear light under
-    /// `curve` (one of [`tone::Fitted::plausible`]).
-    pub fn luminance_under(&self, curve: Curve, k: usize) -> f64 {
-        luminance_of(
-            self.student_px(k)
-                .map(|v| curve.linear(f64::from(v) / 255.0)),
-        )
+    /// The luminance of the student's pixel `k` in linear light under a
+    /// curve (one of [`tone::Fitted::plausible`], read through its
+    /// [`Curve::linear_bytes`], `linear`).
+    pub fn luminance_under(&self, linear: &[f64; 256], k: usize) -> f64 {
+        luminance_of(self.student_px(k).map(|v| linear[usize::from(v)]))
     }
 
     /// Pixel `k` of `picture`.

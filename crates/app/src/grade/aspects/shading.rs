@@ -99,13 +99,14 @@ fn plain(e: &Evidence, bound: f64, shadows_differ: bool, map: &mut [u8]) -> (f64
         let median = |chroma: &dyn Fn(usize) -> Option<[f64; 3]>| {
             [0, 1, 2].map(|c| {
                 let mut v: Vec<f64> = ks.iter().filter_map(|&k| chroma(k)).map(|v| v[c]).collect();
-                v.sort_by(f64::total_cmp);
-                v[v.len() / 2]
+                let middle = v.len() / 2;
+                *v.select_nth_unstable_by(middle, f64::total_cmp).1
             })
         };
         let ours = median(&|k| e.chroma(Whose::Ours, k));
         let d = nearest(e, &|curve| {
-            distance(ours, median(&|k| e.chroma_under(curve, k)))
+            let linear = curve.linear_bytes();
+            distance(ours, median(&|k| e.chroma_under(&linear, k)))
         });
         worst = worst.max(d);
         shaded += ks.len();
@@ -173,12 +174,13 @@ fn gains(e: &Evidence, shadows_differ: bool, map: &mut [u8]) -> (f64, usize) {
     // allows. A curve's luminances serve every falloff.
     let mut ratios: Vec<Vec<(u32, f64)>> = Vec::new();
     for curve in e.tone.plausible() {
+        let linear = curve.linear_bytes();
         let groups: Vec<Group> = objects
             .iter()
             .map(|(object, ks)| {
                 let rows = ks
                     .iter()
-                    .map(|&k| (&e.buffers.centres[k], e.luminance_under(curve, k)))
+                    .map(|&k| (&e.buffers.centres[k], e.luminance_under(&linear, k)))
                     .collect();
                 (*object, rows)
             })
@@ -322,7 +324,8 @@ fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) 
         }
         let ours = mean(pairs.iter().map(|p| p.1));
         let d = nearest(e, &|curve| {
-            let theirs = mean(pairs.iter().filter_map(|p| e.chroma_under(curve, p.0)));
+            let linear = curve.linear_bytes();
+            let theirs = mean(pairs.iter().filter_map(|p| e.chroma_under(&linear, p.0)));
             distance(ours, theirs)
         });
         worst = worst.max(d);

@@ -99,8 +99,14 @@ impl Curve {
     /// The value a light `x` is written as: the inverse of
     /// [`Curve::linear`].
     pub fn value(&self, x: f64) -> f64 {
-        let p = self.shoulder.redo(x / self.shoulder.scale());
-        p.clamp(0.0, 1.0).powf(1.0 / self.gamma)
+        self.writer()(x)
+    }
+
+    /// [`Curve::value`], its constants worked out once for a pass over
+    /// many lights.
+    fn writer(&self) -> impl Fn(f64) -> f64 {
+        let (shoulder, scale, power) = (self.shoulder, self.shoulder.scale(), 1.0 / self.gamma);
+        move |x| shoulder.redo(x / scale).clamp(0.0, 1.0).powf(power)
     }
 
     /// The curve in words, for the report; `None` for clamping alone.
@@ -222,34 +228,48 @@ fn tells(objects: &[Group]) -> bool {
         gamma: 2.2,
         shoulder: Shoulder::None,
     };
+    let spreads = spreads(objects);
     match (
-        unexplained(objects, Curve::CLAMPING),
-        unexplained(objects, screen),
+        unexplained(objects, &spreads, Curve::CLAMPING),
+        unexplained(objects, &spreads, screen),
     ) {
         (Some(a), Some(b)) => a.min(b) < KEEP_CLAMPING * a.max(b),
         _ => false,
     }
 }
 
+/// Each group's values as written, each as its distance from the group's
+/// mean; `None` for a group whose values hardly vary ([`FLAT`]), which
+/// tells no curve. The same under every curve, so made once for all.
+fn spreads(objects: &[Group]) -> Vec<Option<Vec<f64>>> {
+    objects
+        .iter()
+        .map(|(reads, group)| {
+            let written: Vec<f64> = group
+                .iter()
+                .map(|(p, _)| reads.of(p.map(|c| f64::from(c) / 255.0)))
+                .collect();
+            let mean = written.iter().sum::<f64>() / written.len() as f64;
+            let spread: Vec<f64> = written.iter().map(|w| (w - mean).abs()).collect();
+            (root_mean_square(&spread) >= FLAT).then_some(spread)
+        })
+        .collect()
+}
+
 /// The share of the image's spread the fits of `objects` leave
-/// unexplained under `curve`; `None` when nothing varies or no fit.
-fn unexplained(objects: &[Group], curve: Curve) -> Option<f64> {
+/// unexplained under `curve`, each group's spread being its [`spreads`];
+/// `None` when nothing varies or no fit.
+fn unexplained(objects: &[Group], spreads: &[Option<Vec<f64>>], curve: Curve) -> Option<f64> {
     let linear = curve.linear_bytes();
+    let value = curve.writer();
     // Each 8-bit value there and back, the same as the value written but
     // for the curve's rounding: a channel read alone needs no more.
-    let written_back: [f64; 256] = std::array::from_fn(|v| curve.value(linear[v]));
-    let (mut residuals, mut spreads) = (Vec::new(), Vec::new());
-    for (reads, group) in objects {
-        // Each value as written, from its object's mean.
-        let written: Vec<f64> = group
-            .iter()
-            .map(|(p, _)| reads.of(p.map(|c| f64::from(c) / 255.0)))
-            .collect();
-        let mean = written.iter().sum::<f64>() / written.len() as f64;
-        let spread: Vec<f64> = written.iter().map(|w| (w - mean).abs()).collect();
-        if root_mean_square(&spread) < FLAT {
+    let written_back: [f64; 256] = std::array::from_fn(|v| value(linear[v]));
+    let (mut residuals, mut spread_of_all) = (Vec::new(), Vec::new());
+    for ((reads, group), spread) in objects.iter().zip(spreads) {
+        let Some(spread) = spread else {
             continue;
-        }
+        };
         let rows: Vec<([f64; 3], f64)> = group
             .iter()
             .map(|&(p, x)| (x, reads.of(p.map(|c| linear[usize::from(c)]))))
@@ -261,15 +281,15 @@ fn unexplained(objects: &[Group], curve: Curve) -> Option<f64> {
         residuals.extend(rows.iter().zip(group).map(|((x, y), (p, _))| {
             let back = match reads {
                 Reads::Channel(c) => written_back[usize::from(p[*c])],
-                Reads::Luminance => curve.value(*y),
+                Reads::Luminance => value(*y),
             };
-            (curve.value(predict(&beta, x).max(0.0)) - back).abs()
+            (value(predict(&beta, x).max(0.0)) - back).abs()
         }));
-        spreads.extend(spread);
+        spread_of_all.extend(spread);
     }
     // The root mean square residual over the values' spread: the share
     // of the image's spread the curve and lines leave.
-    let spread = root_mean_square(&spreads);
+    let spread = root_mean_square(&spread_of_all);
     (spread > 0.0).then(|| root_mean_square(&residuals) / spread)
 }
 
@@ -283,10 +303,12 @@ fn unexplained(objects: &[Group], curve: Curve) -> Option<f64> {
 /// that the best fit does not beat by that same share
 /// ([`Fitted::alike`]).
 fn decide(objects: &[Group]) -> Fitted {
+    let spreads = spreads(objects);
+    let unexplained = |curve| unexplained(objects, &spreads, curve);
     let mut tried: Vec<(Curve, f64)> = Vec::new();
     let mut scored = |curves: &mut dyn Iterator<Item = Curve>| -> Option<(Curve, f64)> {
         let start = tried.len();
-        tried.extend(curves.filter_map(|c| unexplained(objects, c).map(|u| (c, u))));
+        tried.extend(curves.filter_map(|c| unexplained(c).map(|u| (c, u))));
         tried[start..]
             .iter()
             .copied()
@@ -315,7 +337,7 @@ fn decide(objects: &[Group]) -> Fitted {
         )
     });
     let earns = |left: f64, before: f64| left < KEEP_CLAMPING * before && left < EXPLAINED;
-    let mut curve = match unexplained(objects, Curve::CLAMPING) {
+    let mut curve = match unexplained(Curve::CLAMPING) {
         Some(left) if !earns(power_left, left) => Curve::CLAMPING,
         _ => best_power,
     };
