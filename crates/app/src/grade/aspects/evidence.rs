@@ -391,9 +391,9 @@ impl<'a> Evidence<'a> {
     }
 
     /// The chromaticity of the student's pixel `k` in linear light under
-    /// a curve (one of [`tone::Fitted::plausible`], read through its
-    /// [`Curve::linear_bytes`], `linear`), when the pixel as written is
-    /// bright enough to have one.
+    /// a curve (one of [`tone::Fitted::plausible`]) given as its
+    /// [`Curve::linear_bytes`], when the pixel as written is bright
+    /// enough to have one.
     pub fn chroma_under(&self, linear: &[f64; 256], k: usize) -> Option<[f64; 3]> {
         let written = self.student_px(k);
         chroma(&written)?;
@@ -401,8 +401,8 @@ impl<'a> Evidence<'a> {
     }
 
     /// The luminance of the student's pixel `k` in linear light under a
-    /// curve (one of [`tone::Fitted::plausible`], read through its
-    /// [`Curve::linear_bytes`], `linear`).
+    /// curve (one of [`tone::Fitted::plausible`]) given as its
+    /// [`Curve::linear_bytes`].
     pub fn luminance_under(&self, linear: &[f64; 256], k: usize) -> f64 {
         luminance_of(self.student_px(k).map(|v| linear[usize::from(v)]))
     }
