@@ -63,6 +63,12 @@ pub struct Probe {
     /// The luminance of our radiance along the mirror direction, each
     /// channel clamped to 1 (only on a reflective object).
     pub reflected_radiance: f64,
+    /// The same radiance tinted by the mirror's own colour, channel by
+    /// channel: what a tracer that multiplies a reflection by its
+    /// mirror's colour (a coloured metal, a reading the assignment's "try
+    /// different things" allows) adds there. On a black mirror it is 0
+    /// (only on a reflective object).
+    pub reflected_tinted: f64,
     /// What the lights could bring to the points the mirror shows, were
     /// nothing in their way: the luminance along the mirror direction
     /// without shadows less that of ambient light alone. A tracer whose
@@ -407,6 +413,7 @@ fn probe_to(probing: &Probing, ray: Ray<f64>, reflect: bool) -> Probe {
         };
         let c = tracer.radiance(reflected, &mut counters).min(DVec3::ONE);
         probe.reflected_radiance = luminance(c);
+        probe.reflected_tinted = luminance(albedo * c);
         if let Some(direct) = &probing.direct {
             let [shadowless, unlit] = direct
                 .each_ref()
@@ -500,6 +507,8 @@ mod tests {
         assert!(floor.unshadowed > 0.0 && floor.lit == 0.0);
         assert_eq!(floor.reflected, Some(0));
         assert!(floor.reflected_radiance > 0.0);
+        // A white mirror's tint changes nothing.
+        assert!((floor.reflected_tinted - floor.reflected_radiance).abs() < 1e-12);
         // The top row misses everything.
         assert_eq!(b.centre(0, 0).object, None);
         assert!(b.stable(0, 0, |p| p.object));
@@ -555,6 +564,8 @@ mod tests {
             };
             assert!((p.reflected_radiance - shown).abs() < 1e-9, "{p:?}");
             assert!(p.reflected_direct > 0.05, "{p:?}");
+            // A black mirror tinted by its colour shows nothing.
+            assert_eq!(p.reflected_tinted, 0.0, "{p:?}");
         }
     }
 

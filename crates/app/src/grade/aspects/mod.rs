@@ -124,7 +124,8 @@ pub struct AspectThresholds {
     /// The least gain of what ours shows in a mirror, in the fit of the
     /// student's mirror, over the mirror's reflectivity: below it, the
     /// mirror does not show what ours shows, and all of its pixels that
-    /// show something count as differing.
+    /// show something count as differing. What ours shows is taken as it
+    /// arrives, or tinted by the mirror's colour where the image reads so.
     pub reflection_gain: f64,
     /// The least ratio of the student's texture contrast to ours.
     pub texture_contrast: f64,

@@ -5,12 +5,17 @@
 //! `(reflected colour)ⁿ · reflectivity` beside the plain term:
 //! [`fit_shape`]); a pixel the fit does not explain differs, and a mirror
 //! whose gain `c` on what ours shows is below a share of its reflectivity
-//! does not show it at all. What a mirror shows of a texture
-//! (the mapping is open) is not judged, nor what it shows of another
-//! mirror where the readings (added or blended, any depth of two
-//! reflections or more) differ ([`Probe::reflection_settled`]), nor where
-//! a highlight may brighten it. Where they agree, as in a mirror showing a
-//! black mirror that shows a coloured object, recursion is judged.
+//! does not show it at all. The student may add what a mirror shows as
+//! it arrives or tinted by the mirror's own colour ([`Tint`]); the image
+//! is read under the one that fits it, the same for all its mirrors, so
+//! a black mirror that shows nothing may be a tinting tracer's, unless
+//! another black mirror of the same image shows what ours shows. What a
+//! mirror shows of a texture (the mapping is open) is not judged, nor
+//! what it shows of another mirror where the readings (added or blended,
+//! any depth of two reflections or more) differ
+//! ([`Probe::reflection_settled`]), nor where a highlight may brighten
+//! it. Where they agree, as in a mirror showing a black mirror that
+//! shows a coloured object, recursion is judged.
 //!
 //! What a mirror shows of a lit point is that point's light, which the
 //! student's shadow rays decide. Where the student's shadows fail on the
@@ -25,7 +30,9 @@
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::fit::{predict, robust_fit, spread};
 use super::geometry::black_background;
+use super::tone::FLAT;
 use super::{failed, fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
+use raytracer_render::render::probe::Probe;
 
 /// The powers of what a mirror shows tried: the assignment's own variant
 /// of the reflection's term is `(reflected colour)ⁿ · reflectivity`.
@@ -37,15 +44,15 @@ const POWERS: [f64; 4] = [1.0, 1.5, 2.0, 3.0];
 const KEEP_PLAIN: f64 = 0.9;
 
 /// The student's brightness over mirror pixels `ks` fitted as
-/// `a + b·lit + c·(what ours sees in the mirror)ⁿ + d·(it meets
-/// nothing)`, with the power `n` of [`POWERS`] that explains it, kept
+/// `a + b·lit + c·(what ours sees in the mirror, under `tint`)ⁿ + d·(it
+/// meets nothing)`, with the power `n` of [`POWERS`] that explains it, kept
 /// only where it earns its place ([`KEEP_PLAIN`]); `None` when nothing
 /// fits. The last term is the student's background as their mirror shows
 /// it, as the background's colour is theirs to choose
 /// ([`super::geometry`]); fitted only when their background is
 /// `coloured` (not black), else a mirror that shows something where ours
 /// shows nothing differs.
-fn fit_shape(e: &Evidence, ks: &[usize], coloured_background: bool) -> Option<Shape> {
+fn fit_shape(e: &Evidence, ks: &[usize], coloured_background: bool, tint: Tint) -> Option<Shape> {
     let fit = |n: f64| {
         let rows: Vec<([f64; 3], f64)> = ks
             .iter()
@@ -55,7 +62,7 @@ fn fit_shape(e: &Evidence, ks: &[usize], coloured_background: bool) -> Option<Sh
                 (
                     [
                         p.lit,
-                        p.reflected_radiance.max(0.0).powf(n),
+                        tint.shown(p).max(0.0).powf(n),
                         f64::from(u8::from(meets_nothing)),
                     ],
                     e.luminance(Whose::Theirs, k),
@@ -102,8 +109,34 @@ struct Shape {
 /// must show to show something at all.
 const SHOWS: f64 = 0.03;
 
+/// How a student's mirror adds what it shows: as it arrives (the
+/// assignment's "reflected colour times reflectivity"), or tinted by the
+/// mirror's own colour, channel by channel, as a coloured metal would
+/// (the assignment lets a student "try different things" there). A black
+/// mirror tinted shows nothing; a grey one shows what it shows scaled
+/// down by its grey.
+#[derive(Clone, Copy, PartialEq)]
+enum Tint {
+    AsItArrives,
+    Tinted,
+}
+
+impl Tint {
+    /// What ours sees in the mirror at `p` under this reading.
+    fn shown(self, p: &Probe) -> f64 {
+        match self {
+            Tint::AsItArrives => p.reflected_radiance,
+            Tint::Tinted => p.reflected_tinted,
+        }
+    }
+}
+
 /// Judge reflection, marking `map`, leaving what the student's failed
-/// shadows decide to `earlier`'s shadows verdict.
+/// shadows decide to `earlier`'s shadows verdict. The image is judged
+/// under each [`Tint`], and read as tinted when that leaves fewer pixels
+/// differing, unless a mirror the tint leaves nothing to show shows what
+/// ours shows: a student's mirrors all add what they show one way, so a
+/// black mirror that shows it refutes the tint for all of them.
 pub(super) fn judge(
     e: &Evidence,
     thresholds: &AspectThresholds,
@@ -111,10 +144,73 @@ pub(super) fn judge(
     map: &mut [u8],
 ) -> AspectResult {
     let shadows_differ = failed(earlier, Aspect::Shadows);
+    let as_it_arrives = judge_as(e, thresholds, shadows_differ, Tint::AsItArrives);
+    let tinted = judge_as(e, thresholds, shadows_differ, Tint::Tinted);
+    // A mirror the tint leaves nothing to show (a black one) that shows
+    // what ours shows all the same tells that the student does not tint.
+    let refuted = as_it_arrives.gains.iter().any(|(object, gain)| {
+        gain.is_some_and(|g| g >= thresholds.reflection_gain)
+            && tinted
+                .gains
+                .iter()
+                .any(|(other, tinted_gain)| other == object && tinted_gain.is_none())
+    });
+    let read = if !refuted && tinted.measure() < as_it_arrives.measure() {
+        tinted
+    } else {
+        as_it_arrives
+    };
+    for &(k, mark) in &read.marks {
+        map[k] = mark;
+    }
+    let counts = &read.counts;
+    verdict(
+        Aspect::Reflection,
+        counts.showing >= 20,
+        read.measure(),
+        thresholds.reflection,
+        counts.showing + counts.dark,
+        detail(counts, thresholds.reflection_gain),
+    )
+}
+
+/// The mirrors judged under one [`Tint`]: the counts, each judged
+/// pixel's mark for the aspect's map, and each mirror fitted with its
+/// gain on what ours shows, where told.
+struct Judged {
+    counts: Counts,
+    marks: Vec<(usize, u8)>,
+    gains: Vec<(u32, Option<f64>)>,
+}
+
+impl Judged {
+    /// Each fraction over its own base: the pixels whose reflection shows
+    /// something, and those where ours shows nothing (judged when there
+    /// are enough of them).
+    fn measure(&self) -> f64 {
+        let c = &self.counts;
+        ratio(c.showing_bad, c.showing).max(if c.dark >= 20 {
+            ratio(c.dark_bad, c.dark)
+        } else {
+            0.0
+        })
+    }
+}
+
+/// Judge every mirror of `e` under `tint`, what the student's failed
+/// shadows decide left out when `shadows_differ`.
+fn judge_as(
+    e: &Evidence,
+    thresholds: &AspectThresholds,
+    shadows_differ: bool,
+    tint: Tint,
+) -> Judged {
     let mut counts = Counts {
         weakest_gain: f64::INFINITY,
+        tinted: tint == Tint::Tinted,
         ..Counts::default()
     };
+    let (mut marks, mut gains) = (Vec::new(), Vec::new());
     // Whether the student's background is coloured: told once, for the
     // first mirror, as it is the image's, not the mirror's.
     let mut coloured_background = None;
@@ -145,20 +241,21 @@ pub(super) fn judge(
             ks.retain(|&k| e.buffers.centres[k].reflected_direct <= SHOWS);
             counts.left_to_shadows += before - ks.len();
         }
-        let Some(shape) = fit_shape(e, &ks, coloured_background) else {
+        let Some(shape) = fit_shape(e, &ks, coloured_background, tint) else {
             continue;
         };
         counts.mirrors += 1;
         counts.power = counts.power.max(shape.power);
         // Whether the student's mirror shows what ours shows at all: the
         // fit's gain on it against the mirror's reflectivity, told only
-        // where what ours shows varies enough over the mirror to tell a
-        // gain from the intercept.
+        // where what ours shows varies over the mirror by more than
+        // rounding could hide ([`FLAT`]; never on a black mirror tinted).
         let shown: Vec<f64> = ks
             .iter()
-            .map(|&k| e.buffers.centres[k].reflected_radiance)
+            .map(|&k| tint.shown(&e.buffers.centres[k]))
             .collect();
-        let gain = (spread(&shown) >= 0.03).then(|| shape.beta[2] / first.reflectivity);
+        let gain = (spread(&shown) >= FLAT).then(|| shape.beta[2] / first.reflectivity);
+        gains.push((object, gain));
         if let Some(gain) = gain {
             counts.weakest_gain = counts.weakest_gain.min(gain);
         }
@@ -167,6 +264,8 @@ pub(super) fn judge(
             let r = s - predict(&shape.beta, x);
             // A highlight only brightens: not a reflection's error.
             let highlight = r > 0.0 && e.buffers.centres[k].highlight > HIGHLIGHT_CONE;
+            // Whether ours shows something there, the same base under
+            // either reading: a tinted black mirror must show nothing.
             let shows = e.buffers.centres[k].reflected_radiance > SHOWS;
             let bad = (r.abs() > 0.06 && !highlight) || (missing && shows);
             if shows {
@@ -176,33 +275,14 @@ pub(super) fn judge(
                 counts.dark += 1;
                 counts.dark_bad += usize::from(bad);
             }
-            map[k] = 1 + u8::from(bad);
+            marks.push((k, 1 + u8::from(bad)));
         }
     }
-    let Counts {
-        showing,
-        showing_bad,
-        dark,
-        dark_bad,
-        ..
-    } = counts;
-    // Each fraction over its own base: the pixels whose reflection shows
-    // something, and those where ours shows nothing (judged when there
-    // are enough of them).
-    let measure = ratio(showing_bad, showing).max(if dark >= 20 {
-        ratio(dark_bad, dark)
-    } else {
-        0.0
-    });
-    let judged = showing >= 20;
-    verdict(
-        Aspect::Reflection,
-        judged,
-        measure,
-        thresholds.reflection,
-        showing + dark,
-        detail(&counts, thresholds.reflection_gain),
-    )
+    Judged {
+        counts,
+        marks,
+        gains,
+    }
 }
 
 /// The pixels of mirrors judged, whether they show something in ours
@@ -221,6 +301,8 @@ struct Counts {
     /// The mirror pixels showing points a light could reach, left out
     /// as the student's shadows fail on the scene.
     left_to_shadows: usize,
+    /// Whether the mirrors were read as tinted by their own colour.
+    tinted: bool,
 }
 
 /// The verdict's words for `counts`, the gain a mirror must reach being
@@ -235,6 +317,7 @@ fn detail(counts: &Counts, least_gain: f64) -> String {
         weakest_gain,
         power,
         left_to_shadows,
+        tinted,
     } = *counts;
     let left_out = (left_to_shadows > 0).then(|| {
         format!(
@@ -263,10 +346,16 @@ fn detail(counts: &Counts, least_gain: f64) -> String {
         .collect();
         if weakest_gain.is_finite() {
             parts.push(format!(
-                "the mirror shows {:.0} % of what ours shows (at least {:.0} %)",
+                "the mirror shows {:.0} % of what ours shows{} (at least {:.0} %)",
                 100.0 * weakest_gain,
+                if tinted { " tinted by its colour" } else { "" },
                 100.0 * least_gain
             ));
+        }
+        if tinted {
+            parts.push(
+                "your mirrors read as tinting what they show by their own colour".to_string(),
+            );
         }
         if power > 1.0 {
             parts.push(format!(

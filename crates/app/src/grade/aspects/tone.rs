@@ -162,8 +162,10 @@ const EXPLAINED: f64 = 0.5;
 /// by rounding alone (an object no light of the student's reaches, say),
 /// every curve leaves its rounding, and its share of the spread says
 /// nothing of the curve. The robust fit's bound is the same: rounding
-/// alone is never an outlier ([`super::fit::outlier_bound`]).
-const FLAT: f64 = 3.0 / 255.0;
+/// alone is never an outlier ([`super::fit::outlier_bound`]); and so is
+/// the least spread of what a mirror shows that tells its gain on it
+/// ([`super::reflection`]).
+pub(super) const FLAT: f64 = 3.0 / 255.0;
 
 /// The luminance of a colour in linear light, each channel in [0, 1].
 pub(super) fn luminance_of(c: [f64; 3]) -> f64 {
