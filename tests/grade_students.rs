@@ -40,11 +40,11 @@
 //! (docs/grading.md, "How the thresholds were chosen"). To keep `make
 //! test` short, each class is graded on twelve scenes (`SCENES`, and the
 //! sealed, masked, veiled and hidden classes on one more each), which
-//! between them exercise every bug, one scene at a time. The tracers need `cc`,
-//! `javac`/`java`, `python3`, `node`, `g++`, `go` and `rustc`. Last, the
-//! instructor's reference (`--reference-tracer`, `--references`) and our
-//! renderer with a course's constants (`--reference-options`) replace
-//! ours.
+//! between them exercise every bug, one scene at a time. The tracers
+//! need `cc`, `javac`/`java`, `python3`, `node`, `g++`, `go` and
+//! `rustc`. Last, the instructor's reference (`--reference-tracer`,
+//! `--references`) and our renderer with a course's constants
+//! (`--reference-options`) replace ours.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -216,7 +216,10 @@ const KNOWN_MISSES: [(&str, &str, &str, &str); 12] = [
 /// constant is that many times larger, which the assignment leaves open.
 /// The veiled class's highlight drawn for a light its shadow ray finds
 /// blocked shows only where a highlight would fall in a shadow, which no
-/// scene of the suite has (docs/grading.md, "What is left").
+/// scene of the suite has. The hidden class's reflection weighed by the
+/// reflectivity squared dims each mirror by a factor of its own, which
+/// the mirror's gain, fitted per mirror as the student's constant, takes
+/// in (docs/grading.md, "What is left").
 const UNCAUGHT: [(&str, &str, &str); 5] = [
     ("blind", "rust_shadow_eps_huge", "shadows"),
     ("sealed", "c_bug_maxval_ignored", "textures"),
