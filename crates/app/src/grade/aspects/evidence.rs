@@ -8,7 +8,7 @@
 use super::falloff::{self, Falloff, Group, LightFit};
 use super::mapping;
 use super::palette;
-use super::tone::{self, luminance_of, Curve, Reads, Row};
+use super::tone::{self, luminance_of, Curve, Linearised, Reads, Row};
 use crate::compare::Picture;
 use raytracer_render::render::probe::{Buffers, Probe, Wears};
 
@@ -242,12 +242,12 @@ impl<'a> Evidence<'a> {
     fn read_tone(&mut self, falloff: Falloff) {
         let [plain, mirrors] = self.tone_rows(falloff);
         self.tone = tone::fit(&plain, &mirrors, &|| self.textured_tone_rows());
-        let linear = self.tone.curve.linear_bytes();
+        let linear = self.tone.curve.linearise();
         self.linear = self
             .student
             .rgb
             .chunks_exact(3)
-            .map(|p| [0, 1, 2].map(|c| linear[usize::from(p[c])]))
+            .map(|p| linear.pixel([p[0], p[1], p[2]]))
             .collect();
     }
 
@@ -391,20 +391,18 @@ impl<'a> Evidence<'a> {
     }
 
     /// The chromaticity of the student's pixel `k` in linear light under
-    /// a curve (one of [`tone::Fitted::plausible`]) given as its
-    /// [`Curve::linear_bytes`], when the pixel as written is bright
-    /// enough to have one.
-    pub fn chroma_under(&self, linear: &[f64; 256], k: usize) -> Option<[f64; 3]> {
+    /// a curve (one of [`tone::Fitted::plausible`], [`Curve::linearise`]d),
+    /// when the pixel as written is bright enough to have one.
+    pub fn chroma_under(&self, linear: &Linearised, k: usize) -> Option<[f64; 3]> {
         let written = self.student_px(k);
         chroma(&written)?;
-        chroma_of_light(written.map(|v| linear[usize::from(v)]))
+        chroma_of_light(linear.pixel(written))
     }
 
     /// The luminance of the student's pixel `k` in linear light under a
-    /// curve (one of [`tone::Fitted::plausible`]) given as its
-    /// [`Curve::linear_bytes`].
-    pub fn luminance_under(&self, linear: &[f64; 256], k: usize) -> f64 {
-        luminance_of(self.student_px(k).map(|v| linear[usize::from(v)]))
+    /// curve (one of [`tone::Fitted::plausible`], [`Curve::linearise`]d).
+    pub fn luminance_under(&self, linear: &Linearised, k: usize) -> f64 {
+        luminance_of(linear.pixel(self.student_px(k)))
     }
 
     /// Pixel `k` of `picture`.

@@ -80,9 +80,11 @@ fn texel_extremes(texels: &[[f32; 3]]) -> Vec<[f64; 3]> {
 pub(super) fn outside(palettes: &[&[DVec3]], written: [u8; 3], curves: &[Curve]) -> bool {
     let written = written.map(|v| f64::from(v) / 255.0);
     !curves.iter().any(|curve| {
-        let light = DVec3::from_array(written.map(|v| curve.linear(v)));
-        let near =
-            |point: DVec3| (0..3).all(|c| (curve.value(point[c]) - written[c]).abs() <= OUTSIDE);
+        let light = DVec3::from_array(curve.linear_pixel(written));
+        let near = |point: DVec3| {
+            let back = curve.value_pixel(point.to_array());
+            (0..3).all(|c| (back[c] - written[c]).abs() <= OUTSIDE)
+        };
         palettes
             .iter()
             .any(|generators| reaches(generators, light, &near))

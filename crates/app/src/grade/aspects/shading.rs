@@ -105,7 +105,7 @@ fn plain(e: &Evidence, bound: f64, shadows_differ: bool, map: &mut [u8]) -> (f64
         };
         let ours = median(&|k| e.chroma(Whose::Ours, k));
         let d = nearest(e, &|curve| {
-            let linear = curve.linear_bytes();
+            let linear = curve.linearise();
             distance(ours, median(&|k| e.chroma_under(&linear, k)))
         });
         worst = worst.max(d);
@@ -174,7 +174,7 @@ fn gains(e: &Evidence, shadows_differ: bool, map: &mut [u8]) -> (f64, usize) {
     // allows. A curve's luminances serve every falloff.
     let mut ratios: Vec<Vec<(u32, f64)>> = Vec::new();
     for curve in e.tone.plausible() {
-        let linear = curve.linear_bytes();
+        let linear = curve.linearise();
         let groups: Vec<Group> = objects
             .iter()
             .map(|(object, ks)| {
@@ -324,7 +324,7 @@ fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) 
         }
         let ours = mean(pairs.iter().map(|p| p.1));
         let d = nearest(e, &|curve| {
-            let linear = curve.linear_bytes();
+            let linear = curve.linearise();
             let theirs = mean(pairs.iter().filter_map(|p| e.chroma_under(&linear, p.0)));
             distance(ours, theirs)
         });

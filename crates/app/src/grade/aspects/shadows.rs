@@ -9,17 +9,21 @@
 //! its light looks shadowed. A shadowed pixel that another light still
 //! reaches looks shadowed from that one too when it is as dark as the
 //! object where no light reaches it (a tracer that drops every light
-//! where one is blocked): held against the object's own unlit level,
-//! not the fit's light, as a bug in the lights' colours changes how
-//! bright each light looks but leaves it visible. With its own
-//! intercept, an object the student draws the same lit and shadowed
-//! reads as shadows that look lit, whether no shadow falls on it or no
-//! light reaches it at all (a plane lit on its front alone, seen from
-//! behind), so a failing report names both. A pixel whose colour no
-//! light of the scene gives ([`super::palette`]) is shading's, not a
-//! shadow.
+//! where one is blocked): held against the object's own unlit level
+//! (where none of it in view is unlit, the level those points' own line
+//! meets with no light), not the fit's light, as a bug in the lights'
+//! colours changes how bright each light looks but leaves it visible.
+//! With its own intercept, an object the student draws the same lit and
+//! shadowed reads as shadows that look lit, whether no shadow falls on
+//! it or no light reaches it at all (a plane lit on its front alone,
+//! seen from behind), so a failing report names both. A pixel whose
+//! colour no light of the scene gives ([`super::palette`]) is shading's,
+//! not a shadow.
+
+use raytracer_render::render::probe::Probe;
 
 use super::evidence::{clipped, Evidence, Whose};
+use super::fit::robust_fit;
 use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 
 /// A running mean.
@@ -62,6 +66,22 @@ impl Sides {
     }
 }
 
+/// An object's unlit level where no point of it in view is unlit: the
+/// intercept of the line its shadowed points another light reaches
+/// (`rows`: that light under the fit's falloff, and the student's
+/// luminance) take against that light, when 20 tell it. A tracer that
+/// drops every light where one is blocked shows them flat at that level;
+/// one that lights them, rising with the light, its line meeting no light
+/// at that level too. Their own line, not the scene's: the scene's fit
+/// reaches these points from the fully lit ones, which a compressing
+/// tone curve read on a scene whose lit points clamp leaves far off.
+fn unseen_unlit_level(rows: &[([f64; 1], f64)]) -> Option<f64> {
+    if rows.len() < 20 {
+        return None;
+    }
+    robust_fit(rows).map(|beta| beta[0])
+}
+
 /// Judge shadows, marking `map`.
 pub(super) fn judge(
     e: &Evidence,
@@ -86,9 +106,21 @@ pub(super) fn judge(
                 // of which lights reach the point.
                 .filter(|&k| e.foreign[k] != Some(true))
                 .collect();
-            // Where no light of ours reaches the object, or, not seen,
-            // the fit's intercept.
-            let unlit_level = e.unlit_level(Whose::Theirs, &ks).unwrap_or(a);
+            // Shadowed points another light still reaches.
+            let partly_lit = |probe: &Probe| {
+                probe.unshadowed - probe.lit > 0.05
+                    && probe.lit > 0.05
+                    && b * light.falloff.lit(probe) > 8.0 / 255.0
+            };
+            let unlit_level = e.unlit_level(Whose::Theirs, &ks).unwrap_or_else(|| {
+                let rows: Vec<([f64; 1], f64)> = ks
+                    .iter()
+                    .map(|&k| (&e.buffers.centres[k], k))
+                    .filter(|(probe, _)| partly_lit(probe))
+                    .map(|(probe, k)| ([light.falloff.lit(probe)], e.luminance(Whose::Theirs, k)))
+                    .collect();
+                unseen_unlit_level(&rows).unwrap_or(a)
+            });
             let mut sides = Sides::default();
             for k in ks {
                 let probe = &e.buffers.centres[k];
@@ -107,7 +139,7 @@ pub(super) fn judge(
                     // must not look shadowed from that one too: as dark
                     // as the object where no light reaches it.
                     let mut looks_unlit = false;
-                    if probe.lit > 0.05 && b * lit_here > 8.0 / 255.0 {
+                    if partly_lit(probe) {
                         partly += 1;
                         looks_unlit = s - unlit_level < 4.0 / 255.0;
                         partly_bad += usize::from(looks_unlit);
@@ -178,4 +210,28 @@ pub(super) fn judge(
         shadowed + lit,
         detail,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::unseen_unlit_level;
+
+    #[test]
+    fn an_unseen_unlit_level_is_where_the_points_another_light_reaches_meet_no_light() {
+        // Those points at an unlit level of 0.05: flat where a tracer
+        // drops every light, rising with the light where it lights them.
+        let rows = |gain: f64| -> Vec<([f64; 1], f64)> {
+            (0..40)
+                .map(|i| {
+                    let light = 0.2 + 0.005 * f64::from(i);
+                    ([light], 0.05 + gain * light)
+                })
+                .collect()
+        };
+        for gain in [0.0, 0.6] {
+            let level = unseen_unlit_level(&rows(gain)).unwrap();
+            assert!((level - 0.05).abs() < 1e-4, "{gain}: {level}");
+        }
+        assert_eq!(unseen_unlit_level(&rows(0.6)[..19]), None);
+    }
 }

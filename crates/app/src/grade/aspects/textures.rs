@@ -1,8 +1,13 @@
 //! Textures: that a textured object shows its texture, by the contrast
 //! between neighbouring pixels over the object (relative to its mean
-//! brightness) against ours, which no mapping changes. The texture's
-//! colour under the lights is shading's ([`super::shading`]): a light's
-//! colour ignored on a textured object costs shading, not textures.
+//! brightness) against ours, which no mapping changes. The student's
+//! contrast is read under each tone curve their image cannot tell apart
+//! ([`super::tone::Fitted::plausible`]), and the largest taken: a curve
+//! stretches or squeezes contrast (a screen's power of 2.2 about
+//! doubles it), and a curve the image does not tell says nothing of the
+//! student. The texture's colour under the lights is shading's
+//! ([`super::shading`]): a light's colour ignored on a textured object
+//! costs shading, not textures.
 
 use super::evidence::{Evidence, Whose};
 use super::{Aspect, AspectResult, AspectThresholds};
@@ -12,12 +17,12 @@ use super::{Aspect, AspectResult, AspectThresholds};
 pub(super) const LEAST_PIXELS: usize = 30;
 
 /// The mean absolute difference between neighbouring pixels of `ks` in
-/// `whose` image (in linear light), over their mean luminance.
-fn contrast(e: &Evidence, whose: Whose, ks: &[usize], inside: &[bool]) -> f64 {
+/// an image's `luminance` (in linear light), over their mean luminance.
+fn contrast(e: &Evidence, luminance: &dyn Fn(usize) -> f64, ks: &[usize], inside: &[bool]) -> f64 {
     let (size, n) = (e.size, e.n);
     let (mut sum, mut count, mut mean) = (0.0, 0usize, 0.0);
     for &k in ks {
-        let s = e.luminance(whose, k);
+        let s = luminance(k);
         mean += s;
         let x = k as u32 % size;
         for q in [(x + 1 < size).then_some(k + 1), Some(k + size as usize)]
@@ -25,7 +30,7 @@ fn contrast(e: &Evidence, whose: Whose, ks: &[usize], inside: &[bool]) -> f64 {
             .flatten()
         {
             if q < n && inside[q] {
-                sum += (s - e.luminance(whose, q)).abs();
+                sum += (s - luminance(q)).abs();
                 count += 1;
             }
         }
@@ -63,11 +68,18 @@ pub(super) fn textured(e: &Evidence) -> Vec<Textured> {
         for &k in &ks {
             inside[k] = true;
         }
-        let ours = contrast(e, Whose::Ours, &ks, &inside);
+        let ours = contrast(e, &|k| e.luminance(Whose::Ours, k), &ks, &inside);
         if ours < 0.02 {
             continue;
         }
-        let theirs = contrast(e, Whose::Theirs, &ks, &inside);
+        let theirs = e
+            .tone
+            .plausible()
+            .map(|curve| {
+                let linear = curve.linearise();
+                contrast(e, &|k| e.luminance_under(&linear, k), &ks, &inside)
+            })
+            .fold(0.0, f64::max);
         found.push(Textured {
             object,
             ks,

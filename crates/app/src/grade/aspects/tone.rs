@@ -1,7 +1,8 @@
 //! The student's tone curve: how their tracer turns light into 8-bit
 //! values (clamping alone, a gamma for the screen, an sRGB curve, an
-//! exposure that compresses highlights instead of clipping them), which
-//! the assignment leaves open. One curve shared by the three channels is
+//! exposure that compresses highlights instead of clipping them, on each
+//! channel or on a pixel's luminance with its hue kept), which the
+//! assignment leaves open. One curve shared by the three channels is
 //! fitted ([`Curve`]: a power for the screen after a shoulder, an
 //! exposure's scale being any fit's gain), and every aspect but geometry
 //! reads the student's image turned back to linear light by it, so a
@@ -36,11 +37,23 @@ use super::fit::{predict, robust_fit};
 /// bounds are in that scale) and only its spread changes. With no
 /// shoulder (`m` = 0) it is the power alone; clamping alone is `gamma` 1.
 /// sRGB's curve is a power of about 2.2 with a short linear toe below the
-/// darkest few values.
+/// darkest few values. The shoulder compresses each channel alone, or a
+/// pixel's luminance, `over` ([`Over`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Curve {
     pub gamma: f64,
     pub shoulder: Shoulder,
+    pub over: Over,
+}
+
+/// What a [`Shoulder`] compresses: each channel alone (so a bright
+/// colour pales toward white), or a pixel's luminance, its three channels
+/// scaled by the one factor that takes the luminance there (so its hue is
+/// kept), a tone curve the assignment leaves as open as any other.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Over {
+    Channels,
+    Luminance,
 }
 
 /// The highlight compression a [`Curve`] undoes.
@@ -58,7 +71,7 @@ impl Shoulder {
     fn undo(self, p: f64) -> f64 {
         match self {
             Shoulder::None => p,
-            Shoulder::Exposure(m) => -(1.0 - m * p).ln(),
+            Shoulder::Exposure(m) => -(-m * p).ln_1p(),
             Shoulder::Reinhard(m) => p / (1.0 - m * p),
         }
     }
@@ -76,29 +89,75 @@ impl Shoulder {
     fn scale(self) -> f64 {
         0.5 / self.undo(0.5)
     }
+
+    /// What [`Shoulder::undo`] multiplies a luminance `p` by, the light
+    /// over the value; its limit toward the darkest value where `p` is 0.
+    fn factor(self, p: f64) -> f64 {
+        let p = p.max(1e-12);
+        self.undo(p) / p
+    }
 }
 
 impl Curve {
     /// Clamping alone: the value is the light.
-    pub const CLAMPING: Curve = Curve {
-        gamma: 1.0,
-        shoulder: Shoulder::None,
-    };
+    pub const CLAMPING: Curve = Curve::power(1.0);
 
-    /// The light a value was written from.
-    pub fn linear(&self, v: f64) -> f64 {
+    /// A power alone, with no shoulder.
+    pub const fn power(gamma: f64) -> Curve {
+        Curve {
+            gamma,
+            shoulder: Shoulder::None,
+            over: Over::Channels,
+        }
+    }
+
+    /// The light one value was written from, the curve taken as on each
+    /// channel alone: a pixel's luminance under either [`Over`], or a
+    /// channel under [`Over::Channels`].
+    fn linear(&self, v: f64) -> f64 {
         self.shoulder.scale() * self.shoulder.undo(v.powf(self.gamma))
     }
 
-    /// [`Curve::linear`] of each 8-bit value `v` (of `v`/255), made once
-    /// for a pass over many pixels.
-    pub fn linear_bytes(&self) -> [f64; 256] {
-        std::array::from_fn(|v| self.linear(f64::from(v as u8) / 255.0))
+    /// The light a pixel `written` (each channel in [0, 1]) was written
+    /// from.
+    pub fn linear_pixel(&self, written: [f64; 3]) -> [f64; 3] {
+        match self.over {
+            Over::Channels => written.map(|v| self.linear(v)),
+            Over::Luminance => {
+                let before = written.map(|v| v.powf(self.gamma));
+                let k = self.shoulder.scale() * self.shoulder.factor(luminance_of(before));
+                before.map(|c| c * k)
+            }
+        }
     }
 
-    /// The value a light `x` is written as: the inverse of
+    /// The curve made ready to turn many 8-bit pixels back to light.
+    pub fn linearise(&self) -> Linearised {
+        let table: [f64; 256] = std::array::from_fn(|v| {
+            let v = f64::from(v as u8) / 255.0;
+            match self.over {
+                Over::Channels => self.linear(v),
+                Over::Luminance => v.powf(self.gamma),
+            }
+        });
+        let (scale, power) = (self.shoulder.scale(), 1.0 / self.gamma);
+        let back = table.map(|x| match self.over {
+            Over::Channels => self.shoulder.redo(x / scale).clamp(0.0, 1.0).powf(power),
+            Over::Luminance => x.clamp(0.0, 1.0).powf(power),
+        });
+        Linearised {
+            curve: *self,
+            table,
+            back,
+            scale,
+            power,
+        }
+    }
+
+    /// The value one light `x` is written as, the inverse of
     /// [`Curve::linear`].
-    pub fn value(&self, x: f64) -> f64 {
+    #[cfg(test)]
+    fn value(&self, x: f64) -> f64 {
         self.writer()(x)
     }
 
@@ -109,19 +168,92 @@ impl Curve {
         move |x| shoulder.redo(x / scale).clamp(0.0, 1.0).powf(power)
     }
 
+    /// The pixel a light `x` is written as: the inverse of
+    /// [`Curve::linear_pixel`].
+    pub fn value_pixel(&self, x: [f64; 3]) -> [f64; 3] {
+        match self.over {
+            Over::Channels => x.map(self.writer()),
+            Over::Luminance => {
+                let shoulder = self.shoulder;
+                let before = x.map(|c| c / shoulder.scale());
+                let k = 1.0 / shoulder.factor(shoulder.redo(luminance_of(before)));
+                before.map(|c| (c * k).clamp(0.0, 1.0).powf(1.0 / self.gamma))
+            }
+        }
+    }
+
     /// The curve in words, for the report; `None` for clamping alone.
     pub fn words(&self) -> Option<String> {
         let power = format!("a power of {:.2}", self.gamma);
+        let over = match self.over {
+            Over::Channels => "",
+            Over::Luminance => " on each pixel's luminance, its hue kept,",
+        };
         match self.shoulder {
             Shoulder::None if *self == Curve::CLAMPING => None,
             Shoulder::None => Some(format!("your tone curve reads as {power}")),
             Shoulder::Exposure(m) => Some(format!(
-                "your tone curve reads as an exposure (strength {m:.2}) then {power}"
+                "your tone curve reads as an exposure (strength {m:.2}){over} then {power}"
             )),
             Shoulder::Reinhard(m) => Some(format!(
-                "your tone curve reads as Reinhard's (strength {m:.2}) then {power}"
+                "your tone curve reads as Reinhard's (strength {m:.2}){over} then {power}"
             )),
         }
+    }
+}
+
+/// A [`Curve`] made ready for a pass over many 8-bit pixels: each value's
+/// light (or, under [`Over::Luminance`], each value before the screen's
+/// power, the factor of its pixel's luminance yet to come), and each
+/// value written back from it.
+pub(super) struct Linearised {
+    curve: Curve,
+    table: [f64; 256],
+    /// Each value there and back: the value its light is written as (its
+    /// pixel's factor held), the same as the value but for the curve's
+    /// rounding.
+    back: [f64; 256],
+    /// The shoulder's scale ([`Shoulder::scale`]).
+    scale: f64,
+    /// The inverse of the screen's power.
+    power: f64,
+}
+
+impl Linearised {
+    /// The light the 8-bit pixel `p` was written from.
+    pub fn pixel(&self, p: [u8; 3]) -> [f64; 3] {
+        self.pixel_and_factor(p).0
+    }
+
+    /// The light the 8-bit pixel `p` was written from, and under
+    /// [`Over::Luminance`] what its values before the screen's power
+    /// were multiplied by to give it (1 otherwise).
+    fn pixel_and_factor(&self, p: [u8; 3]) -> ([f64; 3], f64) {
+        let before = p.map(|v| self.table[usize::from(v)]);
+        match self.curve.over {
+            Over::Channels => (before, 1.0),
+            Over::Luminance => {
+                let k = self.scale * self.curve.shoulder.factor(luminance_of(before));
+                (before.map(|c| c * k), k)
+            }
+        }
+    }
+
+    /// The value a channel of a pixel whose factor is `k`
+    /// ([`Linearised::pixel_and_factor`]) would be written as, had its
+    /// light been `x`.
+    fn written(&self, k: f64, x: f64) -> f64 {
+        match self.curve.over {
+            Over::Channels => self.curve.shoulder.redo(x / self.scale),
+            Over::Luminance => x / k,
+        }
+        .clamp(0.0, 1.0)
+        .powf(self.power)
+    }
+
+    /// The 8-bit value `v` there and back.
+    fn written_back(&self, v: u8) -> f64 {
+        self.back[usize::from(v)]
     }
 }
 
@@ -132,12 +264,14 @@ fn powers() -> impl Iterator<Item = f64> {
 }
 
 /// The shoulders tried besides none: each kind at strengths from a
-/// gentle compression to nearly the full curve.
-fn shoulders() -> impl Iterator<Item = Shoulder> {
+/// gentle compression to nearly the full curve, over each channel and
+/// over a pixel's luminance.
+fn shoulders() -> impl Iterator<Item = (Shoulder, Over)> {
     const STRENGTHS: [f64; 6] = [0.25, 0.5, 0.75, 0.9, 0.97, 0.99];
     STRENGTHS
         .into_iter()
         .flat_map(|m| [Shoulder::Exposure(m), Shoulder::Reinhard(m)])
+        .flat_map(|shoulder| [Over::Channels, Over::Luminance].map(|over| (shoulder, over)))
 }
 
 /// The share of what clamping alone leaves unexplained that another
@@ -226,10 +360,7 @@ pub(super) fn fit(plain: &[Group], mirrors: &[Group], textured: &dyn Fn() -> Vec
 /// of 2.2): one leaves less than [`KEEP_CLAMPING`] of what the other
 /// leaves.
 fn tells(objects: &[Group]) -> bool {
-    let screen = Curve {
-        gamma: 2.2,
-        shoulder: Shoulder::None,
-    };
+    let screen = Curve::power(2.2);
     let spreads = spreads(objects);
     match (
         unexplained(objects, &spreads, Curve::CLAMPING),
@@ -262,31 +393,39 @@ fn spreads(objects: &[Group]) -> Vec<Option<Vec<f64>>> {
 /// unexplained under `curve`, each group's spread being its [`spreads`];
 /// `None` when nothing varies or no fit.
 fn unexplained(objects: &[Group], spreads: &[Option<Vec<f64>>], curve: Curve) -> Option<f64> {
-    let linear = curve.linear_bytes();
+    let linear = curve.linearise();
     let value = curve.writer();
-    // Each 8-bit value there and back, the same as the value written but
-    // for the curve's rounding: a channel read alone needs no more.
-    let written_back: [f64; 256] = std::array::from_fn(|v| value(linear[v]));
     let (mut residuals, mut spread_of_all) = (Vec::new(), Vec::new());
     for ((reads, group), spread) in objects.iter().zip(spreads) {
         let Some(spread) = spread else {
             continue;
         };
-        let rows: Vec<([f64; 3], f64)> = group
+        let (rows, factors): (Vec<([f64; 3], f64)>, Vec<f64>) = group
             .iter()
-            .map(|&(p, x)| (x, reads.of(p.map(|c| linear[usize::from(c)]))))
-            .collect();
+            .map(|&(p, x)| {
+                let (light, k) = linear.pixel_and_factor(p);
+                ((x, reads.of(light)), k)
+            })
+            .unzip();
         let beta = robust_fit(&rows)?;
         // Each residual taken back to the student's 8-bit scale, the
         // value the line's light is written as against the value
-        // written, where every curve's rounding is the same.
-        residuals.extend(rows.iter().zip(group).map(|((x, y), (p, _))| {
-            let back = match reads {
-                Reads::Channel(c) => written_back[usize::from(p[*c])],
-                Reads::Luminance => value(*y),
-            };
-            (value(predict(&beta, x).max(0.0)) - back).abs()
-        }));
+        // written there and back, where every curve's rounding is the
+        // same.
+        residuals.extend(
+            rows.iter()
+                .zip(group)
+                .zip(&factors)
+                .map(|(((x, y), (p, _)), &k)| {
+                    let line = predict(&beta, x).max(0.0);
+                    match reads {
+                        Reads::Channel(c) => {
+                            (linear.written(k, line) - linear.written_back(p[*c])).abs()
+                        }
+                        Reads::Luminance => (value(line) - value(*y)).abs(),
+                    }
+                }),
+        );
         spread_of_all.extend(spread);
     }
     // The root mean square residual over the values' spread: the share
@@ -300,9 +439,9 @@ fn unexplained(objects: &[Group], spreads: &[Option<Vec<f64>>], curve: Curve) ->
 /// leaves less than [`KEEP_CLAMPING`] of what clamping leaves, and a
 /// shoulder when it leaves less than that share of what the power alone
 /// leaves; either only when it leaves less than [`EXPLAINED`]. The powers
-/// are tried alone in fine steps; with a shoulder, in steps of 0.2 first
-/// and then in fine steps around the best. With it, every curve tried
-/// that the best fit does not beat by that same share
+/// are tried alone in fine steps; with each shoulder, in steps of 0.2
+/// first and then in fine steps around that shoulder's best. With it,
+/// every curve tried that the best fit does not beat by that same share
 /// ([`Fitted::alike`]).
 fn decide(objects: &[Group]) -> Fitted {
     let spreads = spreads(objects);
@@ -316,28 +455,33 @@ fn decide(objects: &[Group]) -> Fitted {
             .copied()
             .min_by(|a, b| a.1.total_cmp(&b.1))
     };
-    let power = |gamma| Curve {
-        gamma,
-        shoulder: Shoulder::None,
-    };
-    let Some((best_power, power_left)) = scored(&mut powers().map(power)) else {
+    let Some((best_power, power_left)) = scored(&mut powers().map(Curve::power)) else {
         return Fitted::NONE;
     };
-    let coarse = scored(&mut shoulders().flat_map(|shoulder| {
-        powers()
-            .step_by(4)
-            .map(move |gamma| Curve { gamma, shoulder })
-    }));
-    let shouldered = coarse.and_then(|(c, _)| {
-        scored(
-            &mut powers()
+    // Each shoulder at coarse powers, then each in fine steps around its
+    // own best: a power and a shoulder's strength trade against each
+    // other along a valley (most of all over a pixel's luminance, whose
+    // channels share one shape), and every point of it the image cannot
+    // tell from the best must be tried to be among the curves alike.
+    let coarse: Vec<Curve> = shoulders()
+        .filter_map(|(shoulder, over)| {
+            let mut at = powers().step_by(4).map(|gamma| Curve {
+                gamma,
+                shoulder,
+                over,
+            });
+            scored(&mut at).map(|(c, _)| c)
+        })
+        .collect();
+    let shouldered = coarse
+        .iter()
+        .filter_map(|c| {
+            let mut around = powers()
                 .filter(|g| (g - c.gamma).abs() < 0.16)
-                .map(|gamma| Curve {
-                    gamma,
-                    shoulder: c.shoulder,
-                }),
-        )
-    });
+                .map(|gamma| Curve { gamma, ..*c });
+            scored(&mut around)
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1));
     let earns = |left: f64, before: f64| left < KEEP_CLAMPING * before && left < EXPLAINED;
     let mut curve = match unexplained(Curve::CLAMPING) {
         Some(left) if !earns(power_left, left) => Curve::CLAMPING,
@@ -402,7 +546,7 @@ fn root_mean_square(values: &[f64]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{fit, Curve, Group, Reads, Row, Shoulder};
+    use super::{fit, Curve, Group, Over, Reads, Row, Shoulder};
 
     /// An object whose light runs from 0.05 to 0.85, written through
     /// `curve` after `0.05 + 0.8·x`.
@@ -560,20 +704,72 @@ mod tests {
 
     #[test]
     fn a_curve_and_its_inverse_agree() {
-        for shoulder in [
+        let shoulders = [
             Shoulder::None,
             Shoulder::Exposure(0.9),
             Shoulder::Reinhard(0.5),
-        ] {
-            let curve = Curve {
-                gamma: 1.8,
-                shoulder,
-            };
-            for v in [0.01, 0.2, 0.5, 0.9, 1.0] {
-                let back = curve.value(curve.linear(v));
-                assert!((back - v).abs() < 1e-9, "{curve:?} at {v}: {back}");
+        ];
+        for shoulder in shoulders {
+            for over in [Over::Channels, Over::Luminance] {
+                let curve = Curve {
+                    gamma: 1.8,
+                    shoulder,
+                    over,
+                };
+                let linearised = curve.linearise();
+                for v in [0.01, 0.2, 0.5, 0.9, 1.0] {
+                    let back = curve.value(curve.linear(v));
+                    assert!((back - v).abs() < 1e-9, "{curve:?} at {v}: {back}");
+                    let pixel = [v, 0.6 * v, 0.1];
+                    let back = curve.value_pixel(curve.linear_pixel(pixel));
+                    let off = (0..3)
+                        .map(|c| (back[c] - pixel[c]).abs())
+                        .fold(0.0, f64::max);
+                    assert!(off < 1e-9, "{curve:?} at {pixel:?}: {back:?}");
+                }
+                let p = [200, 120, 30];
+                let (a, b) = (
+                    linearised.pixel(p),
+                    curve.linear_pixel(p.map(|v| f64::from(v) / 255.0)),
+                );
+                assert!((0..3).all(|c| (a[c] - b[c]).abs() < 1e-12), "{a:?} {b:?}");
             }
         }
+    }
+
+    #[test]
+    fn a_curve_on_luminance_is_read_with_its_hue_kept() {
+        // An orange object under a light from 0.2 to 1.6, its colour
+        // scaled by L/(1 + L) over its luminance L: each channel is
+        // compressed by its pixel's luminance, not by its own value.
+        let albedo = [1.0, 0.5, 0.2];
+        let rows: Vec<Row> = (0..200)
+            .map(|i| {
+                let lit = 0.2 + 1.4 * f64::from(i) / 200.0;
+                let x = albedo.map(|a| a * (0.1 + lit));
+                let l = super::luminance_of(x);
+                (
+                    x.map(|c| (255.0 * (c / (1.0 + l)).min(1.0)).round() as u8),
+                    [lit, 0.0, 0.0],
+                )
+            })
+            .collect();
+        let channels: Vec<Group> = (0..3).map(|c| (Reads::Channel(c), rows.clone())).collect();
+        let fitted = fit(&channels, &[], &Vec::new);
+        assert_eq!(fitted.curve.over, Over::Luminance, "{:?}", fitted.curve);
+        // One object's hue does not tell the screen's power from the
+        // shoulder's strength (its channels share one shape), so the
+        // hue is read under some curve the image cannot tell from the
+        // chosen one: under it, every pixel keeps the object's hue, red
+        // to green.
+        let keeps_hue = |curve: Curve| {
+            let linear = curve.linearise();
+            rows.iter().filter(|(p, _)| p[1] > 40).all(|(p, _)| {
+                let x = linear.pixel(*p);
+                (x[1] / x[0] - 0.5).abs() < 0.03
+            })
+        };
+        assert!(fitted.plausible().any(keeps_hue));
     }
 
     #[test]
