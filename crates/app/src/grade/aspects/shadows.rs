@@ -23,6 +23,7 @@
 use raytracer_render::render::probe::Probe;
 
 use super::evidence::{clipped, Evidence, Whose};
+use super::falloff::LightFit;
 use super::fit::robust_fit;
 use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 
@@ -66,6 +67,30 @@ impl Sides {
     }
 }
 
+/// Whether `probe` is a shadowed point another light still reaches,
+/// with light enough to tell.
+fn partly_lit(probe: &Probe, light: &LightFit) -> bool {
+    probe.unshadowed - probe.lit > 0.05
+        && probe.lit > 0.05
+        && light.least_gain() * light.falloff.lit(probe) > 8.0 / 255.0
+}
+
+/// The student's level on the object whose pixels are `ks` where no
+/// light of ours reaches it ([`Evidence::unlit_level`]); where none of it
+/// in view is unlit, [`unseen_unlit_level`] of its points another light
+/// reaches ([`partly_lit`]); `None` when neither tells it.
+fn unlit_level(e: &Evidence, light: &LightFit, ks: &[usize]) -> Option<f64> {
+    e.unlit_level(Whose::Theirs, ks).or_else(|| {
+        let rows: Vec<([f64; 1], f64)> = ks
+            .iter()
+            .map(|&k| (&e.buffers.centres[k], k))
+            .filter(|(probe, _)| partly_lit(probe, light))
+            .map(|(probe, k)| ([light.falloff.lit(probe)], e.luminance(Whose::Theirs, k)))
+            .collect();
+        unseen_unlit_level(&rows)
+    })
+}
+
 /// An object's unlit level where no point of it in view is unlit: the
 /// intercept of the line its shadowed points another light reaches
 /// (`rows`: that light under the fit's falloff, and the student's
@@ -106,21 +131,9 @@ pub(super) fn judge(
                 // of which lights reach the point.
                 .filter(|&k| e.foreign[k] != Some(true))
                 .collect();
-            // Shadowed points another light still reaches.
-            let partly_lit = |probe: &Probe| {
-                probe.unshadowed - probe.lit > 0.05
-                    && probe.lit > 0.05
-                    && b * light.falloff.lit(probe) > 8.0 / 255.0
-            };
-            let unlit_level = e.unlit_level(Whose::Theirs, &ks).unwrap_or_else(|| {
-                let rows: Vec<([f64; 1], f64)> = ks
-                    .iter()
-                    .map(|&k| (&e.buffers.centres[k], k))
-                    .filter(|(probe, _)| partly_lit(probe))
-                    .map(|(probe, k)| ([light.falloff.lit(probe)], e.luminance(Whose::Theirs, k)))
-                    .collect();
-                unseen_unlit_level(&rows).unwrap_or(a)
-            });
+            // Where no light of ours reaches the object ([`unlit_level`]),
+            // or, not told, the fit's intercept.
+            let unlit_level = unlit_level(e, light, &ks).unwrap_or(a);
             let mut sides = Sides::default();
             for k in ks {
                 let probe = &e.buffers.centres[k];
@@ -139,7 +152,7 @@ pub(super) fn judge(
                     // must not look shadowed from that one too: as dark
                     // as the object where no light reaches it.
                     let mut looks_unlit = false;
-                    if partly_lit(probe) {
+                    if partly_lit(probe, light) {
                         partly += 1;
                         looks_unlit = s - unlit_level < 4.0 / 255.0;
                         partly_bad += usize::from(looks_unlit);
