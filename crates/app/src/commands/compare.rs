@@ -145,9 +145,10 @@ pub fn run(args: CompareArgs) -> Result<Outcome, BoxedDiagnostic> {
                 if probed.is_none() {
                     probed = Some(probe(scene, &reference)?);
                 }
-                let (buffers, aspects) = probed.as_ref().expect("probed above");
+                let (buffers, through_corners, aspects) = probed.as_ref().expect("probed above");
                 Some(crate::grade::aspects::judge(
                     buffers,
+                    through_corners,
                     &reference,
                     candidate,
                     &crate::grade::aspects::AspectThresholds::default(),
@@ -226,14 +227,16 @@ fn side<'a>(
     }
 }
 
-/// What our renderer sees at each pixel of `scene`, and the aspects its
-/// suite entry judges, with `grade`'s default constants: probed once for
-/// every candidate, after checking that `reference` is the scene's size.
+/// What our renderer sees at each pixel of `scene`, through pixel
+/// centres and through their corners, and the aspects its suite entry
+/// judges, with `grade`'s default constants: probed once for every
+/// candidate, after checking that `reference` is the scene's size.
 fn probe(
     scene: &std::path::Path,
     reference: &compare::Picture,
 ) -> Result<
     (
+        raytracer_render::render::probe::Buffers,
         raytracer_render::render::probe::Buffers,
         crate::grade::aspects::AspectPoints,
     ),
@@ -255,7 +258,8 @@ fn probe(
             },
         ));
     }
-    Ok((buffers, scene.aspects.clone()))
+    let through_corners = buffers.through_corners();
+    Ok((buffers, through_corners, scene.aspects.clone()))
 }
 
 /// A format's name in reports.

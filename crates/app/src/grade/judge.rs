@@ -91,6 +91,7 @@ pub fn judge(ended: &Ended, out: &Path, against: &Against) -> Judgement {
     let judged = (comparison.verdict != Verdict::Size).then(|| {
         aspects::judge(
             against.buffers,
+            &against.buffers.through_corners(),
             reference,
             &picture,
             against.aspects,

@@ -12,6 +12,8 @@
 //! *stable* for it: whichever point of the pixel a tracer's camera ray
 //! passes through (centre or a corner), it sees the same.
 
+use std::sync::Arc;
+
 use rayon::prelude::*;
 
 use glam::DVec3;
@@ -47,8 +49,10 @@ pub struct Probe {
     /// Each light in front of the surface, its share of
     /// [`Probe::unshadowed`] and how far it is: what a fit needs of a
     /// tracer whose light falls off with distance (the assignment leaves
-    /// that open).
-    pub lights: Vec<LightShare>,
+    /// that open). Shared: a grader copies whole frames of probes (each
+    /// pixel's corner read as its centre), and a copy then allocates
+    /// nothing.
+    pub lights: Arc<[LightShare]>,
     /// The object's reflectivity (0 for a miss).
     pub reflectivity: f64,
     /// The luminance of the object's colour (or texel) at the point.
@@ -352,6 +356,7 @@ fn probe_to(probing: &Probing, ray: Ray<f64>, reflect: bool) -> Probe {
         ..Probe::default()
     };
     let origin = offset_origin::<f64>(surface.point, n, surface.error_scale);
+    let mut lights = Vec::with_capacity(tracer.lights.len());
     for (i, light) in tracer.lights.iter().enumerate() {
         let to_light = light.position - surface.point;
         let length = to_light.length();
@@ -365,7 +370,7 @@ fn probe_to(probing: &Probing, ray: Ray<f64>, reflect: bool) -> Probe {
         }
         let lit = luminance(albedo * light.color) * cos;
         probe.unshadowed += lit;
-        probe.lights.push(LightShare {
+        lights.push(LightShare {
             light: i,
             lit,
             distance: length.wide(),
@@ -384,7 +389,7 @@ fn probe_to(probing: &Probing, ray: Ray<f64>, reflect: bool) -> Probe {
                 .occluded(&shadow, distance * <f64 as Real>::SHADOW_REACH)
         {
             probe.lit += lit;
-            if let Some(share) = probe.lights.last_mut() {
+            if let Some(share) = lights.last_mut() {
                 share.reaches = true;
             }
             for (c, channel) in probe.light.iter_mut().enumerate() {
@@ -395,6 +400,9 @@ fn probe_to(probing: &Probing, ray: Ray<f64>, reflect: bool) -> Probe {
             }
             probe.highlight = probe.highlight.max(mirror.dot(towards).wide());
         }
+    }
+    if !lights.is_empty() {
+        probe.lights = lights.into();
     }
     if material.reflectivity > 0.0 && reflect {
         let reflected = Ray {

@@ -335,7 +335,7 @@ pub(super) fn fit(groups: &[Group]) -> Option<LightFit> {
     let (weighed, lit) = groups
         .iter()
         .flat_map(|(_, rows)| rows)
-        .flat_map(|(p, _)| &p.lights)
+        .flat_map(|(p, _)| p.lights.iter())
         .fold((0.0, 0.0), |(w, l), share| {
             (w + share.lit * share.distance, l + share.lit)
         });
@@ -373,12 +373,13 @@ mod tests {
                     object: Some(0),
                     lit,
                     unshadowed: lit,
-                    lights: vec![LightShare {
+                    lights: [LightShare {
                         light: 0,
                         lit,
                         distance: 1.0,
                         reaches: true,
-                    }],
+                    }]
+                    .into(),
                     ..Probe::default()
                 }
             })

@@ -51,13 +51,20 @@ fn least_squares<'a, const K: usize>(
     for (x, y) in rows {
         let mut v = [1.0; 8];
         v[1..n].copy_from_slice(x);
+        // The matrix is symmetric: its upper triangle, mirrored below.
         for i in 0..n {
-            for j in 0..n {
+            for j in i..n {
                 m[i][j] += v[i] * v[j];
             }
             m[i][n] += v[i] * y;
         }
         count += 1;
+    }
+    for i in 1..n {
+        let (above, below) = m.split_at_mut(i);
+        for (j, row) in above.iter().enumerate() {
+            below[0][j] = row[i];
+        }
     }
     if count < n + 2 {
         return None;

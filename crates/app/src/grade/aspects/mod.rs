@@ -312,22 +312,25 @@ type Verdicts = (Vec<AspectResult>, Vec<Vec<u8>>);
 
 /// Judge `student` (of the reference's size) aspect by aspect, on the
 /// probes of the pixel reading its image fits (centres or corners,
-/// [`geometry::pixel_reading`]). When a whole-image transform turns it
-/// back into one ours explains ([`recognise`]), geometry fails naming it,
-/// and the other aspects are judged on the image turned back.
+/// [`geometry::pixel_reading`]): `buffers`, probed through pixel centres,
+/// or `through_corners`, the same made by [`Buffers::through_corners`]
+/// (once for every image judged on the scene). When a whole-image
+/// transform turns it back into one ours explains ([`recognise`]),
+/// geometry fails naming it, and the other aspects are judged on the
+/// image turned back.
 pub fn judge(
     buffers: &Buffers,
+    through_corners: &Buffers,
     reference: &Picture,
     student: &Picture,
     thresholds: &AspectThresholds,
     points: &AspectPoints,
 ) -> Judged {
-    let through_corners = buffers.through_corners();
     let centres = Evidence::new(buffers, reference, student);
-    let corners = Evidence::new(&through_corners, reference, student);
+    let corners = Evidence::new(through_corners, reference, student);
     let reading = geometry::pixel_reading(&centres, &corners);
     let (buffers, evidence) = match reading {
-        Some(geometry::Reading::Corners) => (&through_corners, corners),
+        Some(geometry::Reading::Corners) => (through_corners, corners),
         _ => (buffers, centres),
     };
     let readings: Vec<String> = reading

@@ -361,45 +361,70 @@ pub(super) fn fit(plain: &[Group], mirrors: &[Group], textured: &dyn Fn() -> Vec
 /// leaves.
 fn tells(objects: &[Group]) -> bool {
     let screen = Curve::power(2.2);
-    let spreads = spreads(objects);
+    let spreads = Spreads::of(objects);
     match (
-        unexplained(objects, &spreads, Curve::CLAMPING),
-        unexplained(objects, &spreads, screen),
+        unexplained(objects, &spreads, Curve::CLAMPING, f64::INFINITY),
+        unexplained(objects, &spreads, screen, f64::INFINITY),
     ) {
         (Some(a), Some(b)) => a.min(b) < KEEP_CLAMPING * a.max(b),
         _ => false,
     }
 }
 
-/// Each group's values as written, each as its distance from the group's
-/// mean; `None` for a group whose values hardly vary ([`FLAT`]), which
-/// tells no curve. The same under every curve, so made once for all.
-fn spreads(objects: &[Group]) -> Vec<Option<Vec<f64>>> {
-    objects
-        .iter()
-        .map(|(reads, group)| {
-            let written: Vec<f64> = group
-                .iter()
-                .map(|(p, _)| reads.of(p.map(|c| f64::from(c) / 255.0)))
-                .collect();
-            let mean = written.iter().sum::<f64>() / written.len() as f64;
-            let spread: Vec<f64> = written.iter().map(|w| (w - mean).abs()).collect();
-            (root_mean_square(&spread) >= FLAT).then_some(spread)
-        })
-        .collect()
+/// What a fit's residuals are measured against, the same under every
+/// curve, so made once for all: each group's values as written, each as
+/// its distance from the group's mean (`None` for a group whose values
+/// hardly vary, [`FLAT`], which tells no curve), and the root mean square
+/// of all of them and their number.
+struct Spreads {
+    each: Vec<Option<Vec<f64>>>,
+    all: f64,
+    count: usize,
+}
+
+impl Spreads {
+    fn of(objects: &[Group]) -> Spreads {
+        let each: Vec<Option<Vec<f64>>> = objects
+            .iter()
+            .map(|(reads, group)| {
+                let written: Vec<f64> = group
+                    .iter()
+                    .map(|(p, _)| reads.of(p.map(|c| f64::from(c) / 255.0)))
+                    .collect();
+                let mean = written.iter().sum::<f64>() / written.len() as f64;
+                let spread: Vec<f64> = written.iter().map(|w| (w - mean).abs()).collect();
+                (root_mean_square(&spread) >= FLAT).then_some(spread)
+            })
+            .collect();
+        let all: Vec<f64> = each.iter().flatten().flatten().copied().collect();
+        Spreads {
+            all: root_mean_square(&all),
+            count: all.len(),
+            each,
+        }
+    }
 }
 
 /// The share of the image's spread the fits of `objects` leave
-/// unexplained under `curve`, each group's spread being its [`spreads`];
-/// `None` when nothing varies or no fit.
-fn unexplained(objects: &[Group], spreads: &[Option<Vec<f64>>], curve: Curve) -> Option<f64> {
+/// unexplained under `curve`, each group's spread being its [`Spreads`];
+/// `None` when nothing varies or no fit, or once the share is sure to be
+/// over `above`. The residuals' sum of squares only grows, group by
+/// group, so a curve that will lose to one already tried is given up as
+/// soon as it has, and its share is not worked out to the end.
+fn unexplained(objects: &[Group], spreads: &Spreads, curve: Curve, above: f64) -> Option<f64> {
+    if spreads.all <= 0.0 {
+        return None;
+    }
+    // The sum of squares past which the share is over `above`, with room
+    // for rounding: a curve is never given up that could be at it.
+    let given_up = (above * spreads.all).powi(2) * spreads.count as f64 * (1.0 + 1e-9);
     let linear = curve.linearise();
     let value = curve.writer();
-    let (mut residuals, mut spread_of_all) = (Vec::new(), Vec::new());
-    for ((reads, group), spread) in objects.iter().zip(spreads) {
-        let Some(spread) = spread else {
+    let mut squares = 0.0;
+    for ((reads, group), spread) in objects.iter().zip(&spreads.each) {
+        if spread.is_none() {
             continue;
-        };
+        }
         let (rows, factors): (Vec<([f64; 3], f64)>, Vec<f64>) = group
             .iter()
             .map(|&(p, x)| {
@@ -412,26 +437,21 @@ fn unexplained(objects: &[Group], spreads: &[Option<Vec<f64>>], curve: Curve) ->
         // value the line's light is written as against the value
         // written there and back, where every curve's rounding is the
         // same.
-        residuals.extend(
-            rows.iter()
-                .zip(group)
-                .zip(&factors)
-                .map(|(((x, y), (p, _)), &k)| {
-                    let line = predict(&beta, x).max(0.0);
-                    match reads {
-                        Reads::Channel(c) => {
-                            (linear.written(k, line) - linear.written_back(p[*c])).abs()
-                        }
-                        Reads::Luminance => (value(line) - value(*y)).abs(),
-                    }
-                }),
-        );
-        spread_of_all.extend(spread);
+        for (((x, y), (p, _)), &k) in rows.iter().zip(group).zip(&factors) {
+            let line = predict(&beta, x).max(0.0);
+            let residual = match reads {
+                Reads::Channel(c) => (linear.written(k, line) - linear.written_back(p[*c])).abs(),
+                Reads::Luminance => (value(line) - value(*y)).abs(),
+            };
+            squares += residual * residual;
+        }
+        if squares > given_up {
+            return None;
+        }
     }
     // The root mean square residual over the values' spread: the share
     // of the image's spread the curve and lines leave.
-    let spread = root_mean_square(&spread_of_all);
-    (spread > 0.0).then(|| root_mean_square(&residuals) / spread)
+    Some((squares / spreads.count as f64).sqrt() / spreads.all)
 }
 
 /// The curve `objects` choose, each freedom kept only when it earns its
@@ -444,18 +464,30 @@ fn unexplained(objects: &[Group], spreads: &[Option<Vec<f64>>], curve: Curve) ->
 /// every curve tried that the best fit does not beat by that same share
 /// ([`Fitted::alike`]).
 fn decide(objects: &[Group]) -> Fitted {
-    let spreads = spreads(objects);
-    let unexplained = |curve| unexplained(objects, &spreads, curve);
+    let spreads = Spreads::of(objects);
     let mut tried: Vec<(Curve, f64)> = Vec::new();
-    let mut scored = |curves: &mut dyn Iterator<Item = Curve>| -> Option<(Curve, f64)> {
-        let start = tried.len();
-        tried.extend(curves.filter_map(|c| unexplained(c).map(|u| (c, u))));
-        tried[start..]
-            .iter()
-            .copied()
-            .min_by(|a, b| a.1.total_cmp(&b.1))
+    let mut least_tried = f64::INFINITY;
+    // The best of `curves` that beats `bar`, if any. A curve that loses
+    // both to the best of them so far (or `bar`) and to what the best fit
+    // may be alike to ([`Fitted::alike`]) is given up early: it could be
+    // neither.
+    let mut scored = |curves: &mut dyn Iterator<Item = Curve>, bar: f64| {
+        let mut best: Option<(Curve, f64)> = None;
+        for curve in curves {
+            let beaten = best.map_or(bar, |(_, left)| left);
+            let above = beaten.max(least_tried / KEEP_CLAMPING);
+            if let Some(left) = unexplained(objects, &spreads, curve, above) {
+                tried.push((curve, left));
+                least_tried = least_tried.min(left);
+                if left < beaten {
+                    best = Some((curve, left));
+                }
+            }
+        }
+        best
     };
-    let Some((best_power, power_left)) = scored(&mut powers().map(Curve::power)) else {
+    let Some((best_power, power_left)) = scored(&mut powers().map(Curve::power), f64::INFINITY)
+    else {
         return Fitted::NONE;
     };
     // Each shoulder at coarse powers, then each in fine steps around its
@@ -463,27 +495,28 @@ fn decide(objects: &[Group]) -> Fitted {
     // other along a valley (most of all over a pixel's luminance, whose
     // channels share one shape), and every point of it the image cannot
     // tell from the best must be tried to be among the curves alike.
-    let coarse: Vec<Curve> = shoulders()
+    let coarse: Vec<(Curve, f64)> = shoulders()
         .filter_map(|(shoulder, over)| {
             let mut at = powers().step_by(4).map(|gamma| Curve {
                 gamma,
                 shoulder,
                 over,
             });
-            scored(&mut at).map(|(c, _)| c)
+            scored(&mut at, f64::INFINITY)
         })
         .collect();
+    // The coarse best is among its fine steps, tried already.
     let shouldered = coarse
         .iter()
-        .filter_map(|c| {
+        .map(|&(c, left)| {
             let mut around = powers()
-                .filter(|g| (g - c.gamma).abs() < 0.16)
-                .map(|gamma| Curve { gamma, ..*c });
-            scored(&mut around)
+                .filter(|g| (g - c.gamma).abs() < 0.16 && *g != c.gamma)
+                .map(|gamma| Curve { gamma, ..c });
+            scored(&mut around, left).unwrap_or((c, left))
         })
         .min_by(|a, b| a.1.total_cmp(&b.1));
     let earns = |left: f64, before: f64| left < KEEP_CLAMPING * before && left < EXPLAINED;
-    let mut curve = match unexplained(Curve::CLAMPING) {
+    let mut curve = match unexplained(objects, &spreads, Curve::CLAMPING, f64::INFINITY) {
         Some(left) if !earns(power_left, left) => Curve::CLAMPING,
         _ => best_power,
     };
@@ -546,7 +579,7 @@ fn root_mean_square(values: &[f64]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{fit, Curve, Group, Over, Reads, Row, Shoulder};
+    use super::{fit, unexplained, Curve, Group, Over, Reads, Row, Shoulder, Spreads};
 
     /// An object whose light runs from 0.05 to 0.85, written through
     /// `curve` after `0.05 + 0.8·x`.
@@ -586,6 +619,24 @@ mod tests {
                 255.0 * (curve.value(line.max(0.0)) - curve.value(y)).abs()
             })
             .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn a_curve_is_given_up_only_past_its_bar() {
+        // Two objects, so the second is not looked at once the first has
+        // left more than the bar allows.
+        let objects = [object(2.2), object(2.2)];
+        let spreads = Spreads::of(&objects);
+        let share = |curve, above| unexplained(&objects, &spreads, curve, above);
+        let clamping = share(Curve::CLAMPING, f64::INFINITY).unwrap();
+        let screen = share(Curve::power(2.2), f64::INFINITY).unwrap();
+        assert!(screen < 0.5 * clamping, "{screen} {clamping}");
+        // At its own share, or past it, a curve is worked out to the end.
+        assert_eq!(share(Curve::CLAMPING, clamping), Some(clamping));
+        assert_eq!(share(Curve::CLAMPING, 2.0 * clamping), Some(clamping));
+        // Below it (at the better curve's share, say), it is given up.
+        assert_eq!(share(Curve::CLAMPING, screen), None);
+        assert_eq!(share(Curve::power(2.2), screen), Some(screen));
     }
 
     #[test]
