@@ -96,6 +96,14 @@ impl Shoulder {
         let p = p.max(1e-12);
         self.undo(p) / p
     }
+
+    /// The light of a pixel whose values before the screen's power were
+    /// `before`, the shoulder (of scale `scale`) undone over its
+    /// luminance, and the factor that took its channels there.
+    fn undo_over_luminance(self, scale: f64, before: [f64; 3]) -> ([f64; 3], f64) {
+        let k = scale * self.factor(luminance_of(before));
+        (before.map(|c| c * k), k)
+    }
 }
 
 impl Curve {
@@ -125,8 +133,9 @@ impl Curve {
             Over::Channels => written.map(|v| self.linear(v)),
             Over::Luminance => {
                 let before = written.map(|v| v.powf(self.gamma));
-                let k = self.shoulder.scale() * self.shoulder.factor(luminance_of(before));
-                before.map(|c| c * k)
+                (self.shoulder)
+                    .undo_over_luminance(self.shoulder.scale(), before)
+                    .0
             }
         }
     }
@@ -140,18 +149,16 @@ impl Curve {
                 Over::Luminance => v.powf(self.gamma),
             }
         });
-        let (scale, power) = (self.shoulder.scale(), 1.0 / self.gamma);
-        let back = table.map(|x| match self.over {
-            Over::Channels => self.shoulder.redo(x / scale).clamp(0.0, 1.0).powf(power),
-            Over::Luminance => x.clamp(0.0, 1.0).powf(power),
-        });
-        Linearised {
+        let mut linear = Linearised {
             curve: *self,
             table,
-            back,
-            scale,
-            power,
-        }
+            back: [0.0; 256],
+            scale: self.shoulder.scale(),
+            power: 1.0 / self.gamma,
+        };
+        // A value's own factor is the same there and back: 1 will do.
+        linear.back = table.map(|x| linear.written(1.0, x));
+        linear
     }
 
     /// The value one light `x` is written as, the inverse of
@@ -232,10 +239,7 @@ impl Linearised {
         let before = p.map(|v| self.table[usize::from(v)]);
         match self.curve.over {
             Over::Channels => (before, 1.0),
-            Over::Luminance => {
-                let k = self.scale * self.curve.shoulder.factor(luminance_of(before));
-                (before.map(|c| c * k), k)
-            }
+            Over::Luminance => (self.curve.shoulder).undo_over_luminance(self.scale, before),
         }
     }
 
