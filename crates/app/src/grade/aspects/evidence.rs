@@ -5,6 +5,7 @@
 //! image turned back to linear light by their fitted tone curve
 //! ([`super::tone`]).
 
+use super::background::Background;
 use super::falloff::{self, Falloff, Group, LightFit};
 use super::mapping;
 use super::palette;
@@ -64,6 +65,9 @@ pub(super) struct Evidence<'a> {
     pub foreign: Vec<Option<bool>>,
     /// The student's pixels in linear light, through their curve.
     linear: Vec<[f64; 3]>,
+    /// The student's background, fitted when first read
+    /// ([`Evidence::background`]).
+    background: std::sync::OnceLock<Background>,
 }
 
 /// Whose colour [`Evidence::colour`] reads.
@@ -164,6 +168,7 @@ impl<'a> Evidence<'a> {
             light: None,
             foreign: vec![None; (size * size) as usize],
             linear: Vec::new(),
+            background: std::sync::OnceLock::new(),
         };
         evidence.plain = evidence
             .objects
@@ -417,6 +422,12 @@ impl<'a> Evidence<'a> {
     /// Pixel `k` of the student's image.
     pub fn student_px(&self, k: usize) -> [u8; 3] {
         self.px(self.student, k)
+    }
+
+    /// The student's background ([`Background`]), fitted once: geometry
+    /// and the pixel reading read it, and reflection.
+    pub fn background(&self) -> &Background {
+        (self.background).get_or_init(|| Background::of(self.buffers, self.student))
     }
 
     /// The column and row of pixel `k`.

@@ -162,26 +162,26 @@ pub(super) type Group<'a> = (u32, Vec<(&'a Probe, f64)>);
 /// without the pixels whose residual is over three times the median one,
 /// twice. With the share of the spread it leaves unexplained; `None`
 /// when no object's light varies.
-fn fit_under(groups: &[Group], falloff: Falloff) -> Option<(LightFit, f64)> {
+fn fit_under(groups: &[&Group], falloff: Falloff) -> Option<(LightFit, f64)> {
     let xs: Vec<Vec<(f64, f64)>> = groups
         .iter()
         .map(|(_, rows)| rows.iter().map(|(p, y)| (falloff.lit(p), *y)).collect())
         .collect();
     let mut keep: Vec<Vec<bool>> = xs.iter().map(|g| vec![true; g.len()]).collect();
     let mut fit = least_squares(&xs, &keep)?;
+    let mut residuals = Vec::with_capacity(keep.iter().map(Vec::len).sum());
     for _ in 0..2 {
         let residual = |o: usize, (x, y): (f64, f64)| y - (fit.1[o] + fit.0 * x);
-        let bound = outlier_bound(
-            xs.iter()
-                .enumerate()
-                .flat_map(|(o, g)| g.iter().map(move |&r| residual(o, r).abs()))
-                .collect(),
-        );
-        keep = xs
-            .iter()
-            .enumerate()
-            .map(|(o, g)| g.iter().map(|&r| residual(o, r).abs() <= bound).collect())
-            .collect();
+        residuals.clear();
+        for (o, g) in xs.iter().enumerate() {
+            residuals.extend(g.iter().map(|&r| residual(o, r).abs()));
+        }
+        let bound = outlier_bound(&mut residuals);
+        for (o, (g, k)) in xs.iter().zip(&mut keep).enumerate() {
+            for (&r, k) in g.iter().zip(k) {
+                *k = residual(o, r).abs() <= bound;
+            }
+        }
         match least_squares(&xs, &keep) {
             Some(better) => fit = better,
             None => break,
@@ -236,7 +236,7 @@ pub(super) fn object_gains(groups: &[Group], falloff: Falloff) -> Vec<ObjectGain
             (gain > SIGNIFICANT * error).then_some((i, gain, error))
         })
         .collect();
-    let lit: Vec<Group> = own.iter().map(|&(i, ..)| groups[i].clone()).collect();
+    let lit: Vec<&Group> = own.iter().map(|&(i, ..)| &groups[i]).collect();
     let Some((scene, _)) = fit_under(&lit, falloff) else {
         return Vec::new();
     };
@@ -271,10 +271,11 @@ fn own_gain(rows: &[(&Probe, f64)], falloff: Falloff) -> Option<(f64, f64)> {
         .iter()
         .map(|r| (r.1 - predict(&beta, &r.0)).abs())
         .collect();
-    residuals.sort_by(f64::total_cmp);
+    let middle = residuals.len() / 2;
+    let (_, median, _) = residuals.select_nth_unstable_by(middle, f64::total_cmp);
     // The median absolute residual as a standard deviation, at least
     // the uniform rounding error of one 8-bit step.
-    let scatter = (1.4826 * residuals[residuals.len() / 2]).max(1.0 / 255.0 / 12f64.sqrt());
+    let scatter = (1.4826 * *median).max(1.0 / 255.0 / 12f64.sqrt());
     (spread > 0.0).then(|| (beta[1], scatter / spread.sqrt()))
 }
 
@@ -286,17 +287,13 @@ fn least_squares(xs: &[Vec<(f64, f64)>], keep: &[Vec<bool>]) -> Option<(f64, Vec
         .iter()
         .zip(keep)
         .map(|(g, k)| {
-            let kept: Vec<&(f64, f64)> = g
-                .iter()
-                .zip(k)
-                .filter(|(_, k)| **k)
-                .map(|(r, _)| r)
-                .collect();
-            let n = kept.len() as f64;
-            (!kept.is_empty()).then(|| {
+            let kept = || g.iter().zip(k).filter(|(_, k)| **k).map(|(r, _)| r);
+            let n = kept().count();
+            (n > 0).then(|| {
+                let n = n as f64;
                 (
-                    kept.iter().map(|r| r.0).sum::<f64>() / n,
-                    kept.iter().map(|r| r.1).sum::<f64>() / n,
+                    kept().map(|r| r.0).sum::<f64>() / n,
+                    kept().map(|r| r.1).sum::<f64>() / n,
                 )
             })
         })
@@ -339,12 +336,13 @@ pub(super) fn fit(groups: &[Group]) -> Option<LightFit> {
         .fold((0.0, 0.0), |(w, l), share| {
             (w + share.lit * share.distance, l + share.lit)
         });
-    let (none, unexplained) = fit_under(groups, Falloff::NONE)?;
+    let groups: Vec<&Group> = groups.iter().collect();
+    let (none, unexplained) = fit_under(&groups, Falloff::NONE)?;
     if lit <= 0.0 || weighed <= 0.0 {
         return Some(none);
     }
     let tried: Vec<(LightFit, f64)> = Falloff::candidates(weighed / lit)
-        .filter_map(|f| fit_under(groups, f))
+        .filter_map(|f| fit_under(&groups, f))
         .collect();
     let best = tried.iter().min_by(|a, b| a.1.total_cmp(&b.1));
     let (mut chosen, least) = match best {

@@ -8,10 +8,13 @@
 pub(super) fn robust_fit<const K: usize>(rows: &[([f64; K], f64)]) -> Option<Vec<f64>> {
     let mut beta = least_squares(rows.iter())?;
     let mut residuals: Vec<f64> = Vec::with_capacity(rows.len());
+    let mut ordered: Vec<f64> = Vec::with_capacity(rows.len());
     for _ in 0..2 {
         residuals.clear();
         residuals.extend(rows.iter().map(|r| (r.1 - predict(&beta, &r.0)).abs()));
-        let bound = outlier_bound(residuals.clone());
+        ordered.clear();
+        ordered.extend_from_slice(&residuals);
+        let bound = outlier_bound(&mut ordered);
         let kept = rows
             .iter()
             .zip(&residuals)
@@ -27,8 +30,8 @@ pub(super) fn robust_fit<const K: usize>(rows: &[([f64; K], f64)]) -> Option<Vec
 
 /// The largest absolute residual a robust fit keeps: three times the
 /// median one, and at least 3 of 255 (rounding alone is never an
-/// outlier). `residuals` must not be empty.
-pub(super) fn outlier_bound(mut residuals: Vec<f64>) -> f64 {
+/// outlier). `residuals` must not be empty; their order is lost.
+pub(super) fn outlier_bound(residuals: &mut [f64]) -> f64 {
     let middle = residuals.len() / 2;
     let (_, median, _) = residuals.select_nth_unstable_by(middle, f64::total_cmp);
     (3.0 * *median).max(3.0 / 255.0)

@@ -2,18 +2,13 @@
 //! show an object. Background where ours sees nothing, an object where
 //! ours sees a lit one; the student's background is theirs to choose: a
 //! colour, or a sky that changes with the ray's direction
-//! ([`Background`]). Only pixels stable for the object they see are
+//! ([`super::background`]). Only pixels stable for the object they see are
 //! judged, so rays through pixel centres or corners both pass; which of
 //! the two the image fits is told as the image's pixel reading.
 
 use super::evidence::Evidence;
-use super::fit::{predict, robust_fit};
 use super::{ratio, verdict, Aspect, AspectResult, AspectThresholds};
 use raytracer_render::render::probe::Probe;
-
-/// How far a channel may be from the background colour and still be
-/// background.
-const BACKGROUND_TOLERANCE: u8 = 6;
 
 /// Whether ours surely shows an object at a probe (`Some(true)`), surely
 /// shows nothing (`Some(false)`), or shows too dark an object to tell.
@@ -27,90 +22,6 @@ fn expect(probe: &Probe) -> Option<bool> {
         None => Some(false),
         Some(_) if (1.0 - probe.reflectivity) * probe.lit > 0.01 => Some(true),
         Some(_) => None,
-    }
-}
-
-/// Whether the student's background is black, as far as the image tells
-/// (`false` when no pixel surely sees nothing).
-pub(super) fn black_background(e: &Evidence) -> bool {
-    let background = Background::of(e);
-    !background.fitted.is_empty()
-        && background
-            .fitted
-            .iter()
-            .all(|&k| (0..3).all(|c| background.at(e, k)[c] <= f64::from(BACKGROUND_TOLERANCE)))
-}
-
-/// The student's background: per channel, a quadratic in the pixel's
-/// place on the image with a cubic in its squared distance from the
-/// image's centre ([`place`]), fitted robustly on the pixels that surely
-/// see nothing (the fit keeps out an object drawn where ours sees none).
-/// The assignment names no background: a colour fits it (the terms are
-/// then flat), and so does a sky graded by the ray's direction, smooth
-/// over a camera's field of view, or a background that changes with the
-/// angle from the view's axis alone. Black where no pixel surely sees
-/// nothing.
-struct Background {
-    /// Per channel, the fit's intercept and the gains of [`place`]'s
-    /// terms (a channel runs from 0 to 1).
-    channels: [Vec<f64>; 3],
-    /// The pixels it was fitted on: those that surely see nothing.
-    fitted: Vec<usize>,
-}
-
-/// Pixel `k`'s terms in [`Background`]'s fit: its place on the image
-/// plane (from −½ to ½ across), their squares and product, and the
-/// square and cube of its squared distance `s` from the centre. A
-/// direction's angle from the view's axis is a function of `s` alone,
-/// and a smooth step of it over the view (a radial gradient that
-/// flattens at the centre and the corners) takes powers of `s` up to the
-/// third to follow within a background pixel's tolerance.
-fn place(e: &Evidence, k: usize) -> [f64; 7] {
-    let (x, y) = e.xy(k);
-    let size = f64::from(e.size);
-    let u = (f64::from(x) + 0.5) / size - 0.5;
-    let v = (f64::from(y) + 0.5) / size - 0.5;
-    let s = u * u + v * v;
-    [u, v, u * u, u * v, v * v, s * s, s * s * s]
-}
-
-impl Background {
-    fn of(e: &Evidence) -> Self {
-        let fitted: Vec<usize> = (0..e.n)
-            .filter(|&k| {
-                let (x, y) = e.xy(k);
-                e.buffers.centre(x, y).object.is_none() && e.buffers.stable(x, y, |p| p.object)
-            })
-            .collect();
-        let channels = [0, 1, 2].map(|c| {
-            let rows: Vec<([f64; 7], f64)> = fitted
-                .iter()
-                .map(|&k| (place(e, k), f64::from(e.student_px(k)[c]) / 255.0))
-                .collect();
-            robust_fit(&rows).unwrap_or_else(|| {
-                // Too few pixels for the fit: their median.
-                let mut values: Vec<f64> = rows.iter().map(|r| r.1).collect();
-                values.sort_unstable_by(f64::total_cmp);
-                let median = values.get(values.len() / 2).copied().unwrap_or(0.0);
-                let mut flat = vec![0.0; 8];
-                flat[0] = median;
-                flat
-            })
-        });
-        Background { channels, fitted }
-    }
-
-    /// The background's colour at pixel `k`, in 8-bit steps.
-    fn at(&self, e: &Evidence, k: usize) -> [f64; 3] {
-        let terms = place(e, k);
-        [0, 1, 2].map(|c| 255.0 * predict(&self.channels[c], &terms))
-    }
-
-    /// Whether pixel `k` of the student's image is not the background.
-    fn covered(&self, e: &Evidence, k: usize) -> bool {
-        let p = e.student_px(k);
-        let bg = self.at(e, k);
-        (0..3).any(|c| (f64::from(p[c]) - bg[c]).abs() > f64::from(BACKGROUND_TOLERANCE))
     }
 }
 
@@ -132,10 +43,10 @@ fn expected(e: &Evidence, k: usize) -> (Option<bool>, Option<bool>) {
 /// covers or surely leaves empty.
 pub(super) fn pixel_reading(centres: &Evidence, corners: &Evidence) -> Option<Reading> {
     let e = centres;
-    let background = Background::of(e);
+    let background = e.background();
     let (mut centre_miss, mut corner_miss, mut total) = (0usize, 0usize, 0usize);
     for k in 0..e.n {
-        let seen = background.covered(e, k);
+        let seen = background.covered(e.student, k);
         if let (Some(a), Some(b)) = expected(e, k) {
             total += 1;
             centre_miss += usize::from(a != seen);
@@ -185,7 +96,7 @@ pub(super) fn judge(
     _earlier: &[AspectResult],
     map: &mut [u8],
 ) -> AspectResult {
-    let background = Background::of(e);
+    let background = e.background();
     let (mut judged, mut differ) = (0usize, 0usize);
     for (k, state) in map.iter_mut().enumerate() {
         let (x, y) = e.xy(k);
@@ -194,7 +105,7 @@ pub(super) fn judge(
         }
         if let (Some(want), _) = expected(e, k) {
             judged += 1;
-            let bad = want != background.covered(e, k);
+            let bad = want != background.covered(e.student, k);
             differ += usize::from(bad);
             *state = 1 + u8::from(bad);
         }

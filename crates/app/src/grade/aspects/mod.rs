@@ -58,6 +58,7 @@ use crate::compare::Picture;
 use evidence::Evidence;
 use raytracer_render::render::probe::Buffers;
 
+mod background;
 mod evidence;
 mod falloff;
 mod fit;

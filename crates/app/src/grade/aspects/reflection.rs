@@ -29,7 +29,6 @@
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
 use super::fit::{predict, robust_fit, spread};
-use super::geometry::black_background;
 use super::tone::FLAT;
 use super::{failed, fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 use raytracer_render::render::probe::Probe;
@@ -49,7 +48,7 @@ const KEEP_PLAIN: f64 = 0.9;
 /// only where it earns its place ([`KEEP_PLAIN`]); `None` when nothing
 /// fits. The last term is the student's background as their mirror shows
 /// it, as the background's colour is theirs to choose
-/// ([`super::geometry`]); fitted only when their background is
+/// ([`super::background`]); fitted only when their background is
 /// `coloured` (not black), else a mirror that shows something where ours
 /// shows nothing differs.
 fn fit_shape(e: &Evidence, ks: &[usize], coloured_background: bool, tint: Tint) -> Option<Shape> {
@@ -219,7 +218,8 @@ fn judge_as(
         if first.reflectivity == 0.0 || first.uv.is_some() {
             continue;
         }
-        let coloured_background = *coloured_background.get_or_insert_with(|| !black_background(e));
+        let coloured_background =
+            *coloured_background.get_or_insert_with(|| !e.background().is_black());
         let mut ks: Vec<usize> = e
             .pixels_of(object, &|p| {
                 p.visible ^ (u64::from(p.reflected.map_or(u32::MAX, |r| r)) << 32)

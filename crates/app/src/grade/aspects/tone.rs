@@ -142,13 +142,18 @@ impl Curve {
 
     /// The curve made ready to turn many 8-bit pixels back to light.
     pub fn linearise(&self) -> Linearised {
-        let table: [f64; 256] = std::array::from_fn(|v| {
-            let v = f64::from(v as u8) / 255.0;
-            match self.over {
-                Over::Channels => self.linear(v),
-                Over::Luminance => v.powf(self.gamma),
+        let tabled = Powered::of(self.gamma);
+        let raised: [f64; 256] = match tabled {
+            Some(t) => t.raised,
+            None => std::array::from_fn(|v| (f64::from(v as u8) / 255.0).powf(self.gamma)),
+        };
+        let table = match self.over {
+            Over::Channels => {
+                let scale = self.shoulder.scale();
+                raised.map(|p| scale * self.shoulder.undo(p))
             }
-        });
+            Over::Luminance => raised,
+        };
         let mut linear = Linearised {
             curve: *self,
             table,
@@ -157,7 +162,13 @@ impl Curve {
             power: 1.0 / self.gamma,
         };
         // A value's own factor is the same there and back: 1 will do.
-        linear.back = table.map(|x| linear.written(1.0, x));
+        // With no shoulder to redo (its scale is 1) or over luminance,
+        // that is the value raised there and back, the same for every
+        // curve of its power.
+        linear.back = match tabled {
+            Some(t) if self.over == Over::Luminance || self.shoulder == Shoulder::None => t.back,
+            _ => table.map(|x| linear.written(1.0, x)),
+        };
         linear
     }
 
@@ -258,6 +269,40 @@ impl Linearised {
     /// The 8-bit value `v` there and back.
     fn written_back(&self, v: u8) -> f64 {
         self.back[usize::from(v)]
+    }
+}
+
+/// Each power tried ([`powers`]) over the 256 8-bit values, worked out
+/// once for the process: a fit turns hundreds of curves, and an aspect
+/// each curve an image leaves open, into tables ([`Curve::linearise`]),
+/// and every shoulder shares its power's.
+struct Powered {
+    gamma: f64,
+    /// Each value raised to `gamma`.
+    raised: [f64; 256],
+    /// Each value raised to `gamma` and back, as [`Linearised::written`]
+    /// writes it with a factor of 1 and no shoulder.
+    back: [f64; 256],
+}
+
+impl Powered {
+    /// The table of `gamma`, when it is a power tried.
+    fn of(gamma: f64) -> Option<&'static Powered> {
+        static TABLES: std::sync::LazyLock<Vec<Powered>> = std::sync::LazyLock::new(|| {
+            powers()
+                .map(|gamma| {
+                    let raised: [f64; 256] =
+                        std::array::from_fn(|v| (f64::from(v as u8) / 255.0).powf(gamma));
+                    let back = raised.map(|x| x.clamp(0.0, 1.0).powf(1.0 / gamma));
+                    Powered {
+                        gamma,
+                        raised,
+                        back,
+                    }
+                })
+                .collect()
+        });
+        TABLES.iter().find(|t| t.gamma.to_bits() == gamma.to_bits())
     }
 }
 
