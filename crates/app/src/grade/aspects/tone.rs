@@ -628,7 +628,9 @@ fn root_mean_square(values: &[f64]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{fit, unexplained, Curve, Group, Over, Reads, Row, Shoulder, Spreads};
+    use super::{
+        fit, powers, unexplained, Curve, Group, Over, Powered, Reads, Row, Shoulder, Spreads,
+    };
 
     /// An object whose light runs from 0.05 to 0.85, written through
     /// `curve` after `0.05 + 0.8·x`.
@@ -800,6 +802,46 @@ mod tests {
         assert_eq!(fitted.curve, Curve::CLAMPING, "{:?}", fitted.unexplained);
         let unlit = written_over(&|_| 0.05, 0.05, 0.85);
         assert_eq!(fit(&[unlit], &[], &Vec::new).curve, Curve::CLAMPING);
+    }
+
+    /// The tables a curve reads from its power's, worked out once, are
+    /// those it would work out alone, bit for bit, on a power tried and
+    /// off the grid.
+    #[test]
+    fn a_curves_tables_are_its_own_whether_its_power_is_tabled_or_not() {
+        let shoulders = [
+            Shoulder::None,
+            Shoulder::Exposure(0.75),
+            Shoulder::Reinhard(0.97),
+        ];
+        for gamma in [powers().nth(28).unwrap(), 2.2, 1.0 / 0.45] {
+            for shoulder in shoulders {
+                for over in [Over::Channels, Over::Luminance] {
+                    let curve = Curve {
+                        gamma,
+                        shoulder,
+                        over,
+                    };
+                    let linearised = curve.linearise();
+                    for v in 0..=255u8 {
+                        let x = f64::from(v) / 255.0;
+                        let table = match over {
+                            Over::Channels => curve.linear(x),
+                            Over::Luminance => x.powf(gamma),
+                        };
+                        let back = linearised.written(1.0, table);
+                        let (a, b) = (
+                            linearised.table[usize::from(v)],
+                            linearised.back[usize::from(v)],
+                        );
+                        assert_eq!(a.to_bits(), table.to_bits(), "{curve:?} at {v}");
+                        assert_eq!(b.to_bits(), back.to_bits(), "{curve:?} at {v}");
+                    }
+                }
+            }
+        }
+        assert!(Powered::of(powers().nth(28).unwrap()).is_some());
+        assert!(Powered::of(1.0 / 0.45).is_none());
     }
 
     #[test]
