@@ -814,7 +814,7 @@ mod tests {
             Shoulder::Exposure(0.75),
             Shoulder::Reinhard(0.97),
         ];
-        for gamma in [powers().nth(28).unwrap(), 2.2, 1.0 / 0.45] {
+        for gamma in [powers().next().unwrap(), 2.2, 1.0 / 0.45] {
             for shoulder in shoulders {
                 for over in [Over::Channels, Over::Luminance] {
                     let curve = Curve {
@@ -840,7 +840,7 @@ mod tests {
                 }
             }
         }
-        assert!(Powered::of(powers().nth(28).unwrap()).is_some());
+        assert!(Powered::of(0.8).is_some() && Powered::of(2.2).is_some());
         assert!(Powered::of(1.0 / 0.45).is_none());
     }
 
