@@ -805,8 +805,8 @@ mod tests {
     }
 
     /// The tables a curve reads from its power's, worked out once, are
-    /// those it would work out alone, bit for bit, on a power tried and
-    /// off the grid.
+    /// those it would work out alone, bit for bit, on two powers tried
+    /// and one off the grid.
     #[test]
     fn a_curves_tables_are_its_own_whether_its_power_is_tabled_or_not() {
         let shoulders = [
