@@ -55,6 +55,11 @@ impl Picture {
     pub fn size(&self) -> [u32; 2] {
         [self.width, self.height]
     }
+
+    /// Pixel `k`, counted row by row from the top left.
+    pub fn pixel(&self, k: usize) -> [u8; 3] {
+        [self.rgb[3 * k], self.rgb[3 * k + 1], self.rgb[3 * k + 2]]
+    }
 }
 
 /// Why an image could not be read: the file's path and the reason.

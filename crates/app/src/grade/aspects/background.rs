@@ -46,15 +46,6 @@ fn place(size: u32, k: usize) -> [f64; 7] {
     [u, v, u * u, u * v, v * v, s * s, s * s * s]
 }
 
-/// Pixel `k` of `picture`.
-fn px(picture: &Picture, k: usize) -> [u8; 3] {
-    [
-        picture.rgb[3 * k],
-        picture.rgb[3 * k + 1],
-        picture.rgb[3 * k + 2],
-    ]
-}
-
 impl Background {
     /// The background of `student`, an image of the scene `buffers`
     /// probes.
@@ -69,7 +60,7 @@ impl Background {
         let channels = [0, 1, 2].map(|c| {
             let rows: Vec<([f64; 7], f64)> = fitted
                 .iter()
-                .map(|&k| (place(size, k), f64::from(px(student, k)[c]) / 255.0))
+                .map(|&k| (place(size, k), f64::from(student.pixel(k)[c]) / 255.0))
                 .collect();
             robust_fit(&rows).unwrap_or_else(|| {
                 // Too few pixels for the fit: their median.
@@ -98,13 +89,13 @@ impl Background {
     /// pixel surely sees nothing).
     pub fn is_black(&self) -> bool {
         !self.fitted.is_empty()
-            && (self.fitted.iter()).all(|&k| (0..3).all(|c| self.at(k)[c] <= f64::from(TOLERANCE)))
+            && (self.fitted.iter()).all(|&k| self.at(k).iter().all(|&c| c <= f64::from(TOLERANCE)))
     }
 
     /// Whether pixel `k` of `student` (the image it was fitted on) is
     /// not the background.
     pub fn covered(&self, student: &Picture, k: usize) -> bool {
-        let p = px(student, k);
+        let p = student.pixel(k);
         let bg = self.at(k);
         (0..3).any(|c| (f64::from(p[c]) - bg[c]).abs() > f64::from(TOLERANCE))
     }

@@ -412,11 +412,7 @@ impl<'a> Evidence<'a> {
 
     /// Pixel `k` of `picture`.
     pub fn px(&self, picture: &Picture, k: usize) -> [u8; 3] {
-        [
-            picture.rgb[3 * k],
-            picture.rgb[3 * k + 1],
-            picture.rgb[3 * k + 2],
-        ]
+        picture.pixel(k)
     }
 
     /// Pixel `k` of the student's image.
