@@ -557,6 +557,31 @@ fn uid_of(pid: i32) -> Option<u64> {
     line.split_whitespace().nth(1)?.parse().ok()
 }
 
+/// A program in a box starts with `PATH`, `HOME` and `LANG` alone in its
+/// environment, the grader's `PATH` and `LANG`, whoever grades: nothing
+/// else of the grader's environment (a secret) reaches it. Read from the
+/// script's own starting environment, which its shell leaves as given.
+#[test]
+fn a_program_in_a_box_starts_with_path_home_and_lang_alone() {
+    let attack = attack_folder("tr '\\0' '\\n' < /proc/$$/environ >&2; exit 3");
+    let path = std::env::var("PATH").unwrap();
+    for kind in kinds() {
+        let env = [("GRADER_SECRET", "s3cret"), ("LANG", "C.UTF-8")];
+        let (_, scene, sandbox) = attack.grade(kind, None, &[], &env);
+        assert_eq!(sandbox["boxed"], true, "{kind:?}: {sandbox}");
+        let stderr = scene["stderr"].as_str().unwrap();
+        let mut variables: Vec<(&str, &str)> = stderr
+            .lines()
+            .filter_map(|line| line.split_once('='))
+            .collect();
+        variables.sort_unstable();
+        let names: Vec<&str> = variables.iter().map(|(name, _)| *name).collect();
+        assert_eq!(names, ["HOME", "LANG", "PATH"], "{kind:?}: {stderr}");
+        assert_eq!(variables[1].1, "C.UTF-8", "{kind:?}: {stderr}");
+        assert_eq!(variables[2].1, path, "{kind:?}: {stderr}");
+    }
+}
+
 /// A program that stops its parent (and pid 1) stops neither the grader
 /// nor its clock: the run ends at the timeout.
 #[test]

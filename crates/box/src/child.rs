@@ -80,9 +80,17 @@ pub(crate) unsafe fn drop_to_user(confinement: &Confinement) -> io::Result<()> {
     unsafe {
         close_on_exec_from(3);
         if let Some(id) = confinement.user {
-            check(libc::setgroups(0, std::ptr::null()))?;
-            check(libc::setgid(id))?;
-            check(libc::setuid(id))?;
+            // The system calls, not glibc's wrappers, which would have
+            // every thread glibc believes this process has change its
+            // credentials too: the box's program runs here in memory it
+            // shares with its parent (`sharing.rs`), whose threads are not
+            // its own.
+            let set = |call: libc::c_long, a: libc::c_long, b: libc::c_long| {
+                check(libc::syscall(call, a, b) as libc::c_int)
+            };
+            set(libc::SYS_setgroups, 0, 0)?;
+            set(libc::SYS_setgid, libc::c_long::from(id), 0)?;
+            set(libc::SYS_setuid, libc::c_long::from(id), 0)?;
         }
         fresh_session_keyring()?;
         let limit = |resource, value: u64| {

@@ -4,6 +4,7 @@
 //! In the forked child ([`enter`], between fork and exec, so only
 //! async-signal-safe system calls on data [`Plan::new`] prepared before
 //! the fork), the process that `grade` started (the keeper's child, "C0")
+//! puts back the default action of every signal the grader handles,
 //! makes a process group of its own and unshares the mount, PID, network,
 //! IPC and UTS namespaces; when the grader is not root, inside a user
 //! namespace of its own that maps only the grader's uid and gid to
@@ -11,7 +12,9 @@
 //! with the grader's thread that forked it (`PR_SET_PDEATHSIG`, checked
 //! against a grader that died first), so a grader killed with SIGKILL
 //! still takes the whole box with it (`die_with`). Its first
-//! child ("C1") is pid 1 of the new PID namespace, dies with C0
+//! child ("C1"), which shares C0's memory rather than copying the
+//! grader's page tables again (`sharing.rs`), is pid 1 of the new PID
+//! namespace, dies with C0
 //! (`PR_SET_PDEATHSIG`), and builds the root: a tmpfs holding read-only
 //! binds of `/usr`, `/bin`, `/sbin`, `/lib*` and `/etc` (links stay
 //! links), a minimal `/dev` (null, zero, full, random, urandom; a private
@@ -24,9 +27,12 @@
 //! if it lies under a bound system folder. It then pivots into that
 //! root, detaches the old one, makes `/` read-only, in a user namespace allows
 //! no user namespace to be made inside it (so the program cannot mount the
-//! control groups it is held in), and forks the program
-//! ("C2"), which marks every inherited descriptor close-on-exec, drops to
-//! the run's uid, takes the limits and `PR_SET_NO_NEW_PRIVS`, and execs.
+//! control groups it is held in), and starts the program ("C2"), which
+//! shares that memory until its exec while C1 waits: it marks every
+//! inherited descriptor close-on-exec, drops to the run's uid, takes the
+//! limits and `PR_SET_NO_NEW_PRIVS`, and execs the prepared `Exec`
+//! itself. C0 waits for that exec, and hands std's spawn the errno of a
+//! step that failed, in C1 or in C2, when there is one.
 //! C1 (not dumpable, holding no descriptor of the grader's but its own
 //! pipes and the working folder's) reaps whatever is reparented to it
 //! and looks at the tmpfs every 10 ms; when the program ends it kills
@@ -43,7 +49,8 @@
 //! is down; abstract UNIX sockets are per network namespace, and socket
 //! files of the host are not in the box.
 
-use std::ffi::{CStr, CString};
+use std::convert::Infallible;
+use std::ffi::{CStr, CString, OsString};
 use std::io;
 use std::os::unix::ffi::OsStrExt;
 use std::path::{Path, PathBuf};
@@ -52,6 +59,7 @@ use std::sync::OnceLock;
 use crate::child::{check, die_with, drop_to_user, sh_runs_after};
 use crate::confinement::{Confinement, Limits, Share, NOBODY};
 use crate::scratch;
+use crate::sharing::{self, Exec};
 
 /// The system folders bound read-only (links among them stay links).
 pub(crate) const SYSTEM: &[&str] = &[
@@ -409,14 +417,62 @@ unsafe fn write_file(path: &[u8], bytes: &[u8]) -> io::Result<()> {
     Ok(())
 }
 
-/// In the child `grade` forked, before exec: the box of the module doc.
-/// Returns (to exec the program) only in the program's process.
+/// The stack of C1, which copies a folder tree into the tmpfs with a
+/// frame of `PATH_MAX` bytes per level ([`scratch::DEPTH`]): reserved, only
+/// the pages it reaches are ever committed.
+const INIT_STACK: usize = 8 << 20;
+
+/// The stack of the program's process until its exec.
+const PROGRAM_STACK: usize = 1 << 20;
+
+/// What C1 reads of C0's, in the memory they share: copied onto C1's own
+/// stack as it starts.
+#[derive(Clone, Copy)]
+struct Init<'a> {
+    plan: &'a Plan,
+    exec: &'a Exec,
+    confinement: &'a Confinement,
+    /// The pipe on which C1 hands the program's wait status to C0.
+    status: [libc::c_int; 2],
+    /// The pipe on which C1 or the program says why the program did not
+    /// start ([`sharing::fail`]); its last write end closes with the
+    /// program's exec.
+    started: [libc::c_int; 2],
+}
+
+/// What the program's process reads of C1's before its exec.
+struct Program<'a> {
+    exec: &'a Exec,
+    confinement: &'a Confinement,
+    /// C1's write end of [`Init::status`].
+    status: libc::c_int,
+    /// The prepared working folder and its tmpfs, open in C1.
+    folders: Option<(libc::c_int, libc::c_int)>,
+    started: libc::c_int,
+}
+
+/// In the child `grade` forked (C0), before exec: the box of the module
+/// doc, then C0's wait for the program's status, which it ends with.
+/// Returns only why the program could not start, which std's spawn then
+/// reports to the grader.
 ///
 /// # Safety
-/// Async-signal-safe: called between fork and exec, on `plan` prepared
-/// before the fork.
-pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
+/// Async-signal-safe: called between fork and exec, on `plan` and `exec`
+/// prepared before the fork.
+pub(crate) unsafe fn enter(plan: &Plan, exec: &Exec, confinement: &Confinement) -> io::Error {
+    match unsafe { keep(plan, exec, confinement) } {
+        Err(error) => error,
+    }
+}
+
+/// C0: unshare the namespaces, start C1 in them, and wait for the
+/// program's exec, then its status ([`keeper`]).
+///
+/// # Safety
+/// As [`enter`].
+unsafe fn keep(plan: &Plan, exec: &Exec, confinement: &Confinement) -> io::Result<Infallible> {
     unsafe {
+        sharing::default_handlers();
         check(libc::setpgid(0, 0))?;
         let mut flags = libc::CLONE_NEWNS
             | libc::CLONE_NEWPID
@@ -433,16 +489,62 @@ pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
             write_file(b"/proc/self/gid_map\0", plan.gid_map.as_bytes())?;
         }
         die_with(plan.grader)?;
-        let mut status_pipe = [0; 2];
-        check(libc::pipe2(status_pipe.as_mut_ptr(), libc::O_CLOEXEC))?;
-        let [read_end, write_end] = status_pipe;
-        let init = libc::fork();
-        check(init)?;
-        if init > 0 {
-            keeper(init, read_end, write_end);
+        let mut init = Init {
+            plan,
+            exec,
+            confinement,
+            status: pipe()?,
+            started: pipe()?,
+        };
+        let pid = sharing::child(
+            init_main,
+            (&mut init as *mut Init).cast(),
+            INIT_STACK,
+            false,
+        )?;
+        libc::close(init.started[1]);
+        if let Some(error) = sharing::failure(init.started[0]) {
+            return Err(error);
         }
-        // C1: pid 1 of the new namespace.
-        libc::close(read_end);
+        keeper(pid, init.status[0], init.status[1])
+    }
+}
+
+/// A pipe, both ends close-on-exec: its read end and its write end.
+///
+/// # Safety
+/// Async-signal-safe.
+unsafe fn pipe() -> io::Result<[libc::c_int; 2]> {
+    let mut ends = [0; 2];
+    check(unsafe { libc::pipe2(ends.as_mut_ptr(), libc::O_CLOEXEC) })?;
+    Ok(ends)
+}
+
+/// C1, started by C0 on its [`Init`]: pid 1 of the new namespace.
+extern "C" fn init_main(argument: *mut libc::c_void) -> libc::c_int {
+    // SAFETY: C0 passed its `Init`, which it keeps until it reads from
+    // `started`, which happens after this copy.
+    let init = unsafe { *argument.cast::<Init>() };
+    // SAFETY: only async-signal-safe calls on data prepared before the fork.
+    unsafe {
+        libc::close(init.status[0]);
+        libc::close(init.started[0]);
+        match init_box(&init) {
+            Err(error) => sharing::fail(init.started[1], error),
+        }
+    }
+}
+
+/// C1: build the root, start the program in it, and reap until it ends
+/// ([`reap_until_done`]).
+///
+/// # Safety
+/// Async-signal-safe.
+unsafe fn init_box(init: &Init) -> io::Result<Infallible> {
+    let Init {
+        plan, confinement, ..
+    } = *init;
+    unsafe {
         check(libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL, 0, 0, 0))?;
         if libc::getppid() != 0 {
             // C0 already died: nothing to run for.
@@ -462,21 +564,47 @@ pub unsafe fn enter(plan: &Plan, confinement: &Confinement) -> io::Result<()> {
         // Not dumpable before the program exists: it could otherwise reach
         // the descriptors below through `/proc/1/fd`.
         libc::prctl(libc::PR_SET_DUMPABLE, 0, 0, 0, 0);
-        let program = libc::fork();
-        check(program)?;
-        if program == 0 {
-            libc::close(write_end);
-            if let Some((host, inside)) = folders {
-                libc::close(host);
-                libc::close(inside);
-            }
-            libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL, 0, 0, 0);
-            return drop_to_user(confinement);
-        }
+        let mut program = Program {
+            exec: init.exec,
+            confinement,
+            status: init.status[1],
+            folders,
+            started: init.started[1],
+        };
+        let pid = sharing::child(
+            program_main,
+            (&mut program as *mut Program).cast(),
+            PROGRAM_STACK,
+            true,
+        )?;
         // Nothing in the box may use the grader's descriptors through us.
         let (host, inside) = folders.unwrap_or((-1, -1));
-        close_all_but(&[write_end, host, inside, plan.report]);
-        reap_until_done(plan, confinement, program, (host, inside), write_end)
+        close_all_but(&[init.status[1], host, inside, plan.report]);
+        reap_until_done(plan, confinement, pid, (host, inside), init.status[1])
+    }
+}
+
+/// The program's process, started by C1 on its [`Program`]: drop to the
+/// run's user and exec.
+extern "C" fn program_main(argument: *mut libc::c_void) -> libc::c_int {
+    // SAFETY: C1 waits, its `Program` untouched, until this process execs
+    // or ends.
+    let program = unsafe { &*argument.cast::<Program>() };
+    // SAFETY: only async-signal-safe calls on data prepared before the fork.
+    unsafe {
+        libc::close(program.status);
+        if let Some((host, inside)) = program.folders {
+            libc::close(host);
+            libc::close(inside);
+        }
+        let ran = libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL, 0, 0, 0);
+        let error = match check(ran).and_then(|()| drop_to_user(program.confinement)) {
+            Ok(()) => match program.exec.run() {
+                Err(error) => error,
+            },
+            Err(error) => error,
+        };
+        sharing::fail(program.started, error)
     }
 }
 
@@ -561,7 +689,7 @@ unsafe fn close_all_but(keep: &[libc::c_int]) {
     }
 }
 
-/// C0 after forking C1: wait for the program's status and end as it did.
+/// C0 once the program runs: wait for its status and end as it did.
 unsafe fn keeper(init: libc::pid_t, read_end: libc::c_int, write_end: libc::c_int) -> ! {
     unsafe {
         libc::close(write_end);
@@ -857,6 +985,10 @@ pub fn available(root: bool) -> bool {
     let Ok(plan) = Plan::new(Path::new("/"), &Share::default(), &confinement) else {
         return false;
     };
+    let sh: Vec<OsString> = ["sh", "-c", ":"].map(OsString::from).to_vec();
+    let Ok(exec) = Exec::new(&sh, &[]) else {
+        return false;
+    };
     // SAFETY: `enter` makes only async-signal-safe calls on the plan.
-    unsafe { sh_runs_after(move || enter(&plan, &confinement)) }
+    unsafe { sh_runs_after(move || Err(enter(&plan, &exec, &confinement))) }
 }

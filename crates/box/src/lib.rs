@@ -21,6 +21,7 @@
 //! The crate knows nothing of scenes or images: it runs argument vectors
 //! and moves bytes. All of grading's `unsafe` code lives here, each use
 //! with its reason: the steps between fork and exec (`child.rs`), the
+//! box's children that share its memory until they exec (`sharing.rs`), the
 //! system calls std does not wrap (`openat2`, `close_range`, `flock`,
 //! `pivot_root`, `mount`, …). The crates above it forbid `unsafe`.
 
@@ -39,6 +40,7 @@ mod quota;
 mod reason;
 pub mod run;
 mod scratch;
+mod sharing;
 mod spawning;
 pub mod tmpdir;
 pub mod uids;

@@ -48,6 +48,7 @@ use crate::confinement::{Confinement, Limits, Share};
 use crate::procs::{descendants, parent_and_group, processes};
 use crate::quota::{Bound, Quota};
 use crate::reason::{reason, start_failure};
+use crate::sharing::Exec;
 use crate::spawning::SPAWNING;
 
 /// The process groups of the programs running now, for [`kill_running`].
@@ -186,7 +187,8 @@ impl Setup {
         share: &Share,
         confinement: Confinement,
     ) -> Result<Setup, String> {
-        let mut command = command(argv, dir, share.home.as_deref().unwrap_or(dir));
+        let home = share.home.as_deref().unwrap_or(dir);
+        let mut command = command(argv, dir, home);
         let limits = confinement.limits;
         let quota = quota(share, &confinement);
         if quota.as_ref().is_some_and(Quota::over) {
@@ -199,12 +201,13 @@ impl Setup {
         let procs: Vec<CString> = group.as_ref().map(ControlGroup::procs).unwrap_or_default();
         let report = if confinement.boxed {
             let (plan, report) = boxed(dir, share, &confinement)?;
+            let exec = Exec::new(argv, &environment(home)).map_err(|error| reason(&error))?;
             // SAFETY: `jail::enter` makes only async-signal-safe system
             // calls, on data prepared before the fork.
             unsafe {
                 command.pre_exec(move || {
                     join_groups(&procs)?;
-                    crate::jail::enter(&plan, &confinement)
+                    Err(crate::jail::enter(&plan, &exec, &confinement))
                 });
             }
             report
@@ -250,27 +253,31 @@ impl Setup {
     }
 }
 
-/// The command of `argv` in `dir`: no environment but `PATH`, `HOME`
-/// (`home`) and `LANG`, stdin closed, stdout and stderr piped.
+/// The command of `argv` in `dir`: no environment but [`environment`],
+/// stdin closed, stdout and stderr piped.
 fn command(argv: &[OsString], dir: &Path, home: &Path) -> Command {
     let mut command = Command::new(&argv[0]);
     command
         .args(&argv[1..])
         .current_dir(dir)
         .env_clear()
-        .env(
-            "PATH",
-            std::env::var_os("PATH").unwrap_or_else(|| "/usr/bin:/bin".into()),
-        )
-        .env("HOME", home)
-        .env(
-            "LANG",
-            std::env::var_os("LANG").unwrap_or_else(|| "C.UTF-8".into()),
-        )
+        .envs(environment(home))
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
     command
+}
+
+/// A program's whole environment: the grader's `PATH` and `LANG` (or
+/// defaults), and `HOME` at `home`.
+fn environment(home: &Path) -> [(OsString, OsString); 3] {
+    let grader =
+        |name: &str, default: &str| std::env::var_os(name).unwrap_or_else(|| default.into());
+    [
+        ("PATH".into(), grader("PATH", "/usr/bin:/bin")),
+        ("HOME".into(), home.into()),
+        ("LANG".into(), grader("LANG", "C.UTF-8")),
+    ]
 }
 
 /// The quota of the folders the run may write that no tmpfs bounds:
