@@ -83,7 +83,8 @@ pub(crate) unsafe fn fail(fd: libc::c_int, error: io::Error) -> ! {
 
 /// The errno that C1 or the program wrote on `fd` ([`fail`]), or `None`
 /// when every write end closed unwritten: the program's exec closed the
-/// last.
+/// last, or the processes holding them were killed (which the keeper's
+/// wait for their status then tells).
 ///
 /// # Safety
 /// Async-signal-safe.
