@@ -374,7 +374,7 @@ impl<'a> Evidence<'a> {
     /// turned back by their tone curve.
     pub fn colour(&self, whose: Whose, k: usize) -> [f64; 3] {
         match whose {
-            Whose::Ours => self.px(self.reference, k).map(|c| f64::from(c) / 255.0),
+            Whose::Ours => self.reference.pixel(k).map(|c| f64::from(c) / 255.0),
             Whose::Theirs => self.linear[k],
         }
     }
@@ -388,7 +388,7 @@ impl<'a> Evidence<'a> {
     /// written is bright enough to have one ([`chroma`]).
     pub fn chroma(&self, whose: Whose, k: usize) -> Option<[f64; 3]> {
         let written = match whose {
-            Whose::Ours => self.px(self.reference, k),
+            Whose::Ours => self.reference.pixel(k),
             Whose::Theirs => self.student_px(k),
         };
         chroma(&written)?;
@@ -410,14 +410,9 @@ impl<'a> Evidence<'a> {
         luminance_of(linear.pixel(self.student_px(k)))
     }
 
-    /// Pixel `k` of `picture`.
-    pub fn px(&self, picture: &Picture, k: usize) -> [u8; 3] {
-        picture.pixel(k)
-    }
-
     /// Pixel `k` of the student's image.
     pub fn student_px(&self, k: usize) -> [u8; 3] {
-        self.px(self.student, k)
+        self.student.pixel(k)
     }
 
     /// The student's background ([`Background`]), fitted once: geometry

@@ -145,7 +145,7 @@ impl Curve {
         let tabled = Powered::of(self.gamma);
         let raised: [f64; 256] = match tabled {
             Some(t) => t.raised,
-            None => std::array::from_fn(|v| (f64::from(v as u8) / 255.0).powf(self.gamma)),
+            None => raised_to(self.gamma),
         };
         let table = match self.over {
             Over::Channels => {
@@ -291,8 +291,7 @@ impl Powered {
         static TABLES: std::sync::LazyLock<Vec<Powered>> = std::sync::LazyLock::new(|| {
             powers()
                 .map(|gamma| {
-                    let raised: [f64; 256] =
-                        std::array::from_fn(|v| (f64::from(v as u8) / 255.0).powf(gamma));
+                    let raised = raised_to(gamma);
                     let back = raised.map(|x| x.clamp(0.0, 1.0).powf(1.0 / gamma));
                     Powered {
                         gamma,
@@ -304,6 +303,11 @@ impl Powered {
         });
         TABLES.iter().find(|t| t.gamma.to_bits() == gamma.to_bits())
     }
+}
+
+/// Each 8-bit value, as a fraction of 255, raised to `gamma`.
+fn raised_to(gamma: f64) -> [f64; 256] {
+    std::array::from_fn(|v| (f64::from(v as u8) / 255.0).powf(gamma))
 }
 
 /// The powers tried: from 0.8 to 3 in steps of 0.05, which covers
