@@ -125,6 +125,10 @@ const BUILT_IN: &[(&str, &[u8])] = &[
     ),
     ("mirror.txt", include_bytes!("../../../../suite/mirror.txt")),
     (
+        "near_occluder.txt",
+        include_bytes!("../../../../suite/near_occluder.txt"),
+    ),
+    (
         "reflection.txt",
         include_bytes!("../../../../suite/reflection.txt"),
     ),

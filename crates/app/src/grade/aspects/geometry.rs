@@ -6,9 +6,12 @@
 //! judged, so rays through pixel centres or corners both pass; which of
 //! the two the image fits is told as the image's pixel reading.
 
+mod unlit;
+
 use super::evidence::Evidence;
 use super::{ratio, verdict, Aspect, AspectResult, AspectThresholds};
-use raytracer_render::render::probe::Probe;
+use raytracer_render::render::probe::{Buffers, Probe};
+use unlit::Mirrors;
 
 /// Whether ours surely shows an object at a probe (`Some(true)`), surely
 /// shows nothing (`Some(false)`), or shows too dark an object to tell.
@@ -16,22 +19,24 @@ use raytracer_render::render::probe::Probe;
 /// `1 − k`, the least either reading gives it: what it shows is
 /// reflection's to judge, so a mirror that shows the wrong thing (or, in
 /// a tracer that does not recurse, a black mirror's own black) costs
-/// reflection, not geometry.
-fn expect(probe: &Probe) -> Option<bool> {
+/// reflection, not geometry. A mirror of `unlit` counts only where it
+/// also shows something ([`Mirrors`]).
+fn expect(probe: &Probe, buffers: &Buffers, unlit: &Mirrors) -> Option<bool> {
+    let own = (1.0 - probe.reflectivity) * probe.lit > 0.01;
     match probe.object {
         None => Some(false),
-        Some(_) if (1.0 - probe.reflectivity) * probe.lit > 0.01 => Some(true),
+        Some(object) if own && (!unlit.holds(object) || unlit::shows(probe, buffers)) => Some(true),
         Some(_) => None,
     }
 }
 
 /// Whether ours surely shows an object at pixel `k`'s centre and corner,
 /// where both tell.
-fn expected(e: &Evidence, k: usize) -> (Option<bool>, Option<bool>) {
+fn expected(e: &Evidence, unlit: &Mirrors, k: usize) -> (Option<bool>, Option<bool>) {
     let (x, y) = e.xy(k);
     (
-        expect(e.buffers.centre(x, y)),
-        expect(e.buffers.corner(x, y)),
+        expect(e.buffers.centre(x, y), e.buffers, unlit),
+        expect(e.buffers.corner(x, y), e.buffers, unlit),
     )
 }
 
@@ -44,10 +49,11 @@ fn expected(e: &Evidence, k: usize) -> (Option<bool>, Option<bool>) {
 pub(super) fn pixel_reading(centres: &Evidence, corners: &Evidence) -> Option<Reading> {
     let e = centres;
     let background = e.background();
+    let unlit = unlit::mirrors(e);
     let (mut centre_miss, mut corner_miss, mut total) = (0usize, 0usize, 0usize);
     for k in 0..e.n {
         let seen = background.covered(e.student, k);
-        if let (Some(a), Some(b)) = expected(e, k) {
+        if let (Some(a), Some(b)) = expected(e, &unlit, k) {
             total += 1;
             centre_miss += usize::from(a != seen);
             corner_miss += usize::from(b != seen);
@@ -97,13 +103,14 @@ pub(super) fn judge(
     map: &mut [u8],
 ) -> AspectResult {
     let background = e.background();
+    let unlit = unlit::mirrors(e);
     let (mut judged, mut differ) = (0usize, 0usize);
     for (k, state) in map.iter_mut().enumerate() {
         let (x, y) = e.xy(k);
         if !e.buffers.stable(x, y, |p| p.object) {
             continue;
         }
-        if let (Some(want), _) = expected(e, k) {
+        if let (Some(want), _) = expected(e, &unlit, k) {
             judged += 1;
             let bad = want != background.covered(e.student, k);
             differ += usize::from(bad);

@@ -127,6 +127,8 @@ pub struct AspectThresholds {
     /// mirror does not show what ours shows, and all of its pixels that
     /// show something count as differing. What ours shows is taken as it
     /// arrives, or tinted by the mirror's colour where the image reads so.
+    /// The same least gain holds the mirror's own light, over `1 −
+    /// reflectivity` (its weight in a blended reflection).
     pub reflection_gain: f64,
     /// The least ratio of the student's texture contrast to ours.
     pub texture_contrast: f64,

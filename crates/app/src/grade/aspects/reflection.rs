@@ -5,24 +5,31 @@
 //! `(reflected colour)ⁿ · reflectivity` beside the plain term:
 //! [`fit_shape`]); a pixel the fit does not explain differs, and a mirror
 //! whose gain `c` on what ours shows is below a share of its reflectivity
-//! does not show it at all. The student may add what a mirror shows as
-//! it arrives or tinted by the mirror's own colour ([`Tint`]); the image
-//! is read under the one that fits it, the same for all its mirrors, so
-//! a black mirror that shows nothing may be a tinting tracer's, unless
-//! another black mirror of the same image shows what ours shows. What a
-//! mirror shows of a texture (the mapping is open) is not judged, nor
-//! what it shows of another mirror where the readings (added or blended,
-//! any depth of two reflections or more) differ
-//! ([`Probe::reflection_settled`]), nor where a highlight may brighten
-//! it. Where they agree, as in a mirror showing a black mirror that
-//! shows a coloured object, recursion is judged.
+//! does not show it at all, as one whose gain `b` on its own light is
+//! below that share of `1 − k`, the weight a blended reflection gives
+//! it (the least either reading gives), does not show its own light: the
+//! assignment adds what a mirror shows to the local colour. Every
+//! reading gives each mirror a gain `c` of one weight times `k`, so the
+//! gains of a scene's mirrors must follow their reflectivities, not
+//! their squares ([`reflectivity_power`]). The student may add what a
+//! mirror shows as it arrives or tinted by the mirror's own colour
+//! ([`Tint`]); the image is read under the one that fits it, the same
+//! for all its mirrors, so a black mirror that shows nothing may be a
+//! tinting tracer's, unless another black mirror of the same image shows
+//! what ours shows. What a mirror shows of a texture (the mapping is
+//! open) is not judged, nor what it shows of another mirror where the
+//! readings (added or blended, any depth of two reflections or more)
+//! differ ([`Probe::reflection_settled`]), nor where a highlight may
+//! brighten it. Where they agree, as in a mirror showing a black mirror
+//! that shows a coloured object, recursion is judged.
 //!
 //! What a mirror shows of a lit point is that point's light, which the
 //! student's shadow rays decide. Where the student's shadows fail on the
 //! scene ([`super::shadows`], judged before), a mirror is judged only on
 //! pixels whose shown points no light could reach were nothing in the
-//! way ([`Probe::reflected_direct`]): a shadow bug costs shadows, not
-//! reflection as well.
+//! way ([`Probe::reflected_direct`]), and its own light is not held to a
+//! share (which lights reach it is theirs too): a shadow bug costs
+//! shadows, not reflection as well.
 //!
 //! [`Probe::reflection_settled`]: raytracer_render::render::probe::Probe::reflection_settled
 //! [`Probe::reflected_direct`]: raytracer_render::render::probe::Probe::reflected_direct
@@ -206,10 +213,11 @@ fn judge_as(
 ) -> Judged {
     let mut counts = Counts {
         weakest_gain: f64::INFINITY,
+        weakest_own_gain: f64::INFINITY,
         tinted: tint == Tint::Tinted,
         ..Counts::default()
     };
-    let (mut marks, mut gains) = (Vec::new(), Vec::new());
+    let (mut gains, mut fitted) = (Vec::new(), Vec::new());
     // Whether the student's background is coloured: told once, for the
     // first mirror, as it is the image's, not the mirror's.
     let mut coloured_background = None;
@@ -259,15 +267,67 @@ fn judge_as(
         if let Some(gain) = gain {
             counts.weakest_gain = counts.weakest_gain.min(gain);
         }
-        let missing = gain.is_some_and(|g| g < thresholds.reflection_gain);
-        for (&k, (x, s)) in ks.iter().zip(&shape.rows) {
-            let r = s - predict(&shape.beta, x);
+        // Whether the student's mirror shows its own light at all: the
+        // fit's gain on the light that reaches it against `1 − k`, its
+        // weight when blended (the least either reading gives it), told
+        // only where that light varies over the mirror by more than
+        // rounding could hide, and the student's shadows, which decide
+        // it, pass.
+        let own_light: Vec<f64> = ks
+            .iter()
+            .map(|&k| (1.0 - first.reflectivity) * e.buffers.centres[k].lit)
+            .collect();
+        let own_gain = (!shadows_differ && spread(&own_light) >= FLAT)
+            .then(|| shape.beta[1] / (1.0 - first.reflectivity));
+        if let Some(gain) = own_gain {
+            counts.weakest_own_gain = counts.weakest_own_gain.min(gain);
+        }
+        fitted.push(Fitted {
+            reflectivity: first.reflectivity,
+            ks,
+            shape,
+            own_light,
+            missing: gain.is_some_and(|g| g < thresholds.reflection_gain),
+            unlit: own_gain.is_some_and(|g| g < thresholds.reflection_gain),
+            gain,
+        });
+    }
+    counts.reflectivity_power = reflectivity_power(&fitted);
+    let off_power = counts
+        .reflectivity_power
+        .is_some_and(|p| (p - 1.0).abs() > POWER_OFF);
+    let marks = mark(e, &fitted, off_power, &mut counts);
+    Judged {
+        counts,
+        marks,
+        gains,
+    }
+}
+
+/// Mark each judged pixel of the `fitted` mirrors, counting it in
+/// `counts`: a pixel differs where the fit does not explain it, where its
+/// mirror shows too little of what ours shows (or all do, their gains
+/// following another power of the reflectivity: `off_power`) and ours
+/// shows something there, or where its mirror shows too little of its own
+/// light and it has some.
+fn mark(e: &Evidence, fitted: &[Fitted], off_power: bool, counts: &mut Counts) -> Vec<(usize, u8)> {
+    let mut marks = Vec::new();
+    for mirror in fitted {
+        let rows = mirror
+            .ks
+            .iter()
+            .zip(&mirror.shape.rows)
+            .zip(&mirror.own_light);
+        for ((&k, (x, s)), &own) in rows {
+            let r = s - predict(&mirror.shape.beta, x);
             // A highlight only brightens: not a reflection's error.
             let highlight = r > 0.0 && e.buffers.centres[k].highlight > HIGHLIGHT_CONE;
             // Whether ours shows something there, the same base under
             // either reading: a tinted black mirror must show nothing.
             let shows = e.buffers.centres[k].reflected_radiance > SHOWS;
-            let bad = (r.abs() > 0.06 && !highlight) || (missing && shows);
+            let bad = (r.abs() > 0.06 && !highlight)
+                || ((mirror.missing || off_power) && shows)
+                || (mirror.unlit && own > SHOWS);
             if shows {
                 counts.showing += 1;
                 counts.showing_bad += usize::from(bad);
@@ -278,11 +338,67 @@ fn judge_as(
             marks.push((k, 1 + u8::from(bad)));
         }
     }
-    Judged {
-        counts,
-        marks,
-        gains,
+    marks
+}
+
+/// One mirror fitted: its reflectivity, the pixels judged, its fit, its
+/// own light at the blended weight on each pixel, whether it shows too
+/// little of what ours shows or of its own light, and its gain on what
+/// ours shows against its reflectivity, where told.
+struct Fitted {
+    reflectivity: f64,
+    ks: Vec<usize>,
+    shape: Shape,
+    own_light: Vec<f64>,
+    missing: bool,
+    unlit: bool,
+    gain: Option<f64>,
+}
+
+/// How far from 1 the power of the reflectivity a scene's mirrors follow
+/// may be: half the step to the next whole power (a reflection weighed
+/// by the reflectivity squared, or not at all).
+const POWER_OFF: f64 = 0.5;
+
+/// The least ratio between a scene's largest and smallest reflectivity
+/// that tells the power their gains follow: a gain off by a tenth (the
+/// gains of tune's correct readings agree within 5 %) then moves the
+/// power read by less than [`POWER_OFF`] (`ln 1.1 / ln 1.25` is 0.43).
+const TELLS_POWER: f64 = 1.25;
+
+/// The power `p` of the reflectivity `k` that the gains `c` of a scene's
+/// mirrors follow, `c ∝ kᵖ`: every reading the assignment allows gives
+/// `c = w·k` with one weight `w` for all the mirrors (their gains
+/// against `k` agree), where a reflection weighed by `k²` gives `c ∝ k²`.
+/// A least-squares slope of `ln(c/k)` on `ln k`, plus one; told where
+/// two mirrors or more have a gain, one power of what they show
+/// ([`fit_shape`]), and reflectivities apart by [`TELLS_POWER`].
+fn reflectivity_power(fitted: &[Fitted]) -> Option<f64> {
+    let told: Vec<(f64, f64, f64)> = fitted
+        .iter()
+        .filter_map(|m| {
+            m.gain
+                .filter(|&g| g > 0.0)
+                .map(|g| (m.reflectivity.ln(), g.ln(), m.shape.power))
+        })
+        .collect();
+    let powers_agree = told.windows(2).all(|w| w[0].2 == w[1].2);
+    let (low, high) = told
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| {
+            (lo.min(t.0), hi.max(t.0))
+        });
+    if told.len() < 2 || !powers_agree || high - low < TELLS_POWER.ln() {
+        return None;
     }
+    let n = told.len() as f64;
+    let (mx, my) = (
+        told.iter().map(|t| t.0).sum::<f64>() / n,
+        told.iter().map(|t| t.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = told.iter().map(|t| (t.0 - mx) * (t.1 - my)).sum();
+    let sxx: f64 = told.iter().map(|t| (t.0 - mx).powi(2)).sum();
+    Some(1.0 + sxy / sxx)
 }
 
 /// The pixels of mirrors judged, whether they show something in ours
@@ -296,6 +412,12 @@ struct Counts {
     dark_bad: usize,
     mirrors: usize,
     weakest_gain: f64,
+    /// The weakest gain on a mirror's own light, against `1 − k`
+    /// (infinite where none was told).
+    weakest_own_gain: f64,
+    /// The power of the reflectivity the mirrors' gains follow, where
+    /// told ([`reflectivity_power`]).
+    reflectivity_power: Option<f64>,
     /// The largest power of what a mirror shows read into a mirror.
     power: f64,
     /// The mirror pixels showing points a light could reach, left out
@@ -315,6 +437,8 @@ fn detail(counts: &Counts, least_gain: f64) -> String {
         dark_bad,
         mirrors,
         weakest_gain,
+        weakest_own_gain,
+        reflectivity_power,
         power,
         left_to_shadows,
         tinted,
@@ -350,6 +474,18 @@ fn detail(counts: &Counts, least_gain: f64) -> String {
                 100.0 * weakest_gain,
                 if tinted { " tinted by its colour" } else { "" },
                 100.0 * least_gain
+            ));
+        }
+        if weakest_own_gain.is_finite() {
+            parts.push(format!(
+                "a mirror shows {:.0} % of its own light as a blended reflection weighs it (at least {:.0} %)",
+                100.0 * weakest_own_gain.max(0.0),
+                100.0 * least_gain
+            ));
+        }
+        if let Some(p) = reflectivity_power {
+            parts.push(format!(
+                "your mirrors show what ours shows as their reflectivity to the power {p:.1} (the assignment's is 1: at most {POWER_OFF} from it)"
             ));
         }
         if tinted {
