@@ -514,7 +514,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         export(dir.path()).unwrap();
         let scenes = load(&[dir.path().to_path_buf()]).unwrap().scenes;
-        assert_eq!(scenes.len(), 28);
+        assert_eq!(scenes.len(), 29);
         // Every scene the assignment asks for carries points; the
         // robustness ones, none by default.
         assert!(scenes

@@ -256,7 +256,9 @@ fn judge_all(
 /// does), every aspect judged as the image is must be judged and pass
 /// turned back, each that failed by a clear margin
 /// ([`AspectResult::clear_pass`]): a lucky symmetry may bring a buggy
-/// image to the bound, not well within it. And no aspect may fail turned
+/// image to the bound, not well within it; and the scene must tell the
+/// transform by its light, our own image so turned failing an aspect.
+/// And no aspect may fail turned
 /// back, even one not judged as the image is (shading leaves plain
 /// objects to failed shadows): the image turned back must fit ours in
 /// every aspect, as the report then says.
@@ -293,7 +295,18 @@ fn recognise(
                     && (!before.judged || (after.judged && (before.pass || after.clear_pass())))
             })
         };
-        (geometry_failed || explained()).then_some((t, verdicts))
+        // Where the transform keeps the scene's coverage, the scene
+        // tells it only when our own image so turned fails an aspect: a
+        // scene that looks the same turned (a plane lit evenly, which
+        // ours clamps all over) cannot name it.
+        let told = || {
+            let turned = t.undo(reference);
+            judge_all(&Evidence::new(buffers, reference, &turned), thresholds)
+                .0
+                .iter()
+                .any(|r| r.judged && !r.pass)
+        };
+        (geometry_failed || (explained() && told())).then_some((t, verdicts))
     })
 }
 

@@ -2,9 +2,10 @@
 //! bottom first, columns right to left, x and y swapped): when the
 //! student's image fails geometry as it is but passes it once turned back
 //! by one of them, on a scene whose coverage that transform does not
-//! keep, that transform is named as the likely cause, and the other
-//! aspects are judged on the image turned back, so the mistake costs
-//! geometry alone. A shift by half a pixel (rays through pixel corners)
+//! keep (or, where it keeps it, whose light tells it: ours so turned
+//! fails an aspect), that transform is named as the likely cause, and
+//! the other aspects are judged on the image turned back, so the mistake
+//! costs geometry alone. A shift by half a pixel (rays through pixel corners)
 //! needs no transform: only pixels stable at the centre and the corners
 //! are judged, and the image's pixel reading names it.
 
