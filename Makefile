@@ -108,7 +108,7 @@ run: raytracer
 # scripts/class_table.py; the reports stay in target/classes. Needs the
 # classes' compilers (cc, g++, javac) and interpreters (python3, node);
 # some minutes.
-CLASSES := tune judge held_out fresh unseen blind sealed masked veiled hidden cloaked
+CLASSES := tune judge held_out fresh unseen blind sealed masked veiled hidden cloaked shrouded
 class-table: raytracer
 	rm -rf target/classes
 	for class in $(CLASSES); do \

@@ -414,7 +414,7 @@ fn our_tracer_matches_the_built_in_suite() {
     let first = grade();
     let stderr = String::from_utf8_lossy(&first.stderr);
     assert_eq!(first.status.code(), Some(0), "{stderr}");
-    assert!(stderr.contains("rendered 29 reference images"), "{stderr}");
+    assert!(stderr.contains("rendered 30 reference images"), "{stderr}");
     let second = grade();
     assert_eq!(second.status.code(), Some(0));
     assert!(
@@ -426,7 +426,7 @@ fn our_tracer_matches_the_built_in_suite() {
     let summary: Value =
         serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap()).unwrap();
     let scenes = summary["scenes"].as_array().unwrap();
-    assert_eq!(scenes.len(), 29);
+    assert_eq!(scenes.len(), 30);
     assert!(scenes.iter().all(|s| s["status"] == "match"), "{summary}");
     assert_eq!(summary["score"], summary["max_score"]);
 
@@ -444,7 +444,7 @@ fn our_tracer_matches_the_built_in_suite() {
         serde_json::from_slice(&std::fs::read(report.join("results.json")).unwrap()).unwrap();
     assert_eq!(results["score"], summary["score"]);
     let tests = results["tests"].as_array().unwrap();
-    assert_eq!(tests.len(), 29);
+    assert_eq!(tests.len(), 30);
     for test in tests {
         assert_eq!(test["score"], test["max_score"]);
         assert_eq!(test["visibility"], "visible");
@@ -452,7 +452,7 @@ fn our_tracer_matches_the_built_in_suite() {
     }
 
     let html = std::fs::read_to_string(report.join("index.html")).unwrap();
-    assert_eq!(html.matches("<tr class=\"scene\" id=\"scene-").count(), 29);
+    assert_eq!(html.matches("<tr class=\"scene\" id=\"scene-").count(), 30);
     assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("<script"));
     for scene in scenes {
         for kind in ["reference", "student", "heatmap"] {

@@ -134,6 +134,10 @@ const BUILT_IN: &[(&str, &[u8])] = &[
     ),
     ("sample.txt", include_bytes!("../../../../suite/sample.txt")),
     (
+        "shadowed_highlight.txt",
+        include_bytes!("../../../../suite/shadowed_highlight.txt"),
+    ),
+    (
         "shadows.txt",
         include_bytes!("../../../../suite/shadows.txt"),
     ),
@@ -514,7 +518,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         export(dir.path()).unwrap();
         let scenes = load(&[dir.path().to_path_buf()]).unwrap().scenes;
-        assert_eq!(scenes.len(), 29);
+        assert_eq!(scenes.len(), 30);
         // Every scene the assignment asks for carries points; the
         // robustness ones, none by default.
         assert!(scenes

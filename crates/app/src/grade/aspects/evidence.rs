@@ -10,6 +10,7 @@ use super::falloff::{self, Falloff, Group, LightFit};
 use super::mapping;
 use super::palette;
 use super::tone::{self, luminance_of, Curve, Linearised, Reads, Row};
+use super::unlit::{self, Mirrors};
 use crate::compare::Picture;
 use raytracer_render::render::probe::{Buffers, Probe, Wears};
 
@@ -68,6 +69,9 @@ pub(super) struct Evidence<'a> {
     /// The student's background, fitted when first read
     /// ([`Evidence::background`]).
     background: std::sync::OnceLock<Background>,
+    /// The mirrors the student draws without their own light, read when
+    /// first asked ([`Evidence::unlit_mirrors`]).
+    unlit_mirrors: std::sync::OnceLock<Mirrors>,
 }
 
 /// Whose colour [`Evidence::colour`] reads.
@@ -169,6 +173,7 @@ impl<'a> Evidence<'a> {
             foreign: vec![None; (size * size) as usize],
             linear: Vec::new(),
             background: std::sync::OnceLock::new(),
+            unlit_mirrors: std::sync::OnceLock::new(),
         };
         evidence.plain = evidence
             .objects
@@ -419,6 +424,14 @@ impl<'a> Evidence<'a> {
     /// and the pixel reading read it, and reflection.
     pub fn background(&self) -> &Background {
         (self.background).get_or_init(|| Background::of(self.buffers, self.student))
+    }
+
+    /// The mirrors the student draws without their own light
+    /// ([`unlit::mirrors`]), read once: the pixel reading and geometry
+    /// read them.
+    pub fn unlit_mirrors(&self) -> &Mirrors {
+        (self.unlit_mirrors)
+            .get_or_init(|| unlit::mirrors(self.buffers, self.background(), self.student))
     }
 
     /// The column and row of pixel `k`.

@@ -6,12 +6,10 @@
 //! judged, so rays through pixel centres or corners both pass; which of
 //! the two the image fits is told as the image's pixel reading.
 
-mod unlit;
-
 use super::evidence::Evidence;
+use super::unlit::{self, Mirrors};
 use super::{ratio, verdict, Aspect, AspectResult, AspectThresholds};
 use raytracer_render::render::probe::{Buffers, Probe};
-use unlit::Mirrors;
 
 /// Whether ours surely shows an object at a probe (`Some(true)`), surely
 /// shows nothing (`Some(false)`), or shows too dark an object to tell.
@@ -49,11 +47,11 @@ fn expected(e: &Evidence, unlit: &Mirrors, k: usize) -> (Option<bool>, Option<bo
 pub(super) fn pixel_reading(centres: &Evidence, corners: &Evidence) -> Option<Reading> {
     let e = centres;
     let background = e.background();
-    let unlit = unlit::mirrors(e);
+    let unlit = e.unlit_mirrors();
     let (mut centre_miss, mut corner_miss, mut total) = (0usize, 0usize, 0usize);
     for k in 0..e.n {
         let seen = background.covered(e.student, k);
-        if let (Some(a), Some(b)) = expected(e, &unlit, k) {
+        if let (Some(a), Some(b)) = expected(e, unlit, k) {
             total += 1;
             centre_miss += usize::from(a != seen);
             corner_miss += usize::from(b != seen);
@@ -103,14 +101,14 @@ pub(super) fn judge(
     map: &mut [u8],
 ) -> AspectResult {
     let background = e.background();
-    let unlit = unlit::mirrors(e);
+    let unlit = e.unlit_mirrors();
     let (mut judged, mut differ) = (0usize, 0usize);
     for (k, state) in map.iter_mut().enumerate() {
         let (x, y) = e.xy(k);
         if !e.buffers.stable(x, y, |p| p.object) {
             continue;
         }
-        if let (Some(want), _) = expected(e, &unlit, k) {
+        if let (Some(want), _) = expected(e, unlit, k) {
             judged += 1;
             let bad = want != background.covered(e.student, k);
             differ += usize::from(bad);

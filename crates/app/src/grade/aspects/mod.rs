@@ -71,6 +71,7 @@ mod shadows;
 mod textures;
 mod tone;
 mod transform;
+mod unlit;
 
 /// What a scene's image is judged on.
 #[derive(

@@ -17,7 +17,8 @@
 
 use std::collections::BTreeMap;
 
-use super::Evidence;
+use super::background::Background;
+use crate::compare::Picture;
 use raytracer_render::render::probe::{Buffers, Probe};
 
 /// Whether ours shows, in the mirror at `probe`, an object that is no
@@ -46,24 +47,24 @@ impl Mirrors {
 /// mirror).
 const TELLS: usize = 20;
 
-/// The mirrors of `e` drawn without their own light: over each mirror's
-/// lit pixels (its own light at the blended weight `1 − k` above black),
+/// The mirrors the `student` draws without their own light, against
+/// their `background` (read once per evidence): over each mirror's lit
+/// pixels (its own light at the blended weight `1 − k` above black),
 /// the share the student covers where it shows something, and where it
 /// shows nothing.
-pub(super) fn mirrors(e: &Evidence) -> Mirrors {
+pub(super) fn mirrors(buffers: &Buffers, background: &Background, student: &Picture) -> Mirrors {
     // Per mirror: lit pixels showing something, and those covered; lit
     // pixels showing nothing, and those covered.
     let mut counts: BTreeMap<u32, [usize; 4]> = BTreeMap::new();
-    let background = e.background();
-    for (k, p) in e.buffers.centres.iter().enumerate() {
+    for (k, p) in buffers.centres.iter().enumerate() {
         let Some(object) = p.object else { continue };
         if p.reflectivity == 0.0 || (1.0 - p.reflectivity) * p.lit <= 0.01 {
             continue;
         }
-        let at = if shows(p, e.buffers) { 0 } else { 2 };
+        let at = if shows(p, buffers) { 0 } else { 2 };
         let c = counts.entry(object).or_default();
         c[at] += 1;
-        c[at + 1] += usize::from(background.covered(e.student, k));
+        c[at + 1] += usize::from(background.covered(student, k));
     }
     let share = |part: usize, whole: usize| part as f64 / whole as f64;
     Mirrors(
