@@ -402,6 +402,10 @@ fn a_camera_of_16384_does_not_freeze_the_page() {
     let dir = scratch();
     let mut browser = open(&page, "", dir.path());
     rendered(&mut browser);
+    // The first render's coarse frame is gone from the status once it
+    // has rendered, so the wait below finds the next render's.
+    let stale = browser.eval("'coarse' in document.getElementById('status').dataset");
+    assert_eq!(stale.as_bool(), Some(false), "{stale}");
     replace_text(
         &mut browser,
         &sample().replace("camera 400", "camera 16384"),

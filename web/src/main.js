@@ -360,10 +360,13 @@ function onRendered(message) {
     onFrame(message);
     return;
   }
-  // "rendered": the last bands drawn, the coarse image hidden.
+  // "rendered": the last bands drawn, the coarse image hidden, and the
+  // status no longer says one shows (a test waiting for the next
+  // render's coarse frame must not find this one's).
   clearTimeout(flushTimer);
   flush();
   coarseCanvas.hidden = true;
+  delete status.dataset.coarse;
   canvas.classList.remove("stale");
   rendered = { text: rendering.text, textures: rendering.textures };
   status.dataset.renderMs = message.ms.toFixed(1);
