@@ -259,10 +259,9 @@ fn judge_all(
 /// ([`AspectResult::clear_pass`]): a lucky symmetry may bring a buggy
 /// image to the bound, not well within it; and the scene must tell the
 /// transform by its light, our own image so turned failing an aspect.
-/// And no aspect may fail turned
-/// back, even one not judged as the image is (shading leaves plain
-/// objects to failed shadows): the image turned back must fit ours in
-/// every aspect, as the report then says.
+/// And no aspect may fail turned back, even one not judged as the image
+/// is (shading leaves plain objects to failed shadows): the image turned
+/// back must fit ours in every aspect, as the report then says.
 fn recognise(
     buffers: &Buffers,
     reference: &Picture,
