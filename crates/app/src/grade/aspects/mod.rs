@@ -63,6 +63,7 @@ mod evidence;
 mod falloff;
 mod fit;
 mod geometry;
+mod lobe;
 mod mapping;
 mod palette;
 mod reflection;

@@ -6,7 +6,10 @@
 //! scene, and `lit` each light's share dimmed by the student's falloff
 //! with distance. A pixel ours shadows that is as bright as the fit says
 //! it would be unshadowed looks lit, and a fully lit pixel darker by half
-//! its light looks shadowed. A shadowed pixel that another light still
+//! its light looks shadowed; a light that still reaches a shadowed pixel
+//! puts its highlight there as on a lit one, so the pixel is held over
+//! the student's own highlight lobe ([`super::lobe`]), read off the
+//! object's fully lit pixels. A shadowed pixel that another light still
 //! reaches looks shadowed from that one too when it is as dark as the
 //! object where no light reaches it (a tracer that drops every light
 //! where one is blocked): held against the object's own unlit level
@@ -25,6 +28,7 @@ use raytracer_render::render::probe::Probe;
 use super::evidence::{clipped, Evidence, Whose};
 use super::falloff::LightFit;
 use super::fit::robust_fit;
+use super::lobe::Lobe;
 use super::{fraction_words, ratio, verdict, Aspect, AspectResult, AspectThresholds};
 
 /// A running mean.
@@ -75,6 +79,12 @@ fn partly_lit(probe: &Probe, light: &LightFit) -> bool {
         && light.least_gain() * light.falloff.lit(probe) > 8.0 / 255.0
 }
 
+/// Whether no light of ours is blocked from `probe`'s point, and light
+/// enough reaches it to tell.
+fn fully_lit(probe: &Probe) -> bool {
+    probe.unshadowed - probe.lit < 1e-9 && probe.lit > 0.05
+}
+
 /// The student's level on the object whose pixels are `ks` where no
 /// light of ours reaches it ([`Evidence::unlit_level`]); where none of it
 /// in view is unlit, [`unseen_unlit_level`] of its points another light
@@ -107,6 +117,91 @@ fn unseen_unlit_level(rows: &[([f64; 1], f64)]) -> Option<f64> {
     robust_fit(rows).map(|beta| beta[0])
 }
 
+/// The pixels shadows counts over the scene's plain objects, and those
+/// of them that look wrong.
+#[derive(Default)]
+struct Counts {
+    shadowed: usize,
+    shadowed_bad: usize,
+    lit: usize,
+    lit_bad: usize,
+    /// Shadowed pixels another light still reaches ([`partly_lit`]).
+    partly: usize,
+    partly_bad: usize,
+    /// Objects that look the same lit and shadowed ([`Sides::alike`]).
+    alike: usize,
+}
+
+/// Judge the shadows on the plain object `object`, whose intercept in
+/// the scene's fit is `a`, into `counts`, marking `map`.
+fn judge_object(
+    e: &Evidence,
+    light: &LightFit,
+    (object, a): (u32, f64),
+    counts: &mut Counts,
+    map: &mut [u8],
+) {
+    let b = light.least_gain();
+    let ks: Vec<usize> = e
+        .pixels_of(object, &|p| p.visible)
+        .into_iter()
+        .filter(|&k| !clipped(&e.student_px(k)))
+        // A colour no light gives is shading's, and says nothing of
+        // which lights reach the point.
+        .filter(|&k| e.foreign[k] != Some(true))
+        .collect();
+    // Where no light of ours reaches the object ([`unlit_level`]), or,
+    // not told, the fit's intercept.
+    let unlit_level = unlit_level(e, light, &ks).unwrap_or(a);
+    // Each pixel's brightness over the fit's line; the fully lit ones
+    // tell the student's highlight lobe, which a light that still
+    // reaches a shadowed point puts there too.
+    let over_line = |k: usize| {
+        let probe = &e.buffers.centres[k];
+        e.luminance(Whose::Theirs, k) - (a + b * light.falloff.lit(probe))
+    };
+    let lobe = Lobe::fit(
+        &ks.iter()
+            .filter(|&&k| fully_lit(&e.buffers.centres[k]))
+            .map(|&k| (e.buffers.centres[k].highlight, over_line(k)))
+            .collect::<Vec<_>>(),
+    );
+    let mut sides = Sides::default();
+    for k in ks {
+        let probe = &e.buffers.centres[k];
+        let s = e.luminance(Whose::Theirs, k);
+        let lit_here = light.falloff.lit(probe);
+        if probe.unshadowed - probe.lit > 0.05 {
+            counts.shadowed += 1;
+            let taken = light.falloff.unshadowed(probe) - lit_here;
+            sides.shadowed.add(s);
+            sides.taken.add(b * taken);
+            // Over the highlight the lights that reach it put there
+            // ([`Probe::highlight`] is theirs alone).
+            let unhighlighted = over_line(k) - lobe.at(probe.highlight);
+            let looks_lit = unhighlighted > 0.5 * b * taken && unhighlighted > 4.0 / 255.0;
+            counts.shadowed_bad += usize::from(looks_lit);
+            // Where another light still reaches the point, it must not
+            // look shadowed from that one too: as dark as the object
+            // where no light reaches it.
+            let mut looks_unlit = false;
+            if partly_lit(probe, light) {
+                counts.partly += 1;
+                looks_unlit = s - unlit_level < 4.0 / 255.0;
+                counts.partly_bad += usize::from(looks_unlit);
+            }
+            map[k] = 1 + u8::from(looks_lit || looks_unlit);
+        } else if fully_lit(probe) {
+            counts.lit += 1;
+            sides.lit.add(s);
+            let bad = light.looks_shadowed(object, probe, s) == Some(true);
+            counts.lit_bad += usize::from(bad);
+            map[k] = 1 + u8::from(bad);
+        }
+    }
+    counts.alike += usize::from(sides.alike());
+}
+
 /// Judge shadows, marking `map`.
 pub(super) fn judge(
     e: &Evidence,
@@ -114,61 +209,23 @@ pub(super) fn judge(
     _earlier: &[AspectResult],
     map: &mut [u8],
 ) -> AspectResult {
-    let (mut shadowed, mut shadowed_bad, mut lit, mut lit_bad) = (0usize, 0usize, 0usize, 0usize);
-    let (mut partly, mut partly_bad) = (0usize, 0usize);
-    let mut alike = 0usize;
+    let mut counts = Counts::default();
     if let Some(light) = &e.light {
-        let b = light.least_gain();
         for &object in &e.plain {
-            let Some(a) = light.intercept(object) else {
-                continue;
-            };
-            let ks: Vec<usize> = e
-                .pixels_of(object, &|p| p.visible)
-                .into_iter()
-                .filter(|&k| !clipped(&e.student_px(k)))
-                // A colour no light gives is shading's, and says nothing
-                // of which lights reach the point.
-                .filter(|&k| e.foreign[k] != Some(true))
-                .collect();
-            // Where no light of ours reaches the object ([`unlit_level`]),
-            // or, not told, the fit's intercept.
-            let unlit_level = unlit_level(e, light, &ks).unwrap_or(a);
-            let mut sides = Sides::default();
-            for k in ks {
-                let probe = &e.buffers.centres[k];
-                let s = e.luminance(Whose::Theirs, k);
-                let lit_here = light.falloff.lit(probe);
-                let r = s - (a + b * lit_here);
-                let blocked = probe.unshadowed - probe.lit;
-                if blocked > 0.05 {
-                    shadowed += 1;
-                    let taken = light.falloff.unshadowed(probe) - lit_here;
-                    sides.shadowed.add(s);
-                    sides.taken.add(b * taken);
-                    let looks_lit = r > 0.5 * b * taken && r > 4.0 / 255.0;
-                    shadowed_bad += usize::from(looks_lit);
-                    // Where another light still reaches the point, it
-                    // must not look shadowed from that one too: as dark
-                    // as the object where no light reaches it.
-                    let mut looks_unlit = false;
-                    if partly_lit(probe, light) {
-                        partly += 1;
-                        looks_unlit = s - unlit_level < 4.0 / 255.0;
-                        partly_bad += usize::from(looks_unlit);
-                    }
-                    map[k] = 1 + u8::from(looks_lit || looks_unlit);
-                } else if blocked < 1e-9 && probe.lit > 0.05 {
-                    lit += 1;
-                    sides.lit.add(s);
-                    let bad = light.looks_shadowed(object, probe, s) == Some(true);
-                    lit_bad += usize::from(bad);
-                    map[k] = 1 + u8::from(bad);
-                }
+            if let Some(a) = light.intercept(object) {
+                judge_object(e, light, (object, a), &mut counts, map);
             }
-            alike += usize::from(sides.alike());
         }
     }
+    let Counts {
+        shadowed,
+        shadowed_bad,
+        lit,
+        lit_bad,
+        partly,
+        partly_bad,
+        alike,
+    } = counts;
     let missing = ratio(shadowed_bad, shadowed);
     let spurious = ratio(lit_bad, lit);
     let darkened = ratio(partly_bad, partly);
