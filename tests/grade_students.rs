@@ -32,8 +32,8 @@
 //! and its mirrors tinted by their colour are read now.
 //! `veiled/` (C++, Go) was written from the assignment alone and graded
 //! once, when those were settled: its background by the angle from the
-//! view's axis is fitted now, its ACES filmic curve stays in
-//! [`KNOWN_MISSES`], and its highlight drawn in shadow is caught on
+//! view's axis is fitted now, its ACES filmic curve is read now, and
+//! its highlight drawn in shadow is caught on
 //! shadowed_highlight.txt, a scene added for it.
 //! `hidden/` (C, Go) was written from the assignment alone and graded
 //! once, when mirrors tinted by their own colour were read: both its
@@ -57,9 +57,9 @@
 //! loses shading, so it is held among the [`BUGS`]; its sphere texture
 //! read from an offset not made unit stays in [`UNCAUGHT`].
 //! To keep `make test` short, each class is graded on twelve scenes
-//! (`SCENES`, and the blind, sealed, masked, veiled, hidden and cloaked
-//! classes on one or two more each), which between them exercise every bug, one
-//! scene at a time. The tracers
+//! (`SCENES`, and the unseen, blind, sealed, masked, veiled, hidden and
+//! cloaked classes on one or two more each), which between them exercise
+//! every bug, one scene at a time. The tracers
 //! need `cc`, `javac`/`java`, `python3`, `node`, `g++`, `go` and
 //! `rustc`. Last, the instructor's reference (`--reference-tracer`,
 //! `--references`) and our renderer with a course's constants
@@ -183,10 +183,10 @@ const CORRECT: [&str; 79] = [
 /// class's sky are fitted now, as are its mirrors that tint what they
 /// show by their own colour, which showed nothing in facing_mirrors.txt's
 /// black mirrors and a tenth in mirror.txt's dark grey one. The veiled
-/// class's background by the angle from the view's axis is fitted now;
-/// its ACES filmic curve, whose toe (a value rising as the light to a
-/// power of about 2 in the darks) no curve the judge fits has, leaves
-/// the colours of lit objects off. The hidden class's tone curve applied
+/// class's background by the angle from the view's axis is fitted now,
+/// and so is its ACES filmic curve (its toe, a value rising as the light
+/// to a power of about 2 in the darks, read as that curve). The hidden
+/// class's tone curve applied
 /// to each pixel's luminance, its hue kept, is fitted now, and so is its
 /// Reinhard's curve with a white point (`x(1 + x/4)/(1 + x)`), whose
 /// curve keeps a Phong highlight from clamping: one light's highlight,
@@ -201,16 +201,7 @@ const CORRECT: [&str; 79] = [
 /// over, which the scene cannot tell from ours, is no longer named:
 /// docs/grading.md, "What is left"). The test holds that these still
 /// miss, so the list stays true.
-const KNOWN_MISSES: [(&str, &str, &str, &str); 6] = [
-    ("veiled", "cpp_read_aces", "shading", "beyond_light.txt"),
-    ("veiled", "cpp_read_aces", "shading", "colours.txt"),
-    (
-        "veiled",
-        "cpp_read_aces",
-        "shading",
-        "field/two_spheres_shadow.txt",
-    ),
-    ("veiled", "cpp_read_aces", "shading", "reflection.txt"),
+const KNOWN_MISSES: [(&str, &str, &str, &str); 2] = [
     (
         "cloaked",
         "cpp_read_lum_exposure",
@@ -581,7 +572,11 @@ const BUGS: [(&str, &str, &[&str]); 65] = [
         "shadows",
         &["big_shadow.txt", "colours.txt"],
     ),
-    ("java_bug_last_section", "shading", &["sample.txt"]),
+    (
+        "java_bug_last_section",
+        "shading",
+        &["field/reflection.txt"],
+    ),
     (
         "java_bug_infinite_plane",
         "geometry",
@@ -688,13 +683,17 @@ const WRONG_ROOT: [(&str, &str, &[&str]); 2] = [
 /// different colours, and the cloaked class's sphere lit from behind
 /// only where a light behind it has a colour of its own; the cloaked
 /// class is graded on field/plane.txt too, its curves on luminance's
-/// known miss.
+/// known miss. The unseen class's last section dropped (a scene's last
+/// light or object) costs `shading` on field/reflection.txt, and on
+/// sample.txt no longer: the textured objects' mean colour there, 0.087
+/// from ours, comes within 0.08 under a curve the image cannot tell from
+/// its own once ACES's filmic curve is among those read.
 const CLASSES: [(&str, &[&str], usize, &[&str]); 12] = [
     ("tune", &["cc"], 24, &[]),
     ("judge", &["javac", "python3"], 17, &[]),
     ("held_out", &["node"], 6, &[]),
     ("fresh", &["g++", "python3"], 18, &[]),
-    ("unseen", &["go", "javac"], 12, &[]),
+    ("unseen", &["go", "javac"], 12, &["field/reflection.txt"]),
     ("blind", &["rustc", "node"], 16, &["near_occluder.txt"]),
     ("sealed", &["cc", "python3"], 15, &["shadows.txt"]),
     ("masked", &["go", "node"], 14, &["field/2_lights_color.txt"]),

@@ -1,7 +1,8 @@
 //! The student's tone curve: how their tracer turns light into 8-bit
 //! values (clamping alone, a gamma for the screen, an sRGB curve, an
-//! exposure that compresses highlights instead of clipping them, on each
-//! channel or on a pixel's luminance with its hue kept), which the
+//! exposure that compresses highlights instead of clipping them, ACES's
+//! filmic curve with its toe, on each channel or on a pixel's luminance
+//! with its hue kept), which the
 //! assignment leaves open. One curve shared by the three channels is
 //! fitted ([`Curve`]: a power for the screen after a shoulder, an
 //! exposure's scale being any fit's gain), and every aspect but geometry
@@ -31,10 +32,12 @@ use super::fit::{predict, robust_fit};
 /// `v` in [0, 1], up to the scale every fit's gain takes. The value is
 /// first raised to `gamma` (a screen's power), then a `shoulder` of
 /// strength `m` in [0, 1) is undone: `x ∝ −ln(1 − m·p)` for an exposure
-/// `p = 1 − e^(−k·x)`, or `x ∝ p/(1 − m·p)` for Reinhard's
-/// `p = x/(1 + x)`, each scaled to keep a middle grey (`p` = ½) where it
-/// is, so the light keeps the scale of the image as written (the aspects'
-/// bounds are in that scale) and only its spread changes. With no
+/// `p = 1 − e^(−k·x)`, `x ∝ p/(1 − m·p)` for Reinhard's
+/// `p = x/(1 + x)`, or ACES's curve undone at `m·p` (its values
+/// spanning that share of its range), each scaled to keep a middle grey
+/// (`p` = ½) where it is, so the light keeps the scale of the image as
+/// written (the aspects' bounds are in that scale) and only its spread
+/// changes. With no
 /// shoulder (`m` = 0) it is the power alone; clamping alone is `gamma` 1.
 /// sRGB's curve is a power of about 2.2 with a short linear toe below the
 /// darkest few values. The shoulder compresses each channel alone, or a
@@ -64,6 +67,23 @@ pub(super) enum Shoulder {
     Exposure(f64),
     /// Reinhard's `x/(1 + x)`, of strength `m`.
     Reinhard(f64),
+    /// ACES's filmic curve as games and tutorials write it (Narkowicz's
+    /// fit, [`aces`]), a toe below a shoulder, of strength `m`.
+    Aces(f64),
+}
+
+/// ACES's filmic curve by Narkowicz's fit,
+/// `x(2.51x + 0.03)/(x(2.43x + 0.59) + 0.14)`: rising as the light
+/// squared in the darks, to 1.033 in the brightest.
+fn aces(x: f64) -> f64 {
+    x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)
+}
+
+/// The light [`aces`] writes as `v`, in [0, 1]: the root in [0, ∞) of
+/// `(2.43v − 2.51)x² + (0.59v − 0.03)x + 0.14v = 0`.
+fn aces_inverse(v: f64) -> f64 {
+    let (a, b, c) = (2.43 * v - 2.51, 0.59 * v - 0.03, 0.14 * v);
+    (-b - (b * b - 4.0 * a * c).sqrt()) / (2.0 * a)
 }
 
 impl Shoulder {
@@ -73,6 +93,7 @@ impl Shoulder {
             Shoulder::None => p,
             Shoulder::Exposure(m) => -(-m * p).ln_1p(),
             Shoulder::Reinhard(m) => p / (1.0 - m * p),
+            Shoulder::Aces(m) => aces_inverse(m * p),
         }
     }
 
@@ -82,6 +103,7 @@ impl Shoulder {
             Shoulder::None => raw,
             Shoulder::Exposure(m) => (1.0 - (-raw).exp()) / m,
             Shoulder::Reinhard(m) => raw / (1.0 + m * raw),
+            Shoulder::Aces(m) => aces(raw) / m,
         }
     }
 
@@ -216,6 +238,9 @@ impl Curve {
             Shoulder::Reinhard(m) => Some(format!(
                 "your tone curve reads as Reinhard's (strength {m:.2}){over} then {power}"
             )),
+            Shoulder::Aces(m) => Some(format!(
+                "your tone curve reads as ACES's filmic curve (strength {m:.2}){over} then {power}"
+            )),
         }
     }
 }
@@ -318,13 +343,14 @@ fn powers() -> impl Iterator<Item = f64> {
 
 /// The shoulders tried besides none: each kind at strengths from a
 /// gentle compression to nearly the full curve, over each channel and
-/// over a pixel's luminance.
+/// over a pixel's luminance; ACES's over each channel, as it is written.
 fn shoulders() -> impl Iterator<Item = (Shoulder, Over)> {
     const STRENGTHS: [f64; 6] = [0.25, 0.5, 0.75, 0.9, 0.97, 0.99];
     STRENGTHS
         .into_iter()
         .flat_map(|m| [Shoulder::Exposure(m), Shoulder::Reinhard(m)])
         .flat_map(|shoulder| [Over::Channels, Over::Luminance].map(|over| (shoulder, over)))
+        .chain(STRENGTHS.map(|m| (Shoulder::Aces(m), Over::Channels)))
 }
 
 /// The share of what clamping alone leaves unexplained that another
@@ -718,11 +744,15 @@ mod tests {
         let exposure = |x: f64| 1.0 - (-2.0 * x).exp();
         let reinhard = |x: f64| 1.5 * x / (1.0 + 1.5 * x);
         let exposure_then_screen = |x: f64| (1.0 - (-x).exp()).powf(1.0 / 2.2);
+        // ACES's filmic curve as games write it (Narkowicz's fit), with
+        // its toe, after an exposure of 0.8.
+        let filmic = |x: f64| super::aces(0.8 * x);
         for (name, curve) in [
             ("srgb", &srgb as &dyn Fn(f64) -> f64),
             ("exposure", &exposure),
             ("reinhard", &reinhard),
             ("exposure then screen", &exposure_then_screen),
+            ("aces", &filmic),
         ] {
             let rows = written(curve);
             let fitted = fit(std::slice::from_ref(&rows), &[], &Vec::new).curve;
