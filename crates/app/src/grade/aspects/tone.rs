@@ -2,14 +2,13 @@
 //! values (clamping alone, a gamma for the screen, an sRGB curve, an
 //! exposure that compresses highlights instead of clipping them, ACES's
 //! filmic curve with its toe, on each channel or on a pixel's luminance
-//! with its hue kept), which the
-//! assignment leaves open. One curve shared by the three channels is
-//! fitted ([`Curve`]: a power for the screen after a shoulder, an
-//! exposure's scale being any fit's gain), and every aspect but geometry
-//! reads the student's image turned back to linear light by it, so a
-//! curve changes neither a colour nor a shadow. One curve for all
-//! channels: a per-channel fit would turn an ignored light colour back
-//! into the right one.
+//! with its hue kept), which the assignment leaves open. One curve
+//! shared by the three channels is fitted ([`Curve`]: a power for the
+//! screen after a shoulder, an exposure's scale being any fit's gain),
+//! and every aspect but geometry reads the student's image turned back
+//! to linear light by it, so a curve changes neither a colour nor a
+//! shadow. One curve for all channels: a per-channel fit would turn an
+//! ignored light colour back into the right one.
 //!
 //! The curve is chosen by what it does to shapes, never to colours: on
 //! each object that tells (plain objects and mirrors, by their pixels no
@@ -37,11 +36,10 @@ use super::fit::{predict, robust_fit};
 /// spanning that share of its range), each scaled to keep a middle grey
 /// (`p` = ½) where it is, so the light keeps the scale of the image as
 /// written (the aspects' bounds are in that scale) and only its spread
-/// changes. With no
-/// shoulder (`m` = 0) it is the power alone; clamping alone is `gamma` 1.
-/// sRGB's curve is a power of about 2.2 with a short linear toe below the
-/// darkest few values. The shoulder compresses each channel alone, or a
-/// pixel's luminance, `over` ([`Over`]).
+/// changes. With no shoulder (`m` = 0) it is the power alone; clamping
+/// alone is `gamma` 1. sRGB's curve is a power of about 2.2 with a short
+/// linear toe below the darkest few values. The shoulder compresses each
+/// channel alone, or a pixel's luminance, `over` ([`Over`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Curve {
     pub gamma: f64,
@@ -847,6 +845,7 @@ mod tests {
             Shoulder::None,
             Shoulder::Exposure(0.75),
             Shoulder::Reinhard(0.97),
+            Shoulder::Aces(0.5),
         ];
         for gamma in [powers().next().unwrap(), 2.2, 1.0 / 0.45] {
             for shoulder in shoulders {
@@ -884,6 +883,7 @@ mod tests {
             Shoulder::None,
             Shoulder::Exposure(0.9),
             Shoulder::Reinhard(0.5),
+            Shoulder::Aces(0.75),
         ];
         for shoulder in shoulders {
             for over in [Over::Channels, Over::Luminance] {
