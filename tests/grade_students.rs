@@ -33,8 +33,8 @@
 //! `veiled/` (C++, Go) was written from the assignment alone and graded
 //! once, when those were settled: its background by the angle from the
 //! view's axis is fitted now, its ACES filmic curve is read now, and
-//! its highlight drawn in shadow is caught on
-//! shadowed_highlight.txt, a scene added for it.
+//! its highlight drawn in shadow is caught on shadowed_highlight.txt, a
+//! scene added for it.
 //! `hidden/` (C, Go) was written from the assignment alone and graded
 //! once, when mirrors tinted by their own colour were read: both its
 //! tinted mirrors pass, its tone curve on luminance is read now, its
@@ -186,21 +186,20 @@ const CORRECT: [&str; 79] = [
 /// class's background by the angle from the view's axis is fitted now,
 /// and so is its ACES filmic curve (its toe, a value rising as the light
 /// to a power of about 2 in the darks, read as that curve). The hidden
-/// class's tone curve applied
-/// to each pixel's luminance, its hue kept, is fitted now, and so is its
-/// Reinhard's curve with a white point (`x(1 + x/4)/(1 + x)`), whose
-/// curve keeps a Phong highlight from clamping: one light's highlight,
-/// lying in the other light's shadow on field/2_lights_color.txt, looked
-/// like a shadow not cast until shadows held such points over the
-/// student's own highlight lobe. The cloaked class's two curves on
-/// luminance are read, but on field/plane.txt, a lone plane our image
-/// clamps all over, the light's fit cannot tell its gain, and the gain's
-/// least (5 %) lifts its line above every point of a plane the curve
-/// keeps below white: its lit points look shadowed (a verdict without
-/// points there, where only geometry carries them; the image turned
-/// over, which the scene cannot tell from ours, is no longer named:
-/// docs/grading.md, "What is left"). The test holds that these still
-/// miss, so the list stays true.
+/// class's tone curve applied to each pixel's luminance, its hue kept, is
+/// fitted now, and so is its Reinhard's curve with a white point
+/// (`x(1 + x/4)/(1 + x)`), whose curve keeps a Phong highlight from
+/// clamping: one light's highlight, lying in the other light's shadow on
+/// field/2_lights_color.txt, looked like a shadow not cast until shadows
+/// held such points over the student's own highlight lobe. The cloaked
+/// class's two curves on luminance are read, but on field/plane.txt, a
+/// lone plane our image clamps all over, the light's fit cannot tell its
+/// gain, and the gain's least (5 %) lifts its line above every point of a
+/// plane the curve keeps below white: its lit points look shadowed (a
+/// verdict without points there, where only geometry carries them; the
+/// image turned over, which the scene cannot tell from ours, is no longer
+/// named: docs/grading.md, "What is left"). The test holds that these
+/// still miss, so the list stays true.
 const KNOWN_MISSES: [(&str, &str, &str, &str); 2] = [
     (
         "cloaked",
@@ -684,10 +683,10 @@ const WRONG_ROOT: [(&str, &str, &[&str]); 2] = [
 /// only where a light behind it has a colour of its own; the cloaked
 /// class is graded on field/plane.txt too, its curves on luminance's
 /// known miss. The unseen class's last section dropped (a scene's last
-/// light or object) costs `shading` on field/reflection.txt, and on
-/// sample.txt no longer: the textured objects' mean colour there, 0.087
-/// from ours, comes within 0.08 under a curve the image cannot tell from
-/// its own once ACES's filmic curve is among those read.
+/// light or object) costs `shading` on field/reflection.txt; on
+/// sample.txt its textured objects' mean colour comes within the bound
+/// under a curve the image cannot tell from its own, once ACES's filmic
+/// curve is among those read (docs/grading.md).
 const CLASSES: [(&str, &[&str], usize, &[&str]); 12] = [
     ("tune", &["cc"], 24, &[]),
     ("judge", &["javac", "python3"], 17, &[]),
