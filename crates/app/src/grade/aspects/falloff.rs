@@ -157,16 +157,30 @@ impl LightFit {
 /// ([`super::evidence::Evidence::light_groups`]).
 pub(super) type Group<'a> = (u32, Vec<(&'a Probe, f64)>);
 
-/// The robust least-squares fit of `y = a_o + gain·x` over `groups`
-/// (`x` each pixel's light under `falloff`): least squares, then again
-/// without the pixels whose residual is over three times the median one,
-/// twice. With the share of the spread it leaves unexplained; `None`
-/// when no object's light varies.
-fn fit_under(groups: &[&Group], falloff: Falloff) -> Option<(LightFit, f64)> {
-    let xs: Vec<Vec<(f64, f64)>> = groups
+/// One object's pixels as points of its line: its id, and each pixel's
+/// light under a falloff (`x`) with the student's luminance there (`y`).
+pub(super) type Points = (u32, Vec<(f64, f64)>);
+
+/// `groups`' pixels as points of their lines under `falloff`.
+fn points(groups: &[Group], falloff: Falloff) -> Vec<Points> {
+    groups
         .iter()
-        .map(|(_, rows)| rows.iter().map(|(p, y)| (falloff.lit(p), *y)).collect())
-        .collect();
+        .map(|(object, rows)| {
+            (
+                *object,
+                rows.iter().map(|(p, y)| (falloff.lit(p), *y)).collect(),
+            )
+        })
+        .collect()
+}
+
+/// The robust least-squares fit of `y = a_o + gain·x` over `groups`
+/// (their points under `falloff`): least squares, then again without the
+/// points whose residual is over three times the median one, twice. With
+/// the share of the spread it leaves unexplained; `None` when no
+/// object's light varies.
+fn fit_under(groups: &[&Points], falloff: Falloff) -> Option<(LightFit, f64)> {
+    let xs: Vec<&[(f64, f64)]> = groups.iter().map(|(_, g)| g.as_slice()).collect();
     let mut keep: Vec<Vec<bool>> = xs.iter().map(|g| vec![true; g.len()]).collect();
     let mut fit = least_squares(&xs, &keep)?;
     let mut residuals = Vec::with_capacity(keep.iter().map(Vec::len).sum());
@@ -191,7 +205,7 @@ fn fit_under(groups: &[&Group], falloff: Falloff) -> Option<(LightFit, f64)> {
     let (mut residual, mut total) = (0.0, 0.0);
     for (o, g) in xs.iter().enumerate() {
         let mean = g.iter().map(|r| r.1).sum::<f64>() / g.len() as f64;
-        for &(x, y) in g {
+        for &(x, y) in *g {
             residual += (y - (intercepts[o] + gain * x)).powi(2);
             total += (y - mean).powi(2);
         }
@@ -216,27 +230,28 @@ pub(super) struct ObjectGain {
     pub error: f64,
 }
 
-/// Each object's own gain (`y = a + g·x` fitted on its pixels alone,
-/// robustly) over the scene's one gain, both under `falloff`. Every
-/// reading the assignment leaves open keeps it at 1: a tracer has one
-/// diffuse constant and one falloff, and our light already holds each
-/// object's colour and each point's angle to the light. A normal or a
-/// light vector left unnormalised does not: it scales each object's
-/// light by its radius or its distance. An object whose own gain is not
+/// Each object's own gain (`y = a + g·x` fitted on its points alone,
+/// robustly) over the scene's one gain, both under `falloff`, the one
+/// `groups`' points were taken under. Every reading the assignment
+/// leaves open keeps it at 1: a tracer has one diffuse constant and one
+/// falloff, and our light already holds each object's colour and each
+/// point's angle to the light. A normal or a light vector left
+/// unnormalised does not: it scales each object's light by its radius
+/// or its distance. An object whose own gain is not
 /// above 0 by [`SIGNIFICANT`] errors shows no light at all, which is
 /// shadows' to judge: it is left out, of the scene's gain too. Empty
 /// when the scene's gain is below [`LightFit::least_gain`]'s floor (a
 /// nearly unlit scene).
-pub(super) fn object_gains(groups: &[Group], falloff: Falloff) -> Vec<ObjectGain> {
+pub(super) fn object_gains(groups: &[Points], falloff: Falloff) -> Vec<ObjectGain> {
     let own: Vec<(usize, f64, f64)> = groups
         .iter()
         .enumerate()
         .filter_map(|(i, (_, rows))| {
-            let (gain, error) = own_gain(rows, falloff)?;
+            let (gain, error) = own_gain(rows)?;
             (gain > SIGNIFICANT * error).then_some((i, gain, error))
         })
         .collect();
-    let lit: Vec<&Group> = own.iter().map(|&(i, ..)| &groups[i]).collect();
+    let lit: Vec<&Points> = own.iter().map(|&(i, ..)| &groups[i]).collect();
     let Some((scene, _)) = fit_under(&lit, falloff) else {
         return Vec::new();
     };
@@ -257,12 +272,12 @@ pub(super) fn object_gains(groups: &[Group], falloff: Falloff) -> Vec<ObjectGain
 /// tells its gain only loosely.
 pub(super) const SIGNIFICANT: f64 = 3.0;
 
-/// The gain of `rows` fitted alone, robustly, under `falloff`, with its
-/// standard error: from the scatter of the rows about their line, and
-/// never less than rounding to 8 bits leaves (a flat object's rows all
-/// round alike).
-fn own_gain(rows: &[(&Probe, f64)], falloff: Falloff) -> Option<(f64, f64)> {
-    let xs: Vec<([f64; 1], f64)> = rows.iter().map(|(p, y)| ([falloff.lit(p)], *y)).collect();
+/// The gain of `rows` (one object's points) fitted alone, robustly, with
+/// its standard error: from the scatter of the rows about their line,
+/// and never less than rounding to 8 bits leaves (a flat object's rows
+/// all round alike).
+fn own_gain(rows: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let xs: Vec<([f64; 1], f64)> = rows.iter().map(|&(x, y)| ([x], y)).collect();
     let beta = robust_fit(&xs)?;
     let n = xs.len() as f64;
     let mean = xs.iter().map(|r| r.0[0]).sum::<f64>() / n;
@@ -282,7 +297,7 @@ fn own_gain(rows: &[(&Probe, f64)], falloff: Falloff) -> Option<(f64, f64)> {
 /// Least squares of `y = a_o + gain·x` on the kept rows: the gain from
 /// the rows taken from their object's means, then each intercept.
 /// `None` when the light varies on no object.
-fn least_squares(xs: &[Vec<(f64, f64)>], keep: &[Vec<bool>]) -> Option<(f64, Vec<f64>)> {
+fn least_squares(xs: &[&[(f64, f64)]], keep: &[Vec<bool>]) -> Option<(f64, Vec<f64>)> {
     let means: Vec<Option<(f64, f64)>> = xs
         .iter()
         .zip(keep)
@@ -336,13 +351,16 @@ pub(super) fn fit(groups: &[Group]) -> Option<LightFit> {
         .fold((0.0, 0.0), |(w, l), share| {
             (w + share.lit * share.distance, l + share.lit)
         });
-    let groups: Vec<&Group> = groups.iter().collect();
-    let (none, unexplained) = fit_under(&groups, Falloff::NONE)?;
+    let under = |falloff: Falloff| {
+        let points = points(groups, falloff);
+        fit_under(&points.iter().collect::<Vec<_>>(), falloff)
+    };
+    let (none, unexplained) = under(Falloff::NONE)?;
     if lit <= 0.0 || weighed <= 0.0 {
         return Some(none);
     }
     let tried: Vec<(LightFit, f64)> = Falloff::candidates(weighed / lit)
-        .filter_map(|f| fit_under(&groups, f))
+        .filter_map(under)
         .collect();
     let best = tried.iter().min_by(|a, b| a.1.total_cmp(&b.1));
     let (mut chosen, least) = match best {
@@ -359,7 +377,7 @@ pub(super) fn fit(groups: &[Group]) -> Option<LightFit> {
 
 #[cfg(test)]
 mod tests {
-    use super::{object_gains, Falloff, Group};
+    use super::{object_gains, points, Falloff, Group};
     use raytracer_render::render::probe::{LightShare, Probe};
 
     /// Probes of one light's share running from 0.1 to 0.9.
@@ -398,7 +416,7 @@ mod tests {
     fn an_object_with_a_gain_of_its_own_strays_and_one_lit_nowhere_is_left_out() {
         let probes = probes();
         let ratio = |groups: &[Group], object: u32| {
-            object_gains(groups, Falloff::NONE)
+            object_gains(&points(groups, Falloff::NONE), Falloff::NONE)
                 .iter()
                 .find(|g| g.object == object)
                 .map(|g| g.ratio)

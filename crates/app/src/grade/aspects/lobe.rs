@@ -61,16 +61,17 @@ impl Lobe {
         (0..=36)
             .map(|j| 2f64.powf(f64::from(j) / 4.0))
             .map(|exponent| {
+                let shapes: Vec<f64> = within.iter().map(|&(c, _)| c.powf(exponent)).collect();
                 let (mut across, mut own) = (0.0, 0.0);
-                for &(c, excess) in &within {
-                    let shape = c.powf(exponent);
+                for (&shape, &(_, excess)) in shapes.iter().zip(&within) {
                     across += shape * excess;
                     own += shape * shape;
                 }
                 let weight = (across / own).max(0.0);
-                let squares: f64 = within
+                let squares: f64 = shapes
                     .iter()
-                    .map(|&(c, excess)| (excess - weight * c.powf(exponent)).powi(2))
+                    .zip(&within)
+                    .map(|(&shape, &(_, excess))| (excess - weight * shape).powi(2))
                     .sum();
                 (Lobe { weight, exponent }, squares)
             })

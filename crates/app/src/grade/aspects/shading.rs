@@ -38,7 +38,7 @@
 //! where geometry fails, as a pixel there may show another object.
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
-use super::falloff::{object_gains, Group, SIGNIFICANT};
+use super::falloff::{object_gains, Falloff, Points, SIGNIFICANT};
 use super::mapping;
 use super::textures::{textured, LEAST_PIXELS};
 use super::tone::Curve;
@@ -171,26 +171,56 @@ fn gains(e: &Evidence, shadows_differ: bool, map: &mut [u8]) -> (f64, usize) {
         .collect();
     // Each object's gain over the scene's under each plausible curve
     // and falloff, 1 where it does not differ by more than its error
-    // allows. A curve's luminances serve every falloff.
+    // allows. A curve's luminances serve every falloff, and a falloff's
+    // lights every curve. Once every object has a reading that keeps it
+    // at 1, no other can stray less.
+    let falloffs: Vec<(Falloff, Vec<Vec<f64>>)> = light
+        .plausible()
+        .map(|falloff| {
+            let lights = objects
+                .iter()
+                .map(|(_, ks)| {
+                    ks.iter()
+                        .map(|&k| falloff.lit(&e.buffers.centres[k]))
+                        .collect()
+                })
+                .collect();
+            (falloff, lights)
+        })
+        .collect();
     let mut ratios: Vec<Vec<(u32, f64)>> = Vec::new();
-    for curve in e.tone.plausible() {
+    let mut kept_at_one = vec![false; objects.len()];
+    'readings: for curve in e.tone.plausible() {
         let linear = curve.linearise();
-        let groups: Vec<Group> = objects
+        let luminances: Vec<Vec<f64>> = objects
             .iter()
-            .map(|(object, ks)| {
-                let rows = ks
-                    .iter()
-                    .map(|&k| (&e.buffers.centres[k], e.luminance_under(&linear, k)))
-                    .collect();
-                (*object, rows)
-            })
+            .map(|(_, ks)| ks.iter().map(|&k| e.luminance_under(&linear, k)).collect())
             .collect();
-        for falloff in light.plausible() {
-            let gains = object_gains(&groups, falloff).into_iter().map(|g| {
-                let differs = (g.ratio - 1.0).abs() > SIGNIFICANT * g.error;
-                (g.object, if differs { g.ratio } else { 1.0 })
-            });
-            ratios.push(gains.collect());
+        for (falloff, lights) in &falloffs {
+            let points: Vec<Points> = objects
+                .iter()
+                .zip(lights.iter().zip(&luminances))
+                .map(|((object, _), (xs, ys))| {
+                    (
+                        *object,
+                        xs.iter().copied().zip(ys.iter().copied()).collect(),
+                    )
+                })
+                .collect();
+            let gains: Vec<(u32, f64)> = object_gains(&points, *falloff)
+                .into_iter()
+                .map(|g| {
+                    let differs = (g.ratio - 1.0).abs() > SIGNIFICANT * g.error;
+                    (g.object, if differs { g.ratio } else { 1.0 })
+                })
+                .collect();
+            for ((object, _), kept) in objects.iter().zip(&mut kept_at_one) {
+                *kept |= gains.contains(&(*object, 1.0));
+            }
+            ratios.push(gains);
+            if kept_at_one.iter().all(|&k| k) {
+                break 'readings;
+            }
         }
     }
     let (mut worst, mut judged) = (1.0f64, 0usize);

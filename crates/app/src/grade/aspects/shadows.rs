@@ -153,17 +153,17 @@ fn judge_object(
     // Where no light of ours reaches the object ([`unlit_level`]), or,
     // not told, the fit's intercept.
     let unlit_level = unlit_level(e, light, &ks).unwrap_or(a);
-    // Each pixel's brightness over the fit's line; the fully lit ones
-    // tell the student's highlight lobe, which a light that still
-    // reaches a shadowed point puts there too.
-    let over_line = |k: usize| {
-        let probe = &e.buffers.centres[k];
-        e.luminance(Whose::Theirs, k) - (a + b * light.falloff.lit(probe))
-    };
+    // The fully lit pixels' brightness over the fit's line tells the
+    // student's highlight lobe, which a light that still reaches a
+    // shadowed point puts there too.
     let lobe = Lobe::fit(
         &ks.iter()
-            .filter(|&&k| fully_lit(&e.buffers.centres[k]))
-            .map(|&k| (e.buffers.centres[k].highlight, over_line(k)))
+            .map(|&k| (&e.buffers.centres[k], k))
+            .filter(|(probe, _)| fully_lit(probe))
+            .map(|(probe, k)| {
+                let s = e.luminance(Whose::Theirs, k);
+                (probe.highlight, s - (a + b * light.falloff.lit(probe)))
+            })
             .collect::<Vec<_>>(),
     );
     let mut sides = Sides::default();
@@ -178,7 +178,8 @@ fn judge_object(
             sides.taken.add(b * taken);
             // Over the highlight the lights that reach it put there
             // ([`Probe::highlight`] is theirs alone).
-            let unhighlighted = over_line(k) - lobe.at(probe.highlight);
+            let over_line = s - (a + b * lit_here);
+            let unhighlighted = over_line - lobe.at(probe.highlight);
             let looks_lit = unhighlighted > 0.5 * b * taken && unhighlighted > 4.0 / 255.0;
             counts.shadowed_bad += usize::from(looks_lit);
             // Where another light still reaches the point, it must not

@@ -26,6 +26,8 @@
 //! them apart, so no verdict may rest on which of them is the student's.
 
 use super::fit::{predict, robust_fit};
+use std::collections::HashMap;
+use std::sync::{Arc, LazyLock, Mutex, PoisonError};
 
 /// A tone curve by its inverse: the light `x` a tracer wrote as the value
 /// `v` in [0, 1], up to the scale every fit's gain takes. The value is
@@ -160,8 +162,37 @@ impl Curve {
         }
     }
 
-    /// The curve made ready to turn many 8-bit pixels back to light.
-    pub fn linearise(&self) -> Linearised {
+    /// The curve made ready to turn many 8-bit pixels back to light,
+    /// made once for the process: a fit tries the same few hundred curves
+    /// on every image, and each aspect reads every curve an image leaves
+    /// open ([`Fitted::plausible`]). The curves tried are a grid, so the
+    /// made ones are few.
+    pub fn linearise(&self) -> Arc<Linearised> {
+        type Made = Mutex<HashMap<[u64; 4], Arc<Linearised>>>;
+        static MADE: LazyLock<Made> = LazyLock::new(Made::default);
+        let made = || MADE.lock().unwrap_or_else(PoisonError::into_inner);
+        let key = self.key();
+        let found = made().get(&key).cloned();
+        found.unwrap_or_else(|| {
+            let tables = Arc::new(self.tables());
+            made().entry(key).or_insert(tables).clone()
+        })
+    }
+
+    /// The curve as bits, for [`Curve::linearise`]'s tables.
+    fn key(&self) -> [u64; 4] {
+        let (kind, m) = match self.shoulder {
+            Shoulder::None => (0, 0.0),
+            Shoulder::Exposure(m) => (1, m),
+            Shoulder::Reinhard(m) => (2, m),
+            Shoulder::Aces(m) => (3, m),
+        };
+        let over = u64::from(self.over == Over::Luminance);
+        [self.gamma.to_bits(), kind, m.to_bits(), over]
+    }
+
+    /// [`Curve::linearise`]'s tables, worked out.
+    fn tables(&self) -> Linearised {
         let tabled = Powered::of(self.gamma);
         let raised: [f64; 256] = match tabled {
             Some(t) => t.raised,
