@@ -237,11 +237,11 @@ pub(super) struct ObjectGain {
 /// falloff, and our light already holds each object's colour and each
 /// point's angle to the light. A normal or a light vector left
 /// unnormalised does not: it scales each object's light by its radius
-/// or its distance. An object whose own gain is not
-/// above 0 by [`SIGNIFICANT`] errors shows no light at all, which is
-/// shadows' to judge: it is left out, of the scene's gain too. Empty
-/// when the scene's gain is below [`LightFit::least_gain`]'s floor (a
-/// nearly unlit scene).
+/// or its distance. An object whose own gain is not above 0 by
+/// [`SIGNIFICANT`] errors shows no light at all, which is shadows' to
+/// judge: it is left out, of the scene's gain too. Empty when the
+/// scene's gain is below [`LightFit::least_gain`]'s floor (a nearly
+/// unlit scene).
 pub(super) fn object_gains(groups: &[Points], falloff: Falloff) -> Vec<ObjectGain> {
     let own: Vec<(usize, f64, f64)> = groups
         .iter()
