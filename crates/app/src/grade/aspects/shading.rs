@@ -173,21 +173,10 @@ fn gains(e: &Evidence, shadows_differ: bool, map: &mut [u8]) -> (f64, usize) {
     // and falloff, 1 where it does not differ by more than its error
     // allows. A curve's luminances serve every falloff, and a falloff's
     // lights every curve. Once every object has a reading that keeps it
-    // at 1, no other can stray less.
-    let falloffs: Vec<(Falloff, Vec<Vec<f64>>)> = light
-        .plausible()
-        .map(|falloff| {
-            let lights = objects
-                .iter()
-                .map(|(_, ks)| {
-                    ks.iter()
-                        .map(|&k| falloff.lit(&e.buffers.centres[k]))
-                        .collect()
-                })
-                .collect();
-            (falloff, lights)
-        })
-        .collect();
+    // at 1, no other can stray less: a falloff's lights are worked out
+    // when the search first reaches it.
+    let falloffs: Vec<Falloff> = light.plausible().collect();
+    let mut lights: Vec<Option<Vec<Vec<f64>>>> = vec![None; falloffs.len()];
     let mut ratios: Vec<Vec<(u32, f64)>> = Vec::new();
     let mut kept_at_one = vec![false; objects.len()];
     'readings: for curve in e.tone.plausible() {
@@ -196,7 +185,15 @@ fn gains(e: &Evidence, shadows_differ: bool, map: &mut [u8]) -> (f64, usize) {
             .iter()
             .map(|(_, ks)| ks.iter().map(|&k| e.luminance_under(&linear, k)).collect())
             .collect();
-        for (falloff, lights) in &falloffs {
+        for (falloff, lights) in falloffs.iter().zip(&mut lights) {
+            let lights = lights.get_or_insert_with(|| {
+                let lit = |ks: &Vec<usize>| {
+                    ks.iter()
+                        .map(|&k| falloff.lit(&e.buffers.centres[k]))
+                        .collect()
+                };
+                objects.iter().map(|(_, ks)| lit(ks)).collect()
+            });
             let points: Vec<Points> = objects
                 .iter()
                 .zip(lights.iter().zip(&luminances))
