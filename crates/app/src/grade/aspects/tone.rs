@@ -193,11 +193,8 @@ impl Curve {
 
     /// [`Curve::linearise`]'s tables, worked out.
     fn tables(&self) -> Linearised {
-        let tabled = Powered::of(self.gamma);
-        let raised: [f64; 256] = match tabled {
-            Some(t) => t.raised,
-            None => raised_to(self.gamma),
-        };
+        let raised: [f64; 256] =
+            std::array::from_fn(|v| (f64::from(v as u8) / 255.0).powf(self.gamma));
         let table = match self.over {
             Over::Channels => {
                 let scale = self.shoulder.scale();
@@ -213,13 +210,7 @@ impl Curve {
             power: 1.0 / self.gamma,
         };
         // A value's own factor is the same there and back: 1 will do.
-        // With no shoulder to redo (its scale is 1) or over luminance,
-        // that is the value raised there and back, the same for every
-        // curve of its power.
-        linear.back = match tabled {
-            Some(t) if self.over == Over::Luminance || self.shoulder == Shoulder::None => t.back,
-            _ => table.map(|x| linear.written(1.0, x)),
-        };
+        linear.back = table.map(|x| linear.written(1.0, x));
         linear
     }
 
@@ -324,44 +315,6 @@ impl Linearised {
     fn written_back(&self, v: u8) -> f64 {
         self.back[usize::from(v)]
     }
-}
-
-/// Each power tried ([`powers`]) over the 256 8-bit values, worked out
-/// once for the process: a fit turns hundreds of curves, and an aspect
-/// each curve an image leaves open, into tables ([`Curve::linearise`]),
-/// and every shoulder shares its power's.
-struct Powered {
-    gamma: f64,
-    /// Each value raised to `gamma`.
-    raised: [f64; 256],
-    /// Each value raised to `gamma` and back, as [`Linearised::written`]
-    /// writes it with a factor of 1 and no shoulder.
-    back: [f64; 256],
-}
-
-impl Powered {
-    /// The table of `gamma`, when it is a power tried.
-    fn of(gamma: f64) -> Option<&'static Powered> {
-        static TABLES: std::sync::LazyLock<Vec<Powered>> = std::sync::LazyLock::new(|| {
-            powers()
-                .map(|gamma| {
-                    let raised = raised_to(gamma);
-                    let back = raised.map(|x| x.clamp(0.0, 1.0).powf(1.0 / gamma));
-                    Powered {
-                        gamma,
-                        raised,
-                        back,
-                    }
-                })
-                .collect()
-        });
-        TABLES.iter().find(|t| t.gamma.to_bits() == gamma.to_bits())
-    }
-}
-
-/// Each 8-bit value, as a fraction of 255, raised to `gamma`.
-fn raised_to(gamma: f64) -> [f64; 256] {
-    std::array::from_fn(|v| (f64::from(v as u8) / 255.0).powf(gamma))
 }
 
 /// The powers tried: from 0.8 to 3 in steps of 0.05, which covers
@@ -687,9 +640,7 @@ fn root_mean_square(values: &[f64]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{
-        fit, powers, unexplained, Curve, Group, Over, Powered, Reads, Row, Shoulder, Spreads,
-    };
+    use super::{fit, powers, unexplained, Curve, Group, Over, Reads, Row, Shoulder, Spreads};
 
     /// An object whose light runs from 0.05 to 0.85, written through
     /// `curve` after `0.05 + 0.8·x`.
@@ -867,11 +818,12 @@ mod tests {
         assert_eq!(fit(&[unlit], &[], &Vec::new).curve, Curve::CLAMPING);
     }
 
-    /// The tables a curve reads from its power's, worked out once, are
-    /// those it would work out alone, bit for bit, on two powers tried
-    /// and one off the grid.
+    /// The tables a curve makes once for the process hold, bit for bit,
+    /// the light of each value and that light written back (with its
+    /// pixel's factor held at 1), as the curve works them out one value
+    /// at a time, on two powers tried and one off the grid.
     #[test]
-    fn a_curves_tables_are_its_own_whether_its_power_is_tabled_or_not() {
+    fn a_curves_tables_hold_its_own_values() {
         let shoulders = [
             Shoulder::None,
             Shoulder::Exposure(0.75),
@@ -893,7 +845,10 @@ mod tests {
                             Over::Channels => curve.linear(x),
                             Over::Luminance => x.powf(gamma),
                         };
-                        let back = linearised.written(1.0, table);
+                        let back = match over {
+                            Over::Channels => curve.value(table),
+                            Over::Luminance => table.clamp(0.0, 1.0).powf(1.0 / gamma),
+                        };
                         let (a, b) = (
                             linearised.table[usize::from(v)],
                             linearised.back[usize::from(v)],
@@ -904,8 +859,6 @@ mod tests {
                 }
             }
         }
-        assert!(Powered::of(0.8).is_some() && Powered::of(2.2).is_some());
-        assert!(Powered::of(1.0 / 0.45).is_none());
     }
 
     #[test]
