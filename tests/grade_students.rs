@@ -25,7 +25,9 @@
 //! `sealed/` (C, Python) was written from the assignment alone and graded
 //! once, when the gains were settled: its mirrors showing a coloured
 //! background, and a tracer dropping every light where one is blocked,
-//! are judged now; one bug stays in [`UNCAUGHT`]. `masked/` (Go,
+//! are judged now, and so is its texture's maxval ignored, since
+//! textures.txt's sphere wears its wood at a maxval of 51 and the
+//! textures over one colour are held to one brightness. `masked/` (Go,
 //! JavaScript) was written from the assignment alone and graded once,
 //! when those were settled: its sky for a background is fitted now, its
 //! bytes written unclamped are judged by the colours a light can give,
@@ -217,10 +219,7 @@ const KNOWN_MISSES: [(&str, &str, &str, &str); 2] = [
 
 /// Bugs their own aspect does not catch on [`SCENES`], by class, student
 /// and aspect, with why: the test holds that they still pass that aspect
-/// on every scene, so the list stays true. The sealed class's
-/// `c_bug_maxval_ignored` (a texture's samples divided by 255 whatever
-/// its maxval) shows only on a texture whose maxval is not 255, which no
-/// scene of the suite has. The masked class's ambient term added once
+/// on every scene, so the list stays true. The masked class's ambient term added once
 /// per light gives each scene the image of a tracer whose ambient
 /// constant is that many times larger, which the assignment leaves open.
 /// The cloaked class's sphere texture read twice round the sphere keeps
@@ -229,8 +228,7 @@ const KNOWN_MISSES: [(&str, &str, &str, &str); 2] = [
 /// so does the shrouded class's sphere texture read from the point's
 /// offset from the centre not made unit, a mapping that changes with
 /// the sphere's size (docs/grading.md, "What is left").
-const UNCAUGHT: [(&str, &str, &str); 4] = [
-    ("sealed", "c_bug_maxval_ignored", "textures"),
+const UNCAUGHT: [(&str, &str, &str); 3] = [
     ("masked", "js_bug_ambient_per_light", "shading"),
     ("cloaked", "rust_bug_texture_u_doubled", "textures"),
     ("shrouded", "c_bug_sphere_uv_unnormalised", "textures"),
@@ -251,7 +249,7 @@ const UNCAUGHT: [(&str, &str, &str); 4] = [
 /// plain objects' colours are left to them, so shadow rays that reach
 /// past the light or end at the light's squared distance cost shadows
 /// alone.)
-const CONFINED: [&str; 40] = [
+const CONFINED: [&str; 41] = [
     "cpp_bug_backface",
     "unnormalised_reflection",
     "light_colour_ignored",
@@ -271,6 +269,7 @@ const CONFINED: [&str; 40] = [
     "rust_planes_cast_no_shadow",
     "rust_view_vector_from_eye",
     "c_bug_one_shadow_kills_all",
+    "c_bug_maxval_ignored",
     "py_bug_headup_unnormalised",
     "py_bug_plane_reflectivity_ignored",
     "go_bug_shadow_first_only",
@@ -296,7 +295,7 @@ const CONFINED: [&str; 40] = [
 
 /// Each bug's aspect and the scenes where it must fail, in every class
 /// that has it.
-const BUGS: [(&str, &str, &[&str]); 65] = [
+const BUGS: [(&str, &str, &[&str]); 66] = [
     // The shrouded class's. A plane's edges tested along the world's x
     // and y, and a plane cut to a disc, change what it covers; a shadow
     // ray that counts only what it meets within one unit misses farther
@@ -482,8 +481,12 @@ const BUGS: [(&str, &str, &[&str]); 65] = [
     ),
     // The sealed class's. Its author filed `c_bug_last_light_only`
     // (each light replacing the one before) under lights: a light's
-    // colour and share are the illumination model's, shading.
+    // colour and share are the illumination model's, shading. A
+    // texture's samples divided by 255 whatever its maxval show on
+    // textures.txt, whose sphere wears its wood written with a maxval of
+    // 51, read a fifth as bright as the plane's.
     ("c_bug_one_shadow_kills_all", "shadows", &["shadows.txt"]),
+    ("c_bug_maxval_ignored", "textures", &["textures.txt"]),
     (
         "py_bug_headup_unnormalised",
         "geometry",
@@ -623,8 +626,17 @@ const BUGS: [(&str, &str, &[&str]); 65] = [
 /// intercept. Where a student's shadows fail, what a mirror shows of
 /// points a light could reach and plain objects' colours are left to
 /// shadows, and the report says so: the shadow ray sent away from the
-/// light and tune's far root take every light from most lit points.
-const REPORT_WORDS: [(&str, &str, &str, &str, &str); 3] = [
+/// light and tune's far root take every light from most lit points. A
+/// texture worn dimmer than the other of its colour keeps its contrast,
+/// and the report says which measure failed.
+const REPORT_WORDS: [(&str, &str, &str, &str, &str); 4] = [
+    (
+        "sealed",
+        "c_bug_maxval_ignored",
+        "textures.txt",
+        "textures",
+        "one texture is worn",
+    ),
     (
         "fresh",
         "cpp_bug_backface",

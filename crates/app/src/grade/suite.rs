@@ -147,6 +147,10 @@ const BUILT_IN: &[(&str, &[u8])] = &[
         include_bytes!("../../../../suite/textures.txt"),
     ),
     (
+        "wood_maxval51.ppm",
+        include_bytes!("../../../../suite/wood_maxval51.ppm"),
+    ),
+    (
         "wood_tex.ppm",
         include_bytes!("../../../../suite/wood_tex.ppm"),
     ),

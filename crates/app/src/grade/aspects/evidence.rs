@@ -342,7 +342,7 @@ impl<'a> Evidence<'a> {
                 if ks.len() < TONE_ROWS {
                     return None;
                 }
-                let fitted = e.mapping_of(wears, &ks);
+                let (fitted, _) = e.mapping_of(wears, &ks);
                 let texels: Vec<[f64; 3]> = ks
                     .iter()
                     .map(|&k| mapping::texel_at(e.buffers, wears, fitted, &e.buffers.centres[k]))
@@ -364,9 +364,9 @@ impl<'a> Evidence<'a> {
     }
 
     /// The student's mapping of the texture `wears` on the object whose
-    /// pixels are `ks`, fitted on their luminance as read so far
-    /// ([`mapping::fit`]).
-    pub fn mapping_of(&self, wears: Wears, ks: &[usize]) -> mapping::Mapping {
+    /// pixels are `ks`, fitted on their luminance as read so far, with
+    /// the share of its variance the mapping explains ([`mapping::fit`]).
+    pub fn mapping_of(&self, wears: Wears, ks: &[usize]) -> (mapping::Mapping, f64) {
         let theirs = |k| self.luminance(Whose::Theirs, k);
         let seen = mapping::Seen {
             buffers: self.buffers,

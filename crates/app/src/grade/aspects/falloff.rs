@@ -47,7 +47,7 @@ impl Falloff {
     };
 
     /// The gain of a light `distance` away.
-    fn gain(&self, distance: f64) -> f64 {
+    pub fn gain(&self, distance: f64) -> f64 {
         match self.shape {
             None => 1.0,
             Some((p, k)) => 1.0 / (1.0 + k * (distance / self.scale).powi(p)),
@@ -93,6 +93,12 @@ impl Falloff {
                 k / self.scale.powi(p)
             )
         })
+    }
+
+    /// Every falloff tried: none, then [`Falloff::candidates`], at the
+    /// scene's mean distance `scale` from a lit point to its lights.
+    pub fn tried(scale: f64) -> impl Iterator<Item = Falloff> {
+        std::iter::once(Falloff::NONE).chain(Falloff::candidates(scale))
     }
 
     /// The falloffs tried besides none.
@@ -265,6 +271,22 @@ pub(super) fn object_gains(groups: &[Points], falloff: Falloff) -> Vec<ObjectGai
             error: error / scene.gain,
         })
         .collect()
+}
+
+/// The most an object's own gain may differ from the scene's, as a
+/// factor either way ([`object_gains`], and a textured object's scale of
+/// its line, [`super::worn`]). The falloff is read from a grid
+/// whose `k` doubles at each step, so the one read can be off by half a
+/// step, √2; for two objects at half and at twice the scene's mean
+/// distance from the light, that moves the ratio of their gains by up
+/// to 1.23 (quadratic falloff; 1.12 linear).
+pub(super) const GAIN_FACTOR: f64 = 1.25;
+
+/// How far a gain ratio strays from 1, either way: `|ln ratio|`. A
+/// ratio of 0 or below (an object darker where more light reaches it)
+/// strays as far as a thousandfold.
+pub(super) fn straying(ratio: f64) -> f64 {
+    ratio.max(1e-3).ln().abs()
 }
 
 /// The standard errors by which a gain must differ from another (or

@@ -202,13 +202,15 @@ fn best(seen: &Seen, wears: Wears, ks: &[usize], candidates: Vec<Mapping>) -> (M
 }
 
 /// The student's mapping of the texture `wears` on the object whose
-/// pixels are `ks`: the mapping of its family that explains them best.
-pub(super) fn fit(seen: &Seen, wears: Wears, ks: &[usize]) -> Mapping {
+/// pixels are `ks`: the mapping of its family that explains them best,
+/// with the share of their luminance's variance it explains
+/// ([`explained`]; 0 for no pixels).
+pub(super) fn fit(seen: &Seen, wears: Wears, ks: &[usize]) -> (Mapping, f64) {
     if ks.is_empty() {
-        return ours(wears.sphere);
+        return (ours(wears.sphere), 0.0);
     }
     if !wears.sphere {
-        return best(seen, wears, ks, plane_family()).0;
+        return best(seen, wears, ks, plane_family());
     }
     let mut candidates = vec![ours(true)];
     candidates.extend(sphere_family(None, 1.0 / 64.0, 64));
@@ -220,9 +222,9 @@ pub(super) fn fit(seen: &Seen, wears: Wears, ks: &[usize]) -> Mapping {
         sphere_family(Some(coarse), 1.0 / 1024.0, 16),
     );
     if fine_score > score {
-        fine
+        (fine, fine_score)
     } else {
-        coarse
+        (coarse, score)
     }
 }
 
@@ -287,7 +289,7 @@ mod tests {
             buffers: &buffers,
             theirs: &theirs,
         };
-        fit(&seen, buffers.wears[0].unwrap(), &ks)
+        fit(&seen, buffers.wears[0].unwrap(), &ks).0
     }
 
     const SPHERE: &str = "camera 64\nsphere\ndimension 1\ncenter 0 0 -3\ncolor 1 1 1\n\

@@ -23,7 +23,8 @@
 //!   ([`reflection`]);
 //! - textures are judged by their contrast over the object, and their
 //!   colour against ours under the student's own texture mapping, fitted
-//!   among those the assignment allows ([`mapping`]);
+//!   among those the assignment allows ([`mapping`]); the textures worn
+//!   over one colour, by one brightness ([`worn`]);
 //! - an image upside down, mirrored or transposed is turned back and
 //!   judged so, its geometry failing and naming the transform, even on a
 //!   scene whose coverage the transform keeps ([`recognise`]);
@@ -73,6 +74,7 @@ mod textures;
 mod tone;
 mod transform;
 mod unlit;
+mod worn;
 
 /// What a scene's image is judged on.
 #[derive(
@@ -196,11 +198,11 @@ pub struct Judged {
 }
 
 impl AspectResult {
-    /// Whether the aspect was judged and its measure lies at least
+    /// Whether the aspect was judged and passed, its measure at least
     /// halfway from its bound to a perfect measure (0, or for textures'
     /// contrast, which must reach its bound, 1).
     fn clear_pass(&self) -> bool {
-        match (self.judged, self.measure, self.aspect) {
+        match (self.judged && self.pass, self.measure, self.aspect) {
             (true, Some(m), Aspect::Textures) => m >= (1.0 + self.threshold) / 2.0,
             (true, Some(m), _) => m <= self.threshold / 2.0,
             _ => false,

@@ -38,19 +38,11 @@
 //! where geometry fails, as a pixel there may show another object.
 
 use super::evidence::{clipped, Evidence, Whose, HIGHLIGHT_CONE};
-use super::falloff::{object_gains, Falloff, Points, SIGNIFICANT};
+use super::falloff::{object_gains, straying, Falloff, Points, GAIN_FACTOR, SIGNIFICANT};
 use super::mapping;
 use super::textures::{textured, LEAST_PIXELS};
 use super::tone::Curve;
 use super::{failed, verdict, Aspect, AspectResult, AspectThresholds};
-
-/// The most a plain object's own gain may differ from the scene's, as a
-/// factor either way ([`object_gains`]). The falloff is read from a grid
-/// whose `k` doubles at each step, so the one read can be off by half a
-/// step, √2; for two objects at half and at twice the scene's mean
-/// distance from the light, that moves the ratio of their gains by up
-/// to 1.23 (quadratic falloff; 1.12 linear).
-const GAIN_FACTOR: f64 = 1.25;
 
 /// The largest share of a scene's stable plain-object pixels that may
 /// show a colour no light gives ([`Evidence::foreign`]): under every
@@ -270,13 +262,6 @@ fn mostly_unlit(e: &Evidence, object: u32, ks: &[usize]) -> bool {
     !shown.is_empty() && 2 * dark >= shown.len()
 }
 
-/// How far a gain ratio strays from 1, either way: `|ln ratio|`. A
-/// ratio of 0 or below (an object darker where more light reaches it)
-/// strays as far as a thousandfold.
-fn straying(ratio: f64) -> f64 {
-    ratio.max(1e-3).ln().abs()
-}
-
 /// The mean of `colours`, each channel.
 fn mean(colours: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
     let (mut sum, mut count) = ([0.0; 3], 0.0);
@@ -334,7 +319,7 @@ fn textured_colour(e: &Evidence, thresholds: &AspectThresholds, map: &mut [u8]) 
                 e.buffers.centres[k].highlight <= HIGHLIGHT_CONE && !clipped(&e.student_px(k))
             })
             .collect();
-        let fitted = e.mapping_of(wears, &ks);
+        let (fitted, _) = e.mapping_of(wears, &ks);
         let pairs: Vec<(usize, [f64; 3])> = ks
             .iter()
             .filter_map(|&k| {

@@ -5,12 +5,16 @@
 //! ([`super::tone::Fitted::plausible`]), and the largest taken: a curve
 //! stretches or squeezes contrast (a screen's power of 2.2 about
 //! doubles it), and a curve the image does not tell says nothing of the
-//! student. The texture's colour under the lights is shading's
+//! student. And the textures worn over one colour must be worn equally
+//! bright ([`super::worn`]): a texture's samples read on the wrong scale
+//! keep its contrast. The texture's colour under the lights is shading's
 //! ([`super::shading`]): a light's colour ignored on a textured object
 //! costs shading, not textures.
 
 use super::evidence::{Evidence, Whose};
-use super::{Aspect, AspectResult, AspectThresholds};
+use super::falloff::GAIN_FACTOR;
+use super::worn;
+use super::{failed, Aspect, AspectResult, AspectThresholds};
 
 /// The least number of pixels an object needs for its texture to be
 /// judged, and for its colour.
@@ -90,11 +94,13 @@ pub(super) fn textured(e: &Evidence) -> Vec<Textured> {
     found
 }
 
-/// Judge textures, marking `map`.
+/// Judge textures, marking `map`: each texture's contrast, and how
+/// bright it is worn against the other textures of its colour
+/// ([`super::worn`]), the latter not where the student's shadows fail.
 pub(super) fn judge(
     e: &Evidence,
     thresholds: &AspectThresholds,
-    _earlier: &[AspectResult],
+    earlier: &[AspectResult],
     map: &mut [u8],
 ) -> AspectResult {
     let (mut worst_ratio, mut pixels) = (f64::INFINITY, 0usize);
@@ -108,28 +114,43 @@ pub(super) fn judge(
             map[k] = 1 + u8::from(bad);
         }
     }
-    let judged = !objects.is_empty();
+    let shown: Vec<(u32, &[usize])> = objects
+        .iter()
+        .filter(|o| o.theirs / o.ours >= thresholds.texture_contrast)
+        .map(|o| (o.object, o.ks.as_slice()))
+        .collect();
+    let worn = if failed(earlier, Aspect::Shadows) {
+        None
+    } else {
+        worn::worst(e, &shown, LEAST_PIXELS, map)
+    };
+    let judged = pixels > 0;
+    let contrast_pass = !judged || worst_ratio >= thresholds.texture_contrast;
+    let mut detail = if judged {
+        format!(
+            "texture contrast {:.0} % of ours (at least {:.0} %)",
+            100.0 * worst_ratio,
+            100.0 * thresholds.texture_contrast
+        )
+    } else {
+        format!("no textured object with {LEAST_PIXELS} stable pixels whose texture shows in ours")
+    };
+    if let Some((scale, _)) = worn {
+        detail.push_str(&format!(
+            "; one texture is worn {scale:.2} times as bright as the textures over its colour together (alike on every object, at most {GAIN_FACTOR} times either way)"
+        ));
+    }
     AspectResult {
         aspect: Aspect::Textures,
         judged,
         // Less contrast is worse: the bound is a least one.
-        pass: !judged || worst_ratio >= thresholds.texture_contrast,
+        pass: contrast_pass && worn.is_none_or(|(scale, _)| worn::within(scale)),
         measure: judged.then_some(worst_ratio),
         threshold: thresholds.texture_contrast,
         pixels,
         points: 0.0,
         score: 0.0,
-        detail: if judged {
-            format!(
-                "texture contrast {:.0} % of ours (at least {:.0} %)",
-                100.0 * worst_ratio,
-                100.0 * thresholds.texture_contrast
-            )
-        } else {
-            format!(
-                "no textured object with {LEAST_PIXELS} stable pixels whose texture shows in ours"
-            )
-        },
+        detail,
         image: None,
     }
 }
