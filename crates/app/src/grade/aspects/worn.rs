@@ -81,13 +81,21 @@ fn read(
 /// texture showing) that may be held to the line: not mirrors, their
 /// mapping explaining enough of them, with `least` pixels read.
 fn worn(e: &Evidence, objects: &[(u32, &[usize])], least: usize) -> Vec<Worn> {
+    // Each candidate with its colour; one alone with its colour has no
+    // other to be held to, so its mapping is not fitted.
+    let candidates: Vec<(&[usize], Wears, [u64; 3])> = objects
+        .iter()
+        .filter_map(|&(object, ks)| {
+            let id = object as usize;
+            let wears = e.buffers.wears.get(id).copied().flatten()?;
+            let mirror = e.buffers.reflective.get(id).copied().unwrap_or(true);
+            let colour = e.buffers.colours.get(id).copied().unwrap_or_default();
+            (!mirror).then_some((ks, wears, colour.map(f64::to_bits)))
+        })
+        .collect();
     let mut found = Vec::new();
-    for &(object, ks) in objects {
-        let id = object as usize;
-        let Some(wears) = e.buffers.wears.get(id).copied().flatten() else {
-            continue;
-        };
-        if e.buffers.reflective.get(id).copied().unwrap_or(true) {
+    for &(ks, wears, colour) in &candidates {
+        if candidates.iter().filter(|c| c.2 == colour).count() < 2 {
             continue;
         }
         let ks: Vec<usize> = ks
@@ -115,9 +123,8 @@ fn worn(e: &Evidence, objects: &[(u32, &[usize])], least: usize) -> Vec<Worn> {
         if kept.len() < least {
             continue;
         }
-        let colour = e.buffers.colours.get(id).copied().unwrap_or_default();
         found.push(Worn {
-            colour: colour.map(f64::to_bits),
+            colour,
             ks: kept,
             texels,
             shares,
