@@ -229,7 +229,7 @@ pub(super) fn fit(seen: &Seen, wears: Wears, ks: &[usize]) -> (Mapping, f64) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::super::evidence::{Evidence, Whose};
     use super::*;
     use crate::compare::Picture;
@@ -242,6 +242,12 @@ mod tests {
     /// `text`'s scene with its first object wearing a 16 × 8 texture of
     /// uneven greys that no turn, flip or mirror maps onto itself.
     fn scene(text: &str) -> ir::Scene {
+        wearing(text, 1)
+    }
+
+    /// `text`'s scene with its first `objects` objects wearing the
+    /// texture of [`scene`].
+    pub(in super::super) fn wearing(text: &str, objects: usize) -> ir::Scene {
         let loaded =
             raytracer_scene::frontend::load_bytes("a.txt", Path::new("."), text.as_bytes());
         let mut scene = ir::lower(loaded.checked.unwrap());
@@ -254,8 +260,10 @@ mod tests {
                 .map(|k| [0.2 + 0.08 * ((k % 16 * 7 + k / 16 * 3) % 11) as f32; 3])
                 .collect(),
         });
-        let material = scene.objects[0].material as usize;
-        scene.materials[material].texture = Some(0);
+        for object in &scene.objects[..objects] {
+            let material = object.material as usize;
+            scene.materials[material].texture = Some(0);
+        }
         scene
     }
 

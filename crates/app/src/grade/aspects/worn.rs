@@ -274,14 +274,13 @@ pub(super) fn within(scale: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::super::evidence::Evidence;
+    use super::super::mapping::tests::wearing;
     use super::super::textures::{textured, LEAST_PIXELS};
     use super::{within, worst};
     use crate::compare::Picture;
     use raytracer_render::ir;
     use raytracer_render::render::model::Model;
     use raytracer_render::render::probe::{self, Buffers};
-    use raytracer_scene::texture::TextureFormat;
-    use std::path::Path;
 
     /// Two spheres of one colour under one light, both wearing a 16 × 8
     /// texture of uneven greys.
@@ -289,23 +288,7 @@ mod tests {
         let text = "camera 64\nsphere\ndimension 1\ncenter -1.05 0 -4.5\ncolor 1 1 1\n\
                     sphere\ndimension 1\ncenter 1.05 0 -4.5\ncolor 1 1 1\n\
                     light\nlocation 0 2 0\ncolor 1 1 1\n";
-        let loaded =
-            raytracer_scene::frontend::load_bytes("a.txt", Path::new("."), text.as_bytes());
-        let mut scene = ir::lower(loaded.checked.unwrap());
-        scene.textures.push(ir::Texture {
-            path: "t.ppm".into(),
-            format: TextureFormat::Ppm,
-            width: 16,
-            height: 8,
-            texels: (0..128u32)
-                .map(|k| [0.2 + 0.08 * ((k % 16 * 7 + k / 16 * 3) % 11) as f32; 3])
-                .collect(),
-        });
-        for object in 0..2 {
-            let material = scene.objects[object].material as usize;
-            scene.materials[material].texture = Some(0);
-        }
-        scene
+        wearing(text, 2)
     }
 
     /// The image a tracer writes that maps both textures as ours does
